@@ -1,0 +1,27 @@
+// `gtbake export`: BC4 tables, DDS and KTX2 files, the C++ header and shader includes (SPEC §1.5).
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace gtbake {
+
+struct ExportOptions {
+  std::filesystem::path fit;   // fit.json from `gtbake fit`
+  std::filesystem::path gtso;  // directory from `gtbake gtso`
+  std::filesystem::path out;   // gtbake_tables.h, gtbake_tables.hlsl/.glsl, *.dds, *.ktx2
+  std::string command_line;    // recorded in the provenance blocks
+  int threads = 0;
+  bool progress = true;
+};
+
+struct ExportResult {
+  double bc4_rmse_3d = 0.0;
+  double bc4_max_3d = 0.0;
+  double bc4_rmse_4d = 0.0;
+  double bc4_max_4d = 0.0;
+};
+
+ExportResult runExport(const ExportOptions& options);
+
+}  // namespace gtbake

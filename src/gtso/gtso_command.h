@@ -1,0 +1,24 @@
+// `gtbake gtso`: the 3D and 4D GTSO tables and the cone-aperture constant u (SPEC §1.4).
+#pragma once
+
+#include <filesystem>
+
+namespace gtbake {
+
+struct GtsoOptions {
+  std::filesystem::path out;  // gtso3d.f32, gtso4d.f32, gtso.json, slice images
+  int size = 32;              // texels per axis
+  int samples = 0;            // lobe samples per (r_p, θo, β) line; 0 = the documented default
+  int threads = 0;            // 0 = all cores
+  bool progress = true;
+};
+
+struct GtsoResult {
+  double u = 0.0;
+  double u_se = 0.0;
+  double seconds = 0.0;
+};
+
+GtsoResult runGtso(const GtsoOptions& options);
+
+}  // namespace gtbake
