@@ -1,0 +1,22 @@
+// `gtbake all`: scenes → sweep → fit → gtso → export with defaults (SPEC §2).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace gtbake {
+
+struct AllOptions {
+  std::filesystem::path out = "luts";
+  int threads = 0;           // 0 = all cores
+  std::string command_line;  // recorded in the provenance of every generated file
+  bool progress = true;
+};
+
+// Layout of <out>: scenes/ (the glTF inputs), <scene>.exr and sweep.json (the sweep), fit.json and
+// report/ (the fit), gtso/ (float tables, gtso.json, slice images), and the exported
+// gtbake_tables.{h,hlsl,glsl} and gtso{3d,4d}.{dds,ktx2}. Prints a summary of every figure.
+void runAll(const AllOptions& options);
+
+}  // namespace gtbake

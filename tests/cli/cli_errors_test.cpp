@@ -1,0 +1,109 @@
+// Bad input through the real binary: one line on stderr, a non-zero exit, nothing left behind.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <csignal>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "cli_harness.h"
+
+namespace gtbake::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+size_t countLines(const std::string& text) {
+  return static_cast<size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+bool isEmptyOrMissing(const fs::path& dir) {
+  return !fs::exists(dir) || fs::is_empty(dir);
+}
+
+struct BadInvocation {
+  std::string name;
+  std::string arguments;  // "{out}" is replaced by a fresh output directory
+};
+
+std::vector<BadInvocation> badInvocations() {
+  const std::string scenes = std::string(GTBAKE_SOURCE_DIR) + "/data/scenes/cavity.gltf";
+  return {
+      {"no_subcommand", ""},
+      {"unknown_subcommand", "bake"},
+      {"sweep_missing_file", "sweep --scenes /nonexistent/scene.gltf --out {out}"},
+      {"sweep_bad_res_text", "sweep --scenes " + scenes + " --out {out} --res 12by12"},
+      {"sweep_bad_res_zero", "sweep --scenes " + scenes + " --out {out} --res 0x16"},
+      {"sweep_bad_spp_text", "sweep --scenes " + scenes + " --out {out} --spp many"},
+      {"sweep_bad_spp_zero", "sweep --scenes " + scenes + " --out {out} --spp 0"},
+      {"sweep_bad_bounces", "sweep --scenes " + scenes + " --out {out} --bounces -1"},
+      {"sweep_bad_radius", "sweep --scenes " + scenes + " --out {out} --radius -2"},
+      {"fit_missing_sweep", "fit --sweep /nonexistent --out {out}/fit.json"},
+      {"validate_coeffs_count", "validate --sweep /nonexistent --coeffs 1,2,3"},
+      {"validate_coeffs_text", "validate --sweep /nonexistent --coeffs 1,2,3,4,5,x"},
+      {"gtso_bad_size", "gtso --out {out} --size 1"},
+      {"export_missing_fit", "export --fit /nonexistent/fit.json --gtso /nonexistent --out {out}"},
+  };
+}
+
+class CliBadInput : public ::testing::TestWithParam<BadInvocation> {};
+
+TEST_P(CliBadInput, OneLineErrorNonZeroExitNoOutput) {
+  const TempDir dir("cli-" + GetParam().name);
+  const fs::path out = dir.path() / "out";
+  std::string arguments = GetParam().arguments;
+  for (size_t at; (at = arguments.find("{out}")) != std::string::npos;) {
+    arguments.replace(at, 5, out.string());
+  }
+  const RunResult result = runGtbake(arguments + " --quiet");
+  EXPECT_NE(result.exit_code, 0) << arguments;
+  EXPECT_EQ(countLines(result.err), 1u) << result.err;
+  EXPECT_EQ(result.err.rfind("gtbake: error: ", 0), 0u) << result.err;
+  EXPECT_TRUE(isEmptyOrMissing(out)) << "output left behind by: " << arguments;
+}
+
+INSTANTIATE_TEST_SUITE_P(All, CliBadInput, ::testing::ValuesIn(badInvocations()),
+                         [](const auto& info) { return info.param.name; });
+
+TEST(Cli, HelpAndVersionExitZero) {
+  EXPECT_EQ(runGtbake("--help").exit_code, 0);
+  const RunResult version = runGtbake("--version");
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_FALSE(version.out.empty());
+}
+
+TEST(Cli, ScenesReproduceCommittedData) {
+  const TempDir dir("cli-scenes");
+  const RunResult result = runGtbake("scenes --quiet --out " + dir.path().string());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const fs::path committed = fs::path(GTBAKE_SOURCE_DIR) / "data" / "scenes";
+  size_t compared = 0;
+  for (const auto& entry : fs::directory_iterator(dir.path())) {
+    const fs::path other = committed / entry.path().filename();
+    ASSERT_TRUE(fs::exists(other)) << other << " is not committed";
+    EXPECT_EQ(readBytes(entry.path()), readBytes(other)) << other << " differs";
+    ++compared;
+  }
+  EXPECT_EQ(compared, 14u);  // seven scenes, .gltf + .bin each
+}
+
+// A run killed mid-way must not damage the good file that was already there.
+TEST(Cli, KilledRunLeavesEarlierOutputIntact) {
+  const TempDir dir("cli-kill");
+  const std::string out = dir.path().string();
+  const std::string scene = std::string(GTBAKE_SOURCE_DIR) + "/data/scenes/cavity.gltf";
+  const std::string sweep = "sweep --quiet --threads 1 --scenes " + scene + " --out " + out;
+  ASSERT_EQ(runGtbake(sweep + " --res 16x16 --spp 8").exit_code, 0);
+  const std::string before = readBytes(dir.path() / "cavity.exr");
+  ASSERT_FALSE(before.empty());
+  // A slow run, killed with SIGKILL after a moment: no destructor or handler gets to run.
+  const std::string command = "timeout -s KILL 2 " + std::string(GTBAKE_BINARY) + " " + sweep +
+                              " --res 512x512 --spp 4096 >/dev/null 2>&1";
+  const int status = std::system(command.c_str());
+  ASSERT_NE(status, 0) << "the slow run finished before it could be killed";
+  EXPECT_EQ(readBytes(dir.path() / "cavity.exr"), before);
+}
+
+}  // namespace
+}  // namespace gtbake::test
