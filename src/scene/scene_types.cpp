@@ -1,0 +1,264 @@
+// The seven scene types of SPEC §1.2. Dimensions, cameras and the reasons behind them are in
+// docs/scenes.md; every size here is in metres.
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "common/error.h"
+#include "common/rng.h"
+#include "scene/holed_ground.h"
+#include "scene/mesh_builder.h"
+#include "scene/procedural_scenes.h"
+
+namespace gtbake {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Vertical field of view of every camera, rad (≈ 46°): a normal lens, little distortion.
+constexpr double kFov = 0.8;
+// Ground grid step near the features, m: small enough to keep the flat cells well shaped.
+constexpr double kGroundStep = 0.5;
+// Random streams of the seeded generators (one per scene type, so they never share draws).
+constexpr std::uint64_t kClutterStream = 0x636c7574;  // "clut"
+constexpr std::uint64_t kTerrainStream = 0x74657272;  // "terr"
+
+const Eigen::Vector3d kUp = Eigen::Vector3d::UnitY();
+
+void addFlatGround(MeshBuilder& mesh, double inner) {
+  const std::vector<double> axis = gradedAxis(inner, kGroundStep, kGroundExtent);
+  addHeightfield(mesh, axis, axis, [](double, double) { return 0.0; });
+}
+
+// Perlin gradient noise in [−1, 1]-ish: unit gradients at integer lattice points drawn from the
+// counter-based RNG (key: seed and octave; counter: the lattice point), quintic fade.
+double gradientNoise(const CounterRng& rng, double x, double z) {
+  const double fx = std::floor(x), fz = std::floor(z);
+  const auto ix = static_cast<std::int64_t>(fx), iz = static_cast<std::int64_t>(fz);
+  const auto dotGradient = [&](std::int64_t cx, std::int64_t cz) {
+    const std::uint64_t index = (static_cast<std::uint64_t>(cx + (1 << 20)) << 21) ^
+                                static_cast<std::uint64_t>(cz + (1 << 20));
+    const double angle = 2.0 * kPi * rng.uniform4(index, 0)[0];
+    return std::cos(angle) * (x - cx) + std::sin(angle) * (z - cz);
+  };
+  const auto fade = [](double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); };
+  const double u = fade(x - fx), v = fade(z - fz);
+  const double a = dotGradient(ix, iz) + u * (dotGradient(ix + 1, iz) - dotGradient(ix, iz));
+  const double b =
+      dotGradient(ix, iz + 1) + u * (dotGradient(ix + 1, iz + 1) - dotGradient(ix, iz + 1));
+  return a + v * (b - a);
+}
+
+double smoothstep(double e0, double e1, double t) {
+  const double s = std::clamp((t - e0) / (e1 - e0), 0.0, 1.0);
+  return s * s * (3.0 - 2.0 * s);
+}
+
+}  // namespace
+
+const std::vector<std::string>& sceneTypeNames() {
+  static const std::vector<std::string> names = {"cavity", "wedge",   "corner", "spheres",
+                                                 "wells",  "clutter", "terrain"};
+  return names;
+}
+
+Scene makeSceneType(const std::string& name, std::uint64_t seed) {
+  if (name == "cavity") return makeCavityScene();
+  if (name == "wedge") return makeWedgeScene();
+  if (name == "corner") return makeCornerScene();
+  if (name == "spheres") return makeSpheresScene();
+  if (name == "wells") return makeWellsScene();
+  if (name == "clutter") return makeClutterScene(seed);
+  if (name == "terrain") return makeTerrainScene(seed);
+  throw Error("unknown scene type '" + name +
+              "' (expected cavity, wedge, corner, spheres, wells, clutter or terrain)");
+}
+
+Scene makeCavityScene() {
+  // Bowls of one sphere radius and six depths: rim radii 0.66 … 1.0 … 0.44 m, A = 1 − h/2R
+  // from 0.875 down to 0.05.
+  constexpr double kRadius = 1.0;
+  const double depths[6] = {0.25, 0.5, 1.0, 1.4, 1.7, 1.9};
+  std::vector<GroundHole> holes;
+  for (int k = 0; k < 6; ++k) {
+    GroundHole hole;
+    hole.cell_x = 1 + k % 3;
+    hole.cell_z = 1 + k / 3;
+    hole.half_x = std::sqrt(depths[k] * (2.0 * kRadius - depths[k]));
+    holes.push_back(hole);
+  }
+  MeshBuilder mesh;
+  // Cells 2.2 m wide: the deep bowls bulge to the sphere's full radius 1 m below the ground.
+  const auto rims = addHoledGround(mesh, 5, 4, 2.2, kCurveSegments, holes, kGroundExtent);
+  for (int k = 0; k < 6; ++k) addBowl(mesh, rims[k], kRadius, depths[k], kCurveSegments);
+  return mesh.finish("cavity", lookAt({0.0, 4.4, 2.9}, {0.0, -0.8, 0.1}, kUp, kFov));
+}
+
+Scene makeWedgeScene() {
+  // Profile in x (flat ground, then each groove's rim, bottom edge, rim), extruded along z.
+  constexpr double kDepth = 1.0;    // groove depth unless the half-width cap applies
+  constexpr double kMaxHalf = 1.5;  // cap on the half-width of the wide grooves
+  constexpr double kGap = 0.4;      // flat ground between grooves
+  // The narrowest groove in the middle of the view, where the camera sees deepest into it.
+  const double angles_deg[5] = {120.0, 60.0, 30.0, 90.0, 150.0};
+  double width = 4.0 * kGap;
+  double half[5];
+  for (int k = 0; k < 5; ++k) {
+    half[k] = std::min(kDepth * std::tan(0.5 * angles_deg[k] * kPi / 180.0), kMaxHalf);
+    width += 2.0 * half[k];
+  }
+  const double start = -0.5 * width;
+  std::vector<Eigen::Vector2d> profile;  // (x, y)
+  const std::vector<double> graded = gradedAxis(1.0, kGroundStep, kGroundExtent);
+  for (std::size_t i = 0; i < graded.size() / 2; ++i) profile.emplace_back(start + graded[i], 0.0);
+  double x = start;
+  for (int k = 0; k < 5; ++k) {
+    const double depth = half[k] / std::tan(0.5 * angles_deg[k] * kPi / 180.0);
+    profile.emplace_back(x, 0.0);
+    profile.emplace_back(x + half[k], -depth);
+    x += 2.0 * half[k];
+    profile.emplace_back(x, 0.0);
+    x += kGap;
+  }
+  const double end = x - kGap;
+  for (std::size_t i = graded.size() / 2 + 1; i < graded.size(); ++i) {
+    profile.emplace_back(end + graded[i], 0.0);
+  }
+  const std::vector<double> zs = gradedAxis(8.0, kGroundStep, kGroundExtent);
+  MeshBuilder mesh;
+  std::vector<std::uint32_t> previous;
+  for (std::size_t j = 0; j < zs.size(); ++j) {
+    std::vector<std::uint32_t> row;
+    for (const auto& p : profile) row.push_back(mesh.vertex({p.x(), p.y(), zs[j]}));
+    if (j > 0) {
+      for (std::size_t i = 0; i + 1 < row.size(); ++i) {
+        mesh.quad(previous[i], previous[i + 1], row[i + 1], row[i], kUp);
+      }
+    }
+    previous = row;
+  }
+  return mesh.finish("wedge", lookAt({-0.42, 7.0, 3.6}, {-0.42, -0.6, 0.3}, kUp, kFov));
+}
+
+Scene makeCornerScene() {
+  // Floor [0, 4] × [0, 4], four walls 2.5 m tall, no ceiling: every ray that leaves over the
+  // walls rises for ever, so no ground outside is needed.
+  constexpr double kSize = 4.0, kHeight = 2.5;
+  MeshBuilder mesh;
+  std::uint32_t v[8];
+  for (int k = 0; k < 8; ++k) {
+    v[k] = mesh.vertex({(k & 1) ? kSize : 0.0, (k & 4) ? kHeight : 0.0, (k & 2) ? kSize : 0.0});
+  }
+  const Eigen::Vector3d centre(0.5 * kSize, 0.5 * kHeight, 0.5 * kSize);
+  const auto inward = [&](std::uint32_t a, std::uint32_t c) -> Eigen::Vector3d {
+    return centre - 0.5 * (mesh.position(a) + mesh.position(c));
+  };
+  mesh.quad(v[0], v[1], v[3], v[2], inward(v[0], v[3]));  // floor
+  mesh.quad(v[0], v[1], v[5], v[4], inward(v[0], v[5]));  // z = 0
+  mesh.quad(v[2], v[3], v[7], v[6], inward(v[2], v[7]));  // z = size
+  mesh.quad(v[0], v[2], v[6], v[4], inward(v[0], v[6]));  // x = 0
+  mesh.quad(v[1], v[3], v[7], v[5], inward(v[1], v[7]));  // x = size
+  return mesh.finish("corner", lookAt({3.7, 2.3, 3.7}, {0.4, 0.1, 0.4}, kUp, kFov));
+}
+
+Scene makeSpheresScene() {
+  MeshBuilder mesh;
+  addFlatGround(mesh, 6.0);
+  // Gaps of 0.1 … 0.3 m between neighbours, so the crevices between spheres are in view too.
+  const double spheres[4][3] = {
+      {1.0, 1.5, -0.9}, {-1.6, 1.0, -0.5}, {-0.45, 0.5, 1.05}, {0.75, 0.25, 1.0}};  // x, radius, z
+  for (const auto& s : spheres) addSphere(mesh, {s[0], s[1], s[2]}, s[1], kCurveSegments);
+  return mesh.finish("spheres", lookAt({0.0, 3.8, 5.0}, {0.0, 0.55, 0.0}, kUp, kFov));
+}
+
+Scene makeWellsScene() {
+  struct Well {
+    bool circle;
+    double half_x, half_z, depth;
+  };
+  const Well wells[6] = {{true, 0.6, 0.6, 0.3}, {true, 0.6, 0.6, 1.2},   {true, 0.3, 0.3, 1.2},
+                         {true, 0.8, 0.8, 2.4}, {false, 0.9, 0.15, 0.6}, {false, 0.3, 0.9, 1.5}};
+  std::vector<GroundHole> holes;
+  for (int k = 0; k < 6; ++k) {
+    GroundHole hole;
+    hole.cell_x = 1 + k % 3;
+    hole.cell_z = 1 + k / 3;
+    hole.circle = wells[k].circle;
+    hole.half_x = wells[k].half_x;
+    hole.half_z = wells[k].half_z;
+    holes.push_back(hole);
+  }
+  MeshBuilder mesh;
+  const auto rims = addHoledGround(mesh, 5, 4, 2.0, kCurveSegments, holes, kGroundExtent);
+  for (int k = 0; k < 6; ++k) addWell(mesh, rims[k], wells[k].depth);
+  return mesh.finish("wells", lookAt({0.0, 4.6, 3.0}, {0.0, -0.6, 0.1}, kUp, kFov));
+}
+
+Scene makeClutterScene(std::uint64_t seed) {
+  // Up to 26 objects in [−2.8, 2.8]², 70% boxes, 30% columns, footprints at least 4 cm apart;
+  // attempt i draws from counter i of the clutter stream, so the layout is a pure function of
+  // the seed.
+  constexpr int kObjects = 26, kAttempts = 4000;
+  constexpr double kRegion = 2.8, kMinGap = 0.04;
+  const CounterRng rng(seed, kClutterStream);
+  MeshBuilder mesh;
+  addFlatGround(mesh, 6.0);
+  std::vector<Eigen::Vector3d> placed;  // x, footprint radius, z
+  for (int attempt = 0; attempt < kAttempts && static_cast<int>(placed.size()) < kObjects;
+       ++attempt) {
+    const auto a = rng.uniform4(static_cast<std::uint64_t>(attempt), 0);
+    const auto b = rng.uniform4(static_cast<std::uint64_t>(attempt), 1);
+    const double x = kRegion * (2.0 * a[0] - 1.0), z = kRegion * (2.0 * a[1] - 1.0);
+    const bool box = a[2] < 0.7f;
+    const double hx = 0.15 + 0.65 * b[0], hz = 0.15 + 0.65 * b[1];
+    const double radius = 0.08 + 0.22 * b[0];
+    const double footprint = box ? std::hypot(hx, hz) : radius;
+    bool clear = true;
+    for (const auto& p : placed) {
+      clear = clear && std::hypot(p.x() - x, p.z() - z) >= p.y() + footprint + kMinGap;
+    }
+    if (!clear) continue;
+    placed.emplace_back(x, footprint, z);
+    if (box) {
+      addBox(mesh, {x, 0.0, z}, hx, hz, 0.2 + 1.4 * b[2], 0.5 * kPi * a[3]);
+    } else {
+      addCylinder(mesh, {x, 0.0, z}, radius, 0.8 + 1.7 * b[2], kCurveSegments / 2);
+    }
+  }
+  return mesh.finish("clutter", lookAt({0.0, 4.3, 4.9}, {0.0, 0.3, 0.0}, kUp, kFov));
+}
+
+Scene makeTerrainScene(std::uint64_t seed) {
+  // h = window · (1.4 · ridged − 1.2 · valleys − 1.3): ridged = Σ wₒ (1 − |nₒ|)² (sharp crests),
+  // valleys = Σ wₒ |mₒ| (V-shaped creases), 4 octaves from 0.3 cycles/m, weights 1/2ᵒ; the
+  // window fades the relief to the flat ground between |x|, |z| = 6 and 8 m; the offset 1.3 m
+  // (the median of the raw relief for seed 1) sinks the valleys below the surrounding ground.
+  constexpr double kInner = 8.0, kFlatFrom = 6.0;
+  constexpr double kStep = 1.0 / 16.0;  // grid step, m: 10 points per smallest wavelength
+  constexpr double kBaseFrequency = 0.3;
+  constexpr double kOffset = 1.3;
+  constexpr int kOctaves = 4;
+  std::vector<CounterRng> ridge_rng, valley_rng;
+  for (int o = 0; o < kOctaves; ++o) {
+    ridge_rng.emplace_back(seed, kTerrainStream + 2 * o);
+    valley_rng.emplace_back(seed, kTerrainStream + 2 * o + 1);
+  }
+  const auto height = [&](double x, double z) {
+    const double window = (1.0 - smoothstep(kFlatFrom, kInner, std::abs(x))) *
+                          (1.0 - smoothstep(kFlatFrom, kInner, std::abs(z)));
+    if (window == 0.0) return 0.0;
+    double ridged = 0.0, valleys = 0.0, weight = 1.0, frequency = kBaseFrequency;
+    for (int o = 0; o < kOctaves; ++o) {
+      const double r = 1.0 - std::abs(gradientNoise(ridge_rng[o], frequency * x, frequency * z));
+      ridged += weight * r * r;
+      valleys += weight * std::abs(gradientNoise(valley_rng[o], frequency * x, frequency * z));
+      weight *= 0.5;
+      frequency *= 2.0;
+    }
+    return window * (1.4 * ridged - 1.2 * valleys - kOffset);
+  };
+  std::vector<double> axis = gradedAxis(kInner, kStep, kGroundExtent);
+  MeshBuilder mesh;
+  addHeightfield(mesh, axis, axis, height);
+  return mesh.finish("terrain", lookAt({0.0, 7.0, 8.5}, {0.0, -0.3, 0.0}, kUp, kFov));
+}
+
+}  // namespace gtbake
