@@ -17,6 +17,7 @@ struct FitOptions {
   std::filesystem::path out;                    // fit.json
   std::optional<std::filesystem::path> report;  // HTML report directory (default: beside `out`)
   MultiBounceCoeffs shipped = kPaperCoeffs;     // the constants compared against the refit
+  bool eiv_correction = true;  // report the split-half jackknife correction (docs/fit.md §4)
   bool progress = true;
 };
 

@@ -1,0 +1,192 @@
+#include "fit/sweep_data.h"
+
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "common/image_io.h"
+
+namespace gtbake {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// A stored G### channel may differ from Σ ρ^k P_k recomputed from the stored P_k by float
+// rounding only (unitless; K+1 float32 roundings of values ≤ 1 stay below 1e-6, so 1e-4 flags a
+// wrong albedo without flagging rounding).
+constexpr double kAlbedoConsistencyTolerance = 1e-4;
+
+int requirePositiveInt(const json& object, const char* key, const std::string& where) {
+  const auto it = object.find(key);
+  if (it == object.end() || !it->is_number_integer() || it->get<long long>() <= 0) {
+    throw Error(where + ": '" + key + "' must be a positive integer");
+  }
+  return it->get<int>();
+}
+
+std::string requireString(const json& object, const char* key, const std::string& where) {
+  const auto it = object.find(key);
+  if (it == object.end() || !it->is_string() || it->get<std::string>().empty()) {
+    throw Error(where + ": '" + key + "' must be a non-empty string");
+  }
+  return it->get<std::string>();
+}
+
+// G(ρ) = Σ_{k=0..K} ρ^k P_k with P_0 = A (SPEC §1.1), evaluated by Horner's rule in double.
+double multiBounceG(const std::vector<const std::vector<float>*>& p, std::size_t pixel,
+                    double rho) {
+  double g = 0.0;
+  for (std::size_t k = p.size(); k-- > 0;) g = g * rho + static_cast<double>((*p[k])[pixel]);
+  return g;
+}
+
+}  // namespace
+
+std::string albedoChannel(double rho) {
+  char name[16];
+  std::snprintf(name, sizeof(name), "G%03d", static_cast<int>(std::lround(rho * 100.0)));
+  return name;
+}
+
+SweepData loadSweep(const fs::path& dir) {
+  if (!fs::is_directory(dir)) throw Error("sweep directory " + dir.string() + " does not exist");
+  const fs::path json_path = dir / "sweep.json";
+  if (!fs::is_regular_file(json_path)) {
+    throw Error(dir.string() + " is not a sweep directory (no sweep.json); run `gtbake sweep`");
+  }
+  json doc;
+  try {
+    doc = json::parse(readFile(json_path));
+  } catch (const json::exception& e) {
+    throw Error(json_path.string() + ": malformed JSON (" + e.what() + ")");
+  }
+  const std::string where = json_path.string();
+  if (!doc.is_object() || !doc.contains("settings") || !doc["settings"].is_object()) {
+    throw Error(where + ": missing 'settings' object");
+  }
+  const json& settings = doc["settings"];
+  SweepData data;
+  data.dir = dir;
+  data.spp = requirePositiveInt(settings, "spp", where + " settings");
+  data.bounces = requirePositiveInt(settings, "bounces", where + " settings");
+  if (!settings.contains("albedos") || !settings["albedos"].is_array() ||
+      settings["albedos"].size() < 2) {
+    throw Error(where + ": settings 'albedos' must list at least two albedos");
+  }
+  for (const json& rho : settings["albedos"]) {
+    if (!rho.is_number() || !(rho.get<double>() > 0.0 && rho.get<double>() <= 1.0)) {
+      throw Error(where + ": every albedo must be a number in (0, 1]");
+    }
+    data.albedos.push_back(rho.get<double>());
+  }
+  if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty()) {
+    throw Error(where + ": 'scenes' must be a non-empty array");
+  }
+
+  const int K = data.bounces;
+  const std::size_t albedo_count = data.albedos.size();
+  for (PointSet* set : {&data.full, &data.half[0], &data.half[1]}) set->G.resize(albedo_count);
+
+  for (const json& entry : doc["scenes"]) {
+    SweepScene scene;
+    scene.name = requireString(entry, "name", where + " scene");
+    const std::string file_name = requireString(entry, "file", where + " scene " + scene.name);
+    const fs::path exr_path = dir / file_name;
+    if (!fs::is_regular_file(exr_path)) {
+      throw Error("scene '" + scene.name + "' is listed in " + where + " but " + exr_path.string() +
+                  " is missing");
+    }
+    const ExrImage image = readExr(exr_path);
+    const std::string file = exr_path.string();
+    const std::string scene_where = where + " scene " + scene.name;
+    if (entry.contains("width") && entry.contains("height") &&
+        (requirePositiveInt(entry, "width", scene_where) != image.width ||
+         requirePositiveInt(entry, "height", scene_where) != image.height)) {
+      throw Error(file + ": size " + std::to_string(image.width) + "x" +
+                  std::to_string(image.height) + " does not match sweep.json");
+    }
+    const std::vector<float>& mask = image.channel("mask", file);
+    // Channel sets: index 0 = full estimate, 1 and 2 = the halves; P[0] is A.
+    std::vector<const std::vector<float>*> p[3];
+    const std::string prefix[3] = {"", "H0.", "H1."};
+    for (int s = 0; s < 3; ++s) {
+      p[s].push_back(&image.channel(prefix[s] + "A", file));
+      for (int k = 1; k <= K; ++k) {
+        p[s].push_back(&image.channel(prefix[s] + "P" + std::to_string(k), file));
+      }
+    }
+    std::vector<const std::vector<float>*> g;
+    for (double rho : data.albedos) {
+      const std::string name = albedoChannel(rho);
+      if (image.channels.count(name) == 0) {
+        throw Error(file + ": albedo " + std::to_string(rho) + " listed in sweep.json has no " +
+                    name + " channel");
+      }
+      g.push_back(&image.channel(name, file));
+    }
+
+    for (const auto& named_channel : image.channels) {
+      const std::string& name = named_channel.first;
+      const bool g_channel = name.size() == 4 && name[0] == 'G' &&
+                             name.find_first_not_of("0123456789", 1) == std::string::npos;
+      bool listed = false;
+      for (double rho : data.albedos) listed = listed || albedoChannel(rho) == name;
+      if (g_channel && !listed) {
+        throw Error(file + ": channel " + name + " has no matching albedo in sweep.json");
+      }
+    }
+
+    scene.begin = data.full.A.size();
+    const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
+    for (std::size_t i = 0; i < pixels; ++i) {
+      if (!(mask[i] > 0.5f)) continue;
+      for (int s = 0; s < 3; ++s) {
+        for (const auto* channel : p[s]) {
+          if (!std::isfinite((*channel)[i])) {
+            throw Error(file + ": non-finite value in an unmasked pixel (" +
+                        std::to_string(i % image.width) + ", " + std::to_string(i / image.width) +
+                        ")");
+          }
+        }
+      }
+      data.full.A.push_back((*p[0][0])[i]);
+      for (int s = 0; s < 2; ++s) data.half[s].A.push_back((*p[s + 1][0])[i]);
+      for (std::size_t j = 0; j < albedo_count; ++j) {
+        const double stored = (*g[j])[i];
+        const double recomputed = multiBounceG(p[0], i, data.albedos[j]);
+        if (!std::isfinite(stored) || std::abs(stored - recomputed) > kAlbedoConsistencyTolerance) {
+          throw Error(file + ": channel " + albedoChannel(data.albedos[j]) +
+                      " is inconsistent with albedo " + std::to_string(data.albedos[j]) +
+                      " and the P_k channels");
+        }
+        data.full.G[j].push_back(stored);
+        for (int s = 0; s < 2; ++s) {
+          data.half[s].G[j].push_back(multiBounceG(p[s + 1], i, data.albedos[j]));
+        }
+      }
+    }
+    scene.end = data.full.A.size();
+    const std::size_t count = scene.end - scene.begin;
+    if (entry.contains("unmasked_pixels") && entry["unmasked_pixels"].is_number_integer() &&
+        entry["unmasked_pixels"].get<long long>() != static_cast<long long>(count)) {
+      throw Error(file + ": mask has " + std::to_string(count) +
+                  " unmasked pixels but sweep.json says " + entry["unmasked_pixels"].dump());
+    }
+    if (count < kMinScenePoints) {
+      throw Error("scene '" + scene.name + "' has " + std::to_string(count) +
+                  " unmasked pixels; at least " + std::to_string(kMinScenePoints) + " needed");
+    }
+    data.scenes.push_back(scene);
+  }
+  if (data.points() < kMinFitPoints) {
+    throw Error(dir.string() + ": only " + std::to_string(data.points()) +
+                " unmasked points; the fit needs at least " + std::to_string(kMinFitPoints));
+  }
+  return data;
+}
+
+}  // namespace gtbake

@@ -1,0 +1,51 @@
+// The path-traced points a fit reads: every unmasked pixel of every scene of a `gtbake sweep`.
+//
+// A sweep directory holds sweep.json and one EXR per scene with channels A, P1..PK, G010..G090,
+// mask and the two half-sample estimates H0.A, H0.P1.., H1.A, H1.P1.. (even / odd samples; the
+// full estimate is their mean). SPEC §1.1: A = p_0 and G(ρ) = Σ_{k=0..K} ρ^k p_k.
+// loadSweep() validates everything it reads and throws a one-line gtbake::Error on bad input.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace gtbake {
+
+// Fewer unmasked points than this cannot support the fit (points; 3 coefficients per albedo and a
+// variance estimate from half-sample differences need thousands to be meaningful).
+inline constexpr std::size_t kMinFitPoints = 1000;
+// A scene must contribute at least this many unmasked points (points; its error row needs them).
+inline constexpr std::size_t kMinScenePoints = 16;
+
+// Pooled samples of one estimate (the full one or one half): A_i and G_i(ρ_j) for every point.
+struct PointSet {
+  std::vector<double> A;               // [point]
+  std::vector<std::vector<double>> G;  // [albedo][point]
+};
+
+struct SweepScene {
+  std::string name;
+  std::size_t begin = 0;  // first point of this scene in the pooled arrays
+  std::size_t end = 0;    // one past its last point
+};
+
+struct SweepData {
+  std::filesystem::path dir;
+  int spp = 0;
+  int bounces = 0;
+  std::vector<double> albedos;  // ρ_j, as listed in sweep.json
+  std::vector<SweepScene> scenes;
+  PointSet full;     // the stored channels A and G###
+  PointSet half[2];  // H0.* and H1.*, G recomputed as Σ ρ^k P_k with P_0 = A
+  std::size_t points() const { return full.A.size(); }
+};
+
+// The EXR channel holding G at albedo ρ: "G" followed by round(100 ρ) in three digits (G010).
+std::string albedoChannel(double rho);
+
+// Reads and validates a sweep directory.
+SweepData loadSweep(const std::filesystem::path& dir);
+
+}  // namespace gtbake

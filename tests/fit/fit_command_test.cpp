@@ -1,0 +1,232 @@
+// runFit / runValidate end to end on sweep directories written with writeExr, and bad input.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "common/image_io.h"
+#include "fit/fit_command.h"
+#include "fit/fit_errors.h"
+#include "fit/multibounce_fit.h"
+#include "synthetic_sweep.h"
+
+namespace gtbake {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr int kBounces = 3;
+
+// A valid cavity-law sweep, written once and copied by each test that needs one.
+const fs::path& cavitySweep() {
+  static const fs::path dir = [] {
+    const fs::path d = test::freshDir("cavity_sweep");
+    test::writeWalkSweep(
+        d, {"bowl", "pit"}, 96, 96, 64, kBounces,
+        [](double u) { return test::cavityLaw(u, kBounces); }, 5);
+    return d;
+  }();
+  return dir;
+}
+
+fs::path copyOfSweep(const std::string& name) {
+  const fs::path dir = test::freshDir(name);
+  fs::copy(cavitySweep(), dir, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+  return dir;
+}
+
+json readJson(const fs::path& path) {
+  return json::parse(readFile(path));
+}
+
+// The law's own two-stage fit, computed independently: per albedo a QR least-squares cubic on a
+// dense uniform grid of A, then a QR line through the coefficients.
+MultiBounceCoeffs cavityLawOwnFit() {
+  constexpr int kGrid = 20001;
+  Eigen::MatrixXd X(kGrid, 3);
+  for (int i = 0; i < kGrid; ++i) {
+    const double A = (i + 0.5) / kGrid;
+    X.row(i) << A * A * A, -A * A, A;
+  }
+  Eigen::MatrixXd coeffs(test::kAlbedos.size(), 3);
+  for (std::size_t j = 0; j < test::kAlbedos.size(); ++j) {
+    Eigen::VectorXd y(kGrid);
+    for (int i = 0; i < kGrid; ++i) {
+      const double A = (i + 0.5) / kGrid;
+      double g = 0.0;
+      for (int k = 0; k <= kBounces; ++k)
+        g += std::pow(test::kAlbedos[j], k) * test::cavityLaw(A, kBounces)[k];
+      y[i] = g;
+    }
+    coeffs.row(j) = X.colPivHouseholderQr().solve(y).transpose();
+  }
+  Eigen::MatrixXd R(test::kAlbedos.size(), 2);
+  for (std::size_t j = 0; j < test::kAlbedos.size(); ++j) R.row(j) << test::kAlbedos[j], 1.0;
+  MultiBounceCoeffs out;
+  for (int q = 0; q < 3; ++q) {
+    const Eigen::Vector2d line = R.colPivHouseholderQr().solve(coeffs.col(q));
+    out[2 * q] = line[0];
+    out[2 * q + 1] = line[1];
+  }
+  return out;
+}
+
+MultiBounceCoeffs linearFromJson(const json& j) {
+  return {j["a1"], j["a0"], j["b1"], j["b0"], j["c1"], j["c0"]};
+}
+
+TEST(FitCommand, CavityLawRefitStaysWithinHundredthOfItsOwnCubic) {
+  const fs::path out = test::freshDir("cavity_fit") / "fit.json";
+  FitOptions options;
+  options.sweep = cavitySweep();
+  options.out = out;
+  options.progress = false;
+  const FitResult result = runFit(options);
+  const json doc = readJson(out);
+  const MultiBounceCoeffs refit = linearFromJson(doc["linear"]);
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(refit[i], result.linear[i]);
+  const CurveDifference diff = maxCurveDifference(refit, cavityLawOwnFit());
+  EXPECT_LT(diff.value, 0.01) << "at A = " << diff.A << ", rho = " << diff.rho;
+  for (const char* key :
+       {"per_albedo", "linear", "linear_se", "errors", "shipped", "eiv_bias", "sweep", "version"}) {
+    EXPECT_TRUE(doc.contains(key)) << key;
+  }
+  EXPECT_EQ(doc["per_albedo"].size(), test::kAlbedos.size());
+  EXPECT_EQ(doc["errors"]["refit"]["per_scene"].size(), 2u);
+  EXPECT_EQ(doc["sweep"]["points"].get<std::size_t>(), 2u * 96 * 95);
+  const fs::path report = out.parent_path() / "report";
+  EXPECT_TRUE(fs::is_regular_file(report / "index.html"));
+  EXPECT_TRUE(fs::is_regular_file(report / "fig6_bowl.svg"));
+  EXPECT_TRUE(fs::is_regular_file(report / "fig7_b.svg"));
+  EXPECT_TRUE(fs::is_regular_file(report / "refit_vs_shipped.svg"));
+}
+
+// fit.json's shipped error table, errorTable() and validate's printed table are the same numbers.
+TEST(FitCommand, FitAndValidateAgreeOnThePapersErrors) {
+  const fs::path out = test::freshDir("agree_fit") / "fit.json";
+  FitOptions options;
+  options.sweep = cavitySweep();
+  options.out = out;
+  options.progress = false;
+  runFit(options);
+  const json shipped = readJson(out)["errors"]["shipped"];
+  const ErrorTable table = errorTable(loadSweep(cavitySweep()), kPaperCoeffs);
+  EXPECT_DOUBLE_EQ(shipped["rmse"].get<double>(), table.rmse);
+  EXPECT_DOUBLE_EQ(shipped["max_abs"].get<double>(), table.max_abs);
+
+  ValidateOptions validate;
+  validate.sweep = cavitySweep();
+  validate.progress = false;
+  testing::internal::CaptureStdout();
+  runValidate(validate);
+  std::fflush(stdout);
+  const std::string printed = testing::internal::GetCapturedStdout();
+  char all_line[128];
+  std::snprintf(all_line, sizeof(all_line), "%10.5f %10.5f", table.rmse, table.max_abs);
+  EXPECT_NE(printed.find(std::string("all           ") + all_line), std::string::npos) << printed;
+}
+
+TEST(FitCommand, ValidateRejectsNonFiniteCoefficients) {
+  ValidateOptions validate;
+  validate.sweep = cavitySweep();
+  validate.progress = false;
+  validate.coeffs[3] = std::nan("");
+  EXPECT_THROW(runValidate(validate), Error);
+}
+
+// Runs the fit on `dir` and expects a one-line gtbake::Error containing `needle`, no fit.json.
+void expectFitError(const fs::path& dir, const std::string& needle) {
+  const fs::path out = test::freshDir("bad_out") / "fit.json";
+  FitOptions options;
+  options.sweep = dir;
+  options.out = out;
+  options.progress = false;
+  try {
+    runFit(options);
+    ADD_FAILURE() << "no error for " << needle;
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(needle), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+  EXPECT_FALSE(fs::exists(out));
+}
+
+void editJson(const fs::path& dir, const std::function<void(json&)>& edit) {
+  json doc = readJson(dir / "sweep.json");
+  edit(doc);
+  writeFileAtomically(dir / "sweep.json", doc.dump());
+}
+
+void editExr(const fs::path& file, const std::function<void(ExrImage&)>& edit) {
+  ExrImage image = readExr(file);
+  edit(image);
+  std::vector<ExrChannel> channels;
+  for (const auto& [name, pixels] : image.channels) channels.push_back({name, pixels});
+  writeExr(file, image.width, image.height, channels);
+}
+
+TEST(FitCommand, BadInputIsAOneLineError) {
+  expectFitError(test::freshDir("nowhere") / "missing", "does not exist");
+  expectFitError(test::freshDir("empty"), "no sweep.json");
+
+  fs::path dir = copyOfSweep("malformed");
+  writeFileAtomically(dir / "sweep.json", "{\"settings\": [1, 2");
+  expectFitError(dir, "malformed JSON");
+
+  dir = copyOfSweep("exr_missing");
+  fs::remove(dir / "pit.exr");
+  expectFitError(dir, "pit.exr is missing");
+
+  dir = copyOfSweep("channel_missing");
+  editExr(dir / "bowl.exr", [](ExrImage& image) { image.channels.erase("H1.P2"); });
+  expectFitError(dir, "H1.P2");
+
+  dir = copyOfSweep("size_mismatch");
+  editJson(dir, [](json& doc) { doc["scenes"][1]["width"] = 95; });
+  expectFitError(dir, "does not match");
+
+  dir = copyOfSweep("nan");
+  editExr(dir / "bowl.exr", [](ExrImage& image) { image.channels["H0.P1"][96 * 50 + 3] = NAN; });
+  expectFitError(dir, "non-finite");
+
+  dir = copyOfSweep("albedo_unknown");
+  editJson(dir, [](json& doc) { doc["settings"]["albedos"][2] = 0.35; });
+  expectFitError(dir, "G035");
+
+  dir = copyOfSweep("albedo_unlisted");
+  editJson(dir, [](json& doc) { doc["settings"]["albedos"].erase(6); });
+  expectFitError(dir, "G090");
+
+  dir = copyOfSweep("albedo_inconsistent");
+  editExr(dir / "pit.exr", [](ExrImage& image) {
+    for (float& g : image.channels["G030"]) g += 0.01f;
+  });
+  expectFitError(dir, "inconsistent with albedo");
+
+  dir = copyOfSweep("unmasked_count");
+  editJson(dir, [](json& doc) { doc["scenes"][0]["unmasked_pixels"] = 5; });
+  expectFitError(dir, "unmasked pixels");
+
+  dir = test::freshDir("too_few");
+  test::writeWalkSweep(
+      dir, {"tiny"}, 20, 20, 8, kBounces, [](double u) { return test::cavityLaw(u, kBounces); }, 3);
+  expectFitError(dir, "at least 1000");
+}
+
+// A NaN in a masked pixel is not an error: masked pixels are never read.
+TEST(FitCommand, NanInMaskedPixelIsIgnored) {
+  const fs::path dir = copyOfSweep("nan_masked");
+  editExr(dir / "bowl.exr", [](ExrImage& image) { image.channels["A"][5] = NAN; });
+  EXPECT_NO_THROW(loadSweep(dir));
+}
+
+}  // namespace
+}  // namespace gtbake

@@ -1,0 +1,40 @@
+// Synthetic sweeps for the fit tests: in-memory point sets with known coefficients, and sweep
+// directories written with gtbake::writeExr from a cosine-walk model with known p_k.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "fit/fit_command.h"
+#include "fit/sweep_data.h"
+
+namespace gtbake::test {
+
+inline const std::vector<double> kAlbedos = {0.1, 0.2, 0.3, 0.4, 0.5, 0.7, 0.9};
+
+// n points, A* uniform in [0, 1], G*(ρ) from Eq. 10 with `coeffs`. Each half gets independent
+// noise: A_h = A* + σ_A·z, G_h = G* + σ_G·z' + `correlation`·σ_A·z (G's noise shares A's).
+// The full estimate is the mean of the halves; one scene "synthetic" holds every point.
+SweepData knownCoefficientSweep(const MultiBounceCoeffs& coeffs, std::size_t n, double sigma_A,
+                                double sigma_G, double correlation, std::uint64_t seed);
+
+// The escape probabilities p_0..p_K of a pixel (their sum ≤ 1; the rest never escapes).
+using EscapeLaw = std::function<std::vector<double>(double u)>;
+
+// The cavity law: p_k = A (1 − A)^k, so G_K = A Σ_{k≤K} (ρ(1 − A))^k.
+std::vector<double> cavityLaw(double A, int bounces);
+
+// Writes dir/sweep.json and one EXR per scene: each pixel draws u = (pixel + 0.5)/pixels (mask 1
+// except the first row), p = law(u), then `spp` walks from that multinomial, even samples into
+// H0, odd into H1, full = the mean.
+void writeWalkSweep(const std::filesystem::path& dir, const std::vector<std::string>& scenes,
+                    int width, int height, int spp, int bounces, const EscapeLaw& law,
+                    std::uint64_t seed);
+
+// A fresh empty directory under the test temp dir.
+std::filesystem::path freshDir(const std::string& name);
+
+}  // namespace gtbake::test
