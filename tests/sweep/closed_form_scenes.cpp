@@ -1,0 +1,203 @@
+#include "closed_form_scenes.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+namespace gtbake::test {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::uint32_t addVertex(Scene& s, const Eigen::Vector3d& p) {
+  s.positions.push_back(p.cast<float>());
+  return static_cast<std::uint32_t>(s.positions.size() - 1);
+}
+
+PerspectiveCamera lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
+                         const Eigen::Vector3d& up) {
+  PerspectiveCamera camera;
+  camera.position = eye;
+  const Eigen::Vector3d back = (eye - target).normalized();
+  const Eigen::Vector3d right = up.cross(back).normalized();
+  camera.basis.col(0) = right;
+  camera.basis.col(1) = back.cross(right);
+  camera.basis.col(2) = back;
+  camera.yfov = 0.8;
+  return camera;
+}
+
+void addQuad(Scene& s, std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+  s.triangles.push_back({a, b, c});
+  s.triangles.push_back({a, c, d});
+}
+
+void addGroundSquare(Scene& s, double half) {
+  const auto a = addVertex(s, {-half, 0, -half});
+  const auto b = addVertex(s, {-half, 0, half});
+  const auto c = addVertex(s, {half, 0, half});
+  const auto d = addVertex(s, {half, 0, -half});
+  addQuad(s, a, b, c, d);
+}
+
+}  // namespace
+
+Scene openPlane(double half) {
+  Scene s;
+  s.name = "open_plane";
+  addGroundSquare(s, half);
+  s.camera = lookAt({0, 2, 2}, {0, 0, 0}, Eigen::Vector3d::UnitY());
+  return s;
+}
+
+Scene closedBox() {
+  Scene s;
+  s.name = "closed_box";
+  std::uint32_t v[8];
+  for (int i = 0; i < 8; ++i) {
+    v[i] = addVertex(s, {i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0});
+  }
+  addQuad(s, v[0], v[1], v[3], v[2]);  // z = −1
+  addQuad(s, v[4], v[6], v[7], v[5]);  // z = +1
+  addQuad(s, v[0], v[4], v[5], v[1]);  // y = −1
+  addQuad(s, v[2], v[3], v[7], v[6]);  // y = +1
+  addQuad(s, v[0], v[2], v[6], v[4]);  // x = −1
+  addQuad(s, v[1], v[5], v[7], v[3]);  // x = +1
+  s.camera = lookAt({0.1, 0.2, 0.3}, {0.5, -0.6, -1.0}, Eigen::Vector3d::UnitY());
+  s.camera.yfov = 1.6;
+  return s;
+}
+
+std::vector<Eigen::Vector3d> bowlRim(double radius, double depth, int segments) {
+  const double rim = std::sqrt(depth * (2.0 * radius - depth));
+  std::vector<Eigen::Vector3d> p;
+  for (int j = 0; j < segments; ++j) {
+    const double phi = 2.0 * kPi * j / segments;
+    p.emplace_back(rim * std::cos(phi), 0.0, rim * std::sin(phi));
+  }
+  return p;
+}
+
+Scene sphericalBowl(double radius, double depth, int rings, int segments) {
+  Scene s;
+  s.name = "bowl";
+  const double cy = radius - depth;
+  const double theta_max = std::acos(cy / radius);
+  const auto bottom = addVertex(s, {0, cy - radius, 0});
+  std::vector<std::uint32_t> previous(segments, bottom);
+  const std::vector<Eigen::Vector3d> rim = bowlRim(radius, depth, segments);
+  for (int i = 1; i <= rings; ++i) {
+    const double theta = theta_max * i / rings;
+    std::vector<std::uint32_t> ring(segments);
+    for (int j = 0; j < segments; ++j) {
+      const double phi = 2.0 * kPi * j / segments;
+      // The rim ring reuses the exact rim points so the opening is one planar polygon.
+      ring[j] = i == rings ? addVertex(s, rim[j])
+                           : addVertex(s, {radius * std::sin(theta) * std::cos(phi),
+                                           cy - radius * std::cos(theta),
+                                           radius * std::sin(theta) * std::sin(phi)});
+    }
+    for (int j = 0; j < segments; ++j) {
+      const int k = (j + 1) % segments;
+      if (i == 1) {
+        s.triangles.push_back({bottom, ring[k], ring[j]});
+      } else {
+        addQuad(s, previous[j], previous[k], ring[k], ring[j]);
+      }
+    }
+    previous = ring;
+  }
+  s.camera = lookAt({0, 1.5 * radius, 0.5 * radius}, {0, cy - radius, 0}, Eigen::Vector3d::UnitY());
+  return s;
+}
+
+std::vector<Eigen::Vector3d> wellOpening(double radius, int segments) {
+  std::vector<Eigen::Vector3d> p;
+  for (int j = 0; j < segments; ++j) {
+    const double phi = 2.0 * kPi * j / segments;
+    p.emplace_back(radius * std::cos(phi), 0.0, radius * std::sin(phi));
+  }
+  return p;
+}
+
+Scene cylindricalWell(double radius, double depth, int segments) {
+  Scene s;
+  s.name = "well";
+  const std::vector<Eigen::Vector3d> top = wellOpening(radius, segments);
+  const auto centre = addVertex(s, {0, -depth, 0});
+  std::vector<std::uint32_t> lo(segments);
+  std::vector<std::uint32_t> hi(segments);
+  for (int j = 0; j < segments; ++j) {
+    lo[j] = addVertex(s, top[j] - Eigen::Vector3d(0, depth, 0));
+    hi[j] = addVertex(s, top[j]);
+  }
+  for (int j = 0; j < segments; ++j) {
+    const int k = (j + 1) % segments;
+    s.triangles.push_back({centre, lo[k], lo[j]});
+    addQuad(s, lo[j], lo[k], hi[k], hi[j]);
+  }
+  s.camera = lookAt({0, 2 * depth, 0.01}, {0, -depth, 0}, Eigen::Vector3d::UnitY());
+  return s;
+}
+
+Scene sphereOnPlane(double radius, int segments, double half) {
+  Scene s;
+  s.name = "sphere_on_plane";
+  addGroundSquare(s, half);
+  const int rings = segments / 2;
+  const auto south = addVertex(s, {0, 0, 0});
+  const auto north = addVertex(s, {0, 2 * radius, 0});
+  std::vector<std::uint32_t> previous(segments, south);
+  for (int i = 1; i < rings; ++i) {
+    const double theta = kPi * i / rings;  // from the south pole
+    std::vector<std::uint32_t> ring(segments);
+    for (int j = 0; j < segments; ++j) {
+      const double phi = 2.0 * kPi * j / segments;
+      ring[j] =
+          addVertex(s, {radius * std::sin(theta) * std::cos(phi), radius - radius * std::cos(theta),
+                        radius * std::sin(theta) * std::sin(phi)});
+    }
+    for (int j = 0; j < segments; ++j) {
+      const int k = (j + 1) % segments;
+      if (i == 1) {
+        s.triangles.push_back({south, ring[j], ring[k]});
+      } else {
+        addQuad(s, previous[j], ring[j], ring[k], previous[k]);
+      }
+    }
+    previous = ring;
+  }
+  for (int j = 0; j < segments; ++j) {
+    s.triangles.push_back({previous[j], north, previous[(j + 1) % segments]});
+  }
+  s.camera = lookAt({4 * radius, 3 * radius, 4 * radius}, {0, 0, 0}, Eigen::Vector3d::UnitY());
+  return s;
+}
+
+double polygonFormFactor(const Eigen::Vector3d& x, const Eigen::Vector3d& n,
+                         const std::vector<Eigen::Vector3d>& p) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Eigen::Vector3d a = (p[i] - x).normalized();
+    const Eigen::Vector3d b = (p[(i + 1) % p.size()] - x).normalized();
+    const Eigen::Vector3d c = a.cross(b);
+    const double angle = std::atan2(c.norm(), a.dot(b));
+    sum += angle * n.dot(c.normalized());
+  }
+  return std::fabs(sum) / (2.0 * kPi);
+}
+
+double inradius(const Scene& scene, const Eigen::Vector3d& centre) {
+  double r = INFINITY;
+  for (const auto& t : scene.triangles) {
+    const Eigen::Vector3d a = scene.positions[t[0]].cast<double>();
+    const Eigen::Vector3d b = scene.positions[t[1]].cast<double>();
+    const Eigen::Vector3d c = scene.positions[t[2]].cast<double>();
+    const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+    r = std::min(r, std::fabs(n.dot(centre - a)));
+  }
+  return r;
+}
+
+}  // namespace gtbake::test
