@@ -6,7 +6,7 @@ packages=(
   libceres-dev libembree-dev libopenexr-dev libeigen3-dev libtinygltf-dev libtbb-dev
   libcli11-dev nlohmann-json3-dev libstb-dev librandom123-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libsquish-dev libnvtt-dev
+  libsquish-dev libnvtt-dev glslang-tools
 )
 missing=()
 for p in "${packages[@]}"; do

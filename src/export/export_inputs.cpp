@@ -1,0 +1,163 @@
+#include "export/export_inputs.h"
+
+#include <cmath>
+#include <cstring>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+
+namespace gtbake {
+namespace {
+
+constexpr const char* kCoeffNames[6] = {"a1", "a0", "b1", "b0", "c1", "c0"};
+constexpr const char* kAxisNames[4] = {"x", "y", "z", "w"};
+constexpr int kMaxAxisTexels = 4096;  // far beyond any table gtbake bakes; rejects garbage dims
+
+nlohmann::json parseJson(const std::filesystem::path& path) {
+  const std::string text = readFile(path);
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(path.string() + ": not valid JSON (" + std::string(e.what()) + ")");
+  }
+}
+
+const nlohmann::json& member(const nlohmann::json& j, const std::string& key,
+                             const std::string& where) {
+  if (!j.is_object() || !j.contains(key)) throw Error(where + ": missing key \"" + key + "\"");
+  return j.at(key);
+}
+
+double finiteNumber(const nlohmann::json& j, const std::string& key, const std::string& where) {
+  const nlohmann::json& v = member(j, key, where);
+  if (!v.is_number() || !std::isfinite(v.get<double>())) {
+    throw Error(where + ": \"" + key + "\" must be a finite number");
+  }
+  return v.get<double>();
+}
+
+GtsoTable readTable(const std::filesystem::path& dir, const nlohmann::json& tables,
+                    const std::string& key, int rank) {
+  const std::string where = (dir / "gtso.json").string() + " tables." + key;
+  const nlohmann::json& t = member(tables, key, (dir / "gtso.json").string() + " tables");
+  GtsoTable table;
+  table.meta = t;
+  const nlohmann::json& file = member(t, "file", where);
+  if (!file.is_string()) throw Error(where + ": \"file\" must be a string");
+  table.file = file.get<std::string>();
+  const nlohmann::json& dims = member(t, "dims", where);
+  if (!dims.is_array() || static_cast<int>(dims.size()) != rank) {
+    throw Error(where + ": \"dims\" must list " + std::to_string(rank) + " sizes");
+  }
+  for (const auto& d : dims) {
+    if (!d.is_number_integer() || d.get<int>() < 2 || d.get<int>() > kMaxAxisTexels) {
+      throw Error(where + ": every entry of \"dims\" must be an integer in [2, 4096]");
+    }
+    table.dims.push_back(d.get<int>());
+  }
+  if (table.dims[0] % 4 != 0 || table.dims[1] % 4 != 0) {
+    throw Error(where + ": x and y sizes must be multiples of 4 for BC4 blocks");
+  }
+  const nlohmann::json& axes = member(t, "axes", where);
+  if (!axes.is_array() || static_cast<int>(axes.size()) != rank) {
+    throw Error(where + ": \"axes\" must list " + std::to_string(rank) + " axes");
+  }
+  bool seen[4] = {false, false, false, false};
+  for (int i = 0; i < rank; ++i) {
+    const nlohmann::json& a = axes[i];
+    GtsoAxis axis;
+    const nlohmann::json& name = member(a, "axis", where + ".axes");
+    const nlohmann::json& quantity = member(a, "quantity", where + ".axes");
+    if (!name.is_string() || name.get<std::string>() != kAxisNames[i]) {
+      throw Error(where + ": axis " + std::to_string(i) + " must be named \"" + kAxisNames[i] +
+                  "\"");
+    }
+    if (!quantity.is_string() || !isAxisQuantity(quantity.get<std::string>())) {
+      throw Error(where + ": axis " + kAxisNames[i] + " has unknown quantity " + quantity.dump());
+    }
+    axis.name = kAxisNames[i];
+    axis.quantity = quantity.get<std::string>();
+    axis.min = finiteNumber(a, "min", where + ".axes." + axis.name);
+    axis.max = finiteNumber(a, "max", where + ".axes." + axis.name);
+    if (axis.min == axis.max) throw Error(where + ": axis " + axis.name + " has min == max");
+    const int family = static_cast<int>(axisFamily(axis.quantity));
+    if (seen[family]) {
+      throw Error(where + ": two axes describe the same quantity family (" + axis.quantity + ")");
+    }
+    seen[family] = true;
+    table.axes.push_back(axis);
+  }
+  if (!seen[0] || !seen[1] || !seen[2] || (rank == 4 && !seen[3])) {
+    throw Error(where + ": axes must cover A, β, roughness" + (rank == 4 ? ", θo" : ""));
+  }
+  table.volume = {table.dims[0], table.dims[1],
+                  rank == 4 ? table.dims[2] * table.dims[3] : table.dims[2]};
+  const std::size_t count =
+      static_cast<std::size_t>(table.volume[0]) * table.volume[1] * table.volume[2];
+  const std::string bytes = readFile(dir / table.file);
+  if (bytes.size() != count * sizeof(float)) {
+    throw Error((dir / table.file).string() + ": " + std::to_string(bytes.size()) +
+                " bytes, expected " + std::to_string(count * sizeof(float)) +
+                " (float32 little-endian, dims from gtso.json)");
+  }
+  table.values.resize(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    std::uint32_t bits = 0;
+    for (int b = 0; b < 4; ++b) {
+      bits |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[4 * i + b])) << (8 * b);
+    }
+    std::memcpy(&table.values[i], &bits, sizeof(float));
+    if (!std::isfinite(table.values[i])) {
+      throw Error((dir / table.file).string() + ": texel " + std::to_string(i) +
+                  " is not a finite number");
+    }
+  }
+  return table;
+}
+
+}  // namespace
+
+bool isAxisQuantity(const std::string& q) {
+  return q == "A" || q == "cos_alpha_v" || q == "alpha_v" || q == "cos_beta" || q == "beta" ||
+         q == "r_p" || q == "alpha" || q == "cos_theta_o" || q == "theta_o";
+}
+
+AxisFamily axisFamily(const std::string& q) {
+  if (q == "A" || q == "cos_alpha_v" || q == "alpha_v") return AxisFamily::kAmbient;
+  if (q == "cos_beta" || q == "beta") return AxisFamily::kBeta;
+  if (q == "r_p" || q == "alpha") return AxisFamily::kRoughness;
+  if (q == "cos_theta_o" || q == "theta_o") return AxisFamily::kThetaO;
+  throw Error("unknown GTSO axis quantity \"" + q + "\"");
+}
+
+GtsoInput readGtsoInput(const std::filesystem::path& dir) {
+  if (!std::filesystem::is_directory(dir)) {
+    throw Error("--gtso " + dir.string() + ": not a directory (run `gtbake gtso --out DIR`)");
+  }
+  GtsoInput in;
+  in.json = parseJson(dir / "gtso.json");
+  const std::string where = (dir / "gtso.json").string();
+  const nlohmann::json& tables = member(in.json, "tables", where);
+  in.table3d = readTable(dir, tables, "3d", 3);
+  in.table4d = readTable(dir, tables, "4d", 4);
+  const nlohmann::json& cone = member(in.json, "cone", where);
+  in.u = finiteNumber(cone, "u", where + " cone");
+  in.u_se = finiteNumber(cone, "u_se", where + " cone");
+  if (!(in.u > 0.0 && in.u < 1.0)) throw Error(where + ": cone.u must lie in (0, 1)");
+  return in;
+}
+
+FitInput readFitInput(const std::filesystem::path& file) {
+  FitInput in;
+  in.json = parseJson(file);
+  const std::string where = file.string();
+  const nlohmann::json& linear = member(in.json, "linear", where);
+  const nlohmann::json& se = member(in.json, "linear_se", where);
+  for (int i = 0; i < 6; ++i) {
+    in.linear[i] = finiteNumber(linear, kCoeffNames[i], where + " linear");
+    in.linear_se[i] = finiteNumber(se, kCoeffNames[i], where + " linear_se");
+  }
+  return in;
+}
+
+}  // namespace gtbake

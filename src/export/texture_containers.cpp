@@ -1,0 +1,149 @@
+#include "export/texture_containers.h"
+
+#include "common/error.h"
+
+namespace gtbake {
+namespace {
+
+// DDS constants (Microsoft "DDS_HEADER", "DDS_PIXELFORMAT", "DDS_HEADER_DXT10").
+constexpr std::uint32_t kDdsMagic = 0x20534444;  // "DDS "
+constexpr std::uint32_t kDdsdCaps = 0x1, kDdsdHeight = 0x2, kDdsdWidth = 0x4;
+constexpr std::uint32_t kDdsdPixelFormat = 0x1000, kDdsdLinearSize = 0x80000;
+constexpr std::uint32_t kDdsdDepth = 0x800000;
+constexpr std::uint32_t kDdpfFourCc = 0x4;
+constexpr std::uint32_t kFourCcDx10 = 0x30315844;  // "DX10"
+constexpr std::uint32_t kDdsCapsComplex = 0x8, kDdsCapsTexture = 0x1000;
+constexpr std::uint32_t kDdsCaps2Volume = 0x200000;
+constexpr std::uint32_t kDxgiFormatBc4Unorm = 80;
+constexpr std::uint32_t kD3d10ResourceDimensionTexture3d = 4;
+
+// KTX2 constants (KTX 2.0 specification; Khronos Data Format Specification 1.3).
+constexpr std::uint8_t kKtx2Identifier[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32,
+                                              0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+constexpr std::uint32_t kVkFormatBc4UnormBlock = 139;
+constexpr std::uint32_t kKhrDfModelBc4 = 131;
+constexpr std::uint32_t kKhrDfPrimariesBt709 = 1;
+constexpr std::uint32_t kKhrDfTransferLinear = 1;
+constexpr std::uint32_t kKhrDfVersion = 2;        // KDFS 1.3 basic descriptor block
+constexpr std::uint32_t kBc4BlockBytes = 8;       // bytesPlane0 and the level alignment
+constexpr std::uint32_t kDfdBlockSize = 24 + 16;  // basic block header + one sample
+
+void put32(std::string& s, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) s.push_back(static_cast<char>((v >> (8 * i)) & 0xFF));
+}
+void put64(std::string& s, std::uint64_t v) {
+  for (int i = 0; i < 8; ++i) s.push_back(static_cast<char>((v >> (8 * i)) & 0xFF));
+}
+void set64(std::string& s, std::size_t at, std::uint64_t v) {
+  for (int i = 0; i < 8; ++i) s[at + i] = static_cast<char>((v >> (8 * i)) & 0xFF);
+}
+void set32(std::string& s, std::size_t at, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) s[at + i] = static_cast<char>((v >> (8 * i)) & 0xFF);
+}
+
+std::size_t checkedSize(const Bc4VolumeImage& image) {
+  if (image.width <= 0 || image.height <= 0 || image.depth <= 0 || image.width % 4 != 0 ||
+      image.height % 4 != 0 || image.blocks == nullptr) {
+    throw Error("texture container: volume size must be positive multiples of 4 in x and y");
+  }
+  const std::size_t bytes =
+      static_cast<std::size_t>(image.width / 4) * (image.height / 4) * image.depth * kBc4BlockBytes;
+  if (image.blocks->size() != bytes) {
+    throw Error("texture container: BC4 data has " + std::to_string(image.blocks->size()) +
+                " bytes, expected " + std::to_string(bytes));
+  }
+  return bytes;
+}
+
+}  // namespace
+
+std::string makeDds(const Bc4VolumeImage& image) {
+  const std::size_t bytes = checkedSize(image);
+  const std::uint32_t slice_bytes =
+      static_cast<std::uint32_t>(image.width / 4) * (image.height / 4) * kBc4BlockBytes;
+  std::string s;
+  put32(s, kDdsMagic);
+  put32(s, 124);  // DDS_HEADER.dwSize
+  put32(s, kDdsdCaps | kDdsdHeight | kDdsdWidth | kDdsdPixelFormat | kDdsdLinearSize | kDdsdDepth);
+  put32(s, image.height);
+  put32(s, image.width);
+  put32(s, slice_bytes);  // dwPitchOrLinearSize: bytes of one slice of the top level (DirectXTex)
+  put32(s, image.depth);
+  put32(s, 1);                               // dwMipMapCount
+  for (int i = 0; i < 11; ++i) put32(s, 0);  // dwReserved1
+  put32(s, 32);                              // DDS_PIXELFORMAT.dwSize
+  put32(s, kDdpfFourCc);
+  put32(s, kFourCcDx10);
+  for (int i = 0; i < 5; ++i) put32(s, 0);  // RGB bit count and masks
+  put32(s, kDdsCapsTexture | kDdsCapsComplex);
+  put32(s, kDdsCaps2Volume);
+  put32(s, 0);  // dwCaps3
+  put32(s, 0);  // dwCaps4
+  put32(s, 0);  // dwReserved2
+  put32(s, kDxgiFormatBc4Unorm);
+  put32(s, kD3d10ResourceDimensionTexture3d);
+  put32(s, 0);  // miscFlag
+  put32(s, 1);  // arraySize
+  put32(s, 0);  // miscFlags2: DDS_ALPHA_MODE_UNKNOWN
+  s.append(reinterpret_cast<const char*>(image.blocks->data()), bytes);
+  return s;
+}
+
+std::string makeKtx2(const Bc4VolumeImage& image, const std::string& writer) {
+  const std::size_t bytes = checkedSize(image);
+  std::string s(reinterpret_cast<const char*>(kKtx2Identifier), sizeof(kKtx2Identifier));
+  put32(s, kVkFormatBc4UnormBlock);
+  put32(s, 1);  // typeSize: block-compressed formats use 1
+  put32(s, image.width);
+  put32(s, image.height);
+  put32(s, image.depth);
+  put32(s, 0);  // layerCount: not an array
+  put32(s, 1);  // faceCount
+  put32(s, 1);  // levelCount
+  put32(s, 0);  // supercompressionScheme: none
+  const std::size_t index_at = s.size();
+  for (int i = 0; i < 4; ++i) put32(s, 0);  // dfd/kvd offsets and lengths, set below
+  put64(s, 0);                              // sgdByteOffset: no supercompression global data
+  put64(s, 0);                              // sgdByteLength
+  const std::size_t level_at = s.size();
+  for (int i = 0; i < 3; ++i) put64(s, 0);  // level 0: byteOffset, byteLength, uncompressed
+
+  // Data format descriptor: dfdTotalSize, then one basic descriptor block with one sample.
+  const std::size_t dfd_at = s.size();
+  put32(s, 4 + kDfdBlockSize);
+  put32(s, 0);  // vendorId KHR (0), descriptorType basic (0)
+  put32(s, kKhrDfVersion | kDfdBlockSize << 16);
+  put32(s, kKhrDfModelBc4 | kKhrDfPrimariesBt709 << 8 | kKhrDfTransferLinear << 16);  // flags 0
+  put32(s, 3 | 3 << 8);      // texelBlockDimension 4×4×1×1 (stored minus 1)
+  put32(s, kBc4BlockBytes);  // bytesPlane0 = 8, bytesPlane1..3 = 0
+  put32(s, 0);               // bytesPlane4..7
+  put32(s, 0 | 63u << 16);   // bitOffset 0, bitLength 64 − 1, channel BC4_DATA
+  put32(s, 0);               // samplePosition 0,0,0,0
+  put32(s, 0);               // sampleLower
+  put32(s, 0xFFFFFFFFu);     // sampleUpper
+  const std::size_t dfd_bytes = s.size() - dfd_at;
+
+  // Key/value data: one entry, value NUL-terminated, padded to 4 bytes.
+  const std::size_t kvd_at = s.size();
+  const std::string key_value = std::string("KTXwriter") + '\0' + writer + '\0';
+  put32(s, static_cast<std::uint32_t>(key_value.size()));
+  s += key_value;
+  while (s.size() % 4 != 0) s.push_back('\0');
+  const std::size_t kvd_bytes = s.size() - kvd_at;
+
+  // Level data aligned to lcm(texel block size 8, 4) = 8.
+  while (s.size() % kBc4BlockBytes != 0) s.push_back('\0');
+  const std::size_t data_at = s.size();
+  s.append(reinterpret_cast<const char*>(image.blocks->data()), bytes);
+
+  set32(s, index_at, static_cast<std::uint32_t>(dfd_at));
+  set32(s, index_at + 4, static_cast<std::uint32_t>(dfd_bytes));
+  set32(s, index_at + 8, static_cast<std::uint32_t>(kvd_at));
+  set32(s, index_at + 12, static_cast<std::uint32_t>(kvd_bytes));
+  set64(s, level_at, data_at);
+  set64(s, level_at + 8, bytes);
+  set64(s, level_at + 16, bytes);
+  return s;
+}
+
+}  // namespace gtbake

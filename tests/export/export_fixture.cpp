@@ -1,0 +1,92 @@
+#include "export_fixture.h"
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+namespace gtbake::test {
+
+float fixtureValue(double tx, double ty, double tz, double tw) {
+  return static_cast<float>(0.5 + 0.47 * std::sin(1.3 * tx + 2.1 * ty * tz + 0.7 * tw) *
+                                      std::cos(0.9 * tz - 0.4 * tw));
+}
+
+std::vector<float> fixtureTable3D() {
+  const int* n = kFixture3D;
+  std::vector<float> v;
+  for (int z = 0; z < n[2]; ++z)
+    for (int y = 0; y < n[1]; ++y)
+      for (int x = 0; x < n[0]; ++x)
+        v.push_back(fixtureValue(x / (n[0] - 1.0), y / (n[1] - 1.0), z / (n[2] - 1.0), 0.0));
+  return v;
+}
+
+std::vector<float> fixtureTable4D() {
+  const int* n = kFixture4D;
+  std::vector<float> v;
+  for (int w = 0; w < n[3]; ++w)
+    for (int z = 0; z < n[2]; ++z)
+      for (int y = 0; y < n[1]; ++y)
+        for (int x = 0; x < n[0]; ++x)
+          v.push_back(
+              fixtureValue(x / (n[0] - 1.0), y / (n[1] - 1.0), z / (n[2] - 1.0), w / (n[3] - 1.0)));
+  return v;
+}
+
+namespace {
+
+void writeFloats(const std::filesystem::path& path, const std::vector<float>& v) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(float));
+}
+
+nlohmann::json axis(const char* name, const char* quantity, double min, double max) {
+  return {{"axis", name}, {"quantity", quantity}, {"min", min}, {"max", max}};
+}
+
+}  // namespace
+
+void writeFixture(const std::filesystem::path& dir) {
+  std::filesystem::create_directories(dir / "gtso");
+  writeFloats(dir / "gtso" / "gtso3d.f32", fixtureTable3D());
+  writeFloats(dir / "gtso" / "gtso4d.f32", fixtureTable4D());
+  const double kPi = 3.14159265358979323846;
+  nlohmann::json g;
+  g["version"] = "fixture";
+  g["size"] = 8;
+  g["roughness_convention"] = "r_p, alpha = r_p^2";
+  g["texel_rule"] = "texel i at i/(N-1)";
+  g["tables"]["3d"] = {{"file", "gtso3d.f32"},
+                       {"dims", {kFixture3D[0], kFixture3D[1], kFixture3D[2]}},
+                       {"axes",
+                        {axis("x", "cos_alpha_v", 1.0, 0.0), axis("y", "beta", 0.0, kPi),
+                         axis("z", "r_p", 0.0, 1.0)}},
+                       {"samples", 64},
+                       {"max_abs_error_vs_reference", 1e-4}};
+  g["tables"]["4d"] = {{"file", "gtso4d.f32"},
+                       {"dims", {kFixture4D[0], kFixture4D[1], kFixture4D[2], kFixture4D[3]}},
+                       {"axes",
+                        {axis("x", "A", 0.0, 1.0), axis("y", "cos_beta", -1.0, 1.0),
+                         axis("z", "alpha", 0.0, 1.0), axis("w", "cos_theta_o", 0.0, 1.0)}},
+                       {"folded", {kFixture4D[0], kFixture4D[1], kFixture4D[2] * kFixture4D[3]}},
+                       {"samples", 64},
+                       {"max_abs_error_vs_reference", 1e-4}};
+  g["cone"] = {{"u", kFixtureU},
+               {"u_se", 0.0005},
+               {"convention", "cos(alpha_s) = u^(alpha^2/2)"},
+               {"errors", {{"fitted", {{"rmse", 0.01}, {"max_abs", 0.05}}}}}};
+  std::ofstream(dir / "gtso" / "gtso.json") << g.dump(2);
+  nlohmann::json fit;
+  fit["version"] = "fixture";
+  const char* names[6] = {"a1", "a0", "b1", "b0", "c1", "c0"};
+  for (int i = 0; i < 6; ++i) {
+    fit["linear"][names[i]] = kFixtureCoeffs[i];
+    fit["linear_se"][names[i]] = 0.001 * (i + 1);
+  }
+  fit["errors"]["refit"] = {{"rmse", 0.004}, {"max_abs", 0.03}};
+  fit["shipped"]["max_curve_difference"] = {{"value", 0.02}, {"A", 0.5}, {"rho", 0.9}};
+  fit["sweep"] = {{"spp", 256}, {"bounces", 3}};
+  std::ofstream(dir / "fit.json") << fit.dump(2);
+}
+
+}  // namespace gtbake::test

@@ -1,0 +1,24 @@
+// Build-time helper: writes the export fixture into argv[1] and runs `gtbake export` on it, so
+// that header_consumer_test.cpp can #include the generated gtbake_tables.h.
+#include <cstdio>
+#include <filesystem>
+
+#include "export/export_command.h"
+#include "export_fixture.h"
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: export_fixture_gen DIR\n");
+    return 2;
+  }
+  const std::filesystem::path dir = argv[1];
+  gtbake::test::writeFixture(dir);
+  gtbake::ExportOptions options;
+  options.fit = dir / "fit.json";
+  options.gtso = dir / "gtso";
+  options.out = dir / "out";
+  options.command_line = "export_fixture_gen (test fixture)";
+  options.progress = false;
+  gtbake::runExport(options);
+  return 0;
+}

@@ -1,0 +1,287 @@
+// `gtbake export` end to end on the synthetic fixture: the DDS and KTX2 files parsed back with an
+// independent reader, the reported BC4 errors recomputed from the files, input validation, float
+// literals, and the generated header and shader includes compiled on their own.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <regex>
+#include <sstream>
+
+#include "common/error.h"
+#include "export/bc4_block.h"
+#include "export/bc4_encoder.h"
+#include "export/export_command.h"
+#include "export/generated_code.h"
+#include "export_fixture.h"
+
+namespace gtbake {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::uint64_t le(const std::string& s, std::size_t at, int bytes) {
+  std::uint64_t v = 0;
+  for (int i = 0; i < bytes; ++i)
+    v |= std::uint64_t(static_cast<unsigned char>(s[at + i])) << 8 * i;
+  return v;
+}
+
+class ExportTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ =
+        fs::temp_directory_path() /
+        ("gtbake_export_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+         "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    test::writeFixture(dir_);
+    options_.fit = dir_ / "fit.json";
+    options_.gtso = dir_ / "gtso";
+    options_.out = dir_ / "out";
+    options_.command_line = "gtbake export (test)";
+    options_.progress = false;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  void expectErrorAndNoOutput(const std::string& fragment) {
+    try {
+      runExport(options_);
+      FAIL() << "expected gtbake::Error containing \"" << fragment << "\"";
+    } catch (const Error& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(fragment), std::string::npos) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << "one line: " << what;
+    }
+    EXPECT_FALSE(fs::exists(options_.out) && !fs::is_empty(options_.out));
+  }
+
+  fs::path dir_;
+  ExportOptions options_;
+};
+
+// The 4D payload decoded back must reproduce the reported RMSE and max error.
+void checkPayloadErrors(const std::string& payload, const std::vector<float>& table, int w, int h,
+                        int d, double rmse, double max_abs) {
+  ASSERT_EQ(payload.size(), std::size_t(w / 4) * (h / 4) * d * 8);
+  double sse = 0.0, worst = 0.0;
+  for (int z = 0; z < d; ++z)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const std::size_t b = (std::size_t(z) * (h / 4) + y / 4) * (w / 4) + x / 4;
+        const auto texels = decodeBc4Block(reinterpret_cast<const std::uint8_t*>(&payload[8 * b]));
+        const double diff = texels[(y % 4) * 4 + x % 4] - double(table[(z * h + y) * w + x]);
+        sse += diff * diff;
+        worst = std::fmax(worst, std::fabs(diff));
+      }
+  EXPECT_NEAR(std::sqrt(sse / table.size()), rmse, 1e-12);
+  EXPECT_EQ(worst, max_abs);
+}
+
+TEST_F(ExportTest, DdsFieldsAndPayload) {
+  const ExportResult r = runExport(options_);
+  const std::string s = slurp(options_.out / "gtso4d.dds");
+  const int w = 8, h = 8, d = 12;
+  ASSERT_EQ(s.size(), 4 + 124 + 20 + std::size_t(w / 4 * h / 4 * d * 8));
+  EXPECT_EQ(s.substr(0, 4), "DDS ");
+  EXPECT_EQ(le(s, 4, 4), 124u);                                            // dwSize
+  EXPECT_EQ(le(s, 8, 4), 0x1u | 0x2 | 0x4 | 0x1000 | 0x80000 | 0x800000);  // dwFlags
+  EXPECT_EQ(le(s, 12, 4), std::uint64_t(h));
+  EXPECT_EQ(le(s, 16, 4), std::uint64_t(w));
+  EXPECT_EQ(le(s, 20, 4), std::uint64_t(w / 4 * h / 4 * 8));  // one slice of blocks
+  EXPECT_EQ(le(s, 24, 4), std::uint64_t(d));
+  EXPECT_EQ(le(s, 28, 4), 1u);  // mips
+  for (int i = 0; i < 11; ++i) EXPECT_EQ(le(s, 32 + 4 * i, 4), 0u);
+  EXPECT_EQ(le(s, 76, 4), 32u);   // pixel format size
+  EXPECT_EQ(le(s, 80, 4), 0x4u);  // DDPF_FOURCC
+  EXPECT_EQ(s.substr(84, 4), "DX10");
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(le(s, 88 + 4 * i, 4), 0u);
+  EXPECT_EQ(le(s, 108, 4), 0x1000u | 0x8);  // TEXTURE | COMPLEX
+  EXPECT_EQ(le(s, 112, 4), 0x200000u);      // VOLUME
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(le(s, 116 + 4 * i, 4), 0u);
+  EXPECT_EQ(le(s, 128, 4), 80u);  // DXGI_FORMAT_BC4_UNORM
+  EXPECT_EQ(le(s, 132, 4), 4u);   // TEXTURE3D
+  EXPECT_EQ(le(s, 136, 4), 0u);
+  EXPECT_EQ(le(s, 140, 4), 1u);  // arraySize
+  EXPECT_EQ(le(s, 144, 4), 0u);
+  checkPayloadErrors(s.substr(148), test::fixtureTable4D(), w, h, d, r.bc4_rmse_4d, r.bc4_max_4d);
+  // Byte for byte: the payload is the encoder's output for the folded float table.
+  const std::vector<float> t4 = test::fixtureTable4D();
+  const Bc4Volume v = encodeBc4Volume(Bc4Encoder(), t4.data(), w, h, d, nullptr);
+  EXPECT_EQ(s.substr(148), std::string(v.bytes.begin(), v.bytes.end()));
+  const std::string s3 = slurp(options_.out / "gtso3d.dds");
+  checkPayloadErrors(s3.substr(148), test::fixtureTable3D(), 8, 8, 6, r.bc4_rmse_3d, r.bc4_max_3d);
+}
+
+TEST_F(ExportTest, Ktx2FieldsAndPayload) {
+  const ExportResult r = runExport(options_);
+  const std::string s = slurp(options_.out / "gtso3d.ktx2");
+  const unsigned char id[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
+  EXPECT_EQ(s.substr(0, 12), std::string(reinterpret_cast<const char*>(id), 12));
+  EXPECT_EQ(le(s, 12, 4), 139u);  // VK_FORMAT_BC4_UNORM_BLOCK
+  EXPECT_EQ(le(s, 16, 4), 1u);    // typeSize
+  EXPECT_EQ(le(s, 20, 4), 8u);
+  EXPECT_EQ(le(s, 24, 4), 8u);
+  EXPECT_EQ(le(s, 28, 4), 6u);
+  EXPECT_EQ(le(s, 32, 4), 0u);  // layerCount
+  EXPECT_EQ(le(s, 36, 4), 1u);  // faceCount
+  EXPECT_EQ(le(s, 40, 4), 1u);  // levelCount
+  EXPECT_EQ(le(s, 44, 4), 0u);  // supercompression
+  const std::uint64_t dfd = le(s, 48, 4), dfd_len = le(s, 52, 4);
+  const std::uint64_t kvd = le(s, 56, 4), kvd_len = le(s, 60, 4);
+  EXPECT_EQ(le(s, 64, 8), 0u);
+  EXPECT_EQ(le(s, 72, 8), 0u);
+  const std::uint64_t data = le(s, 80, 8), data_len = le(s, 88, 8);
+  EXPECT_EQ(le(s, 96, 8), data_len);  // uncompressedByteLength
+  EXPECT_EQ(dfd, 104u);
+  EXPECT_EQ(dfd_len, 44u);
+  EXPECT_EQ(le(s, dfd, 4), 44u);                 // dfdTotalSize
+  EXPECT_EQ(le(s, dfd + 4, 4), 0u);              // vendor KHR, type basic
+  EXPECT_EQ(le(s, dfd + 8, 4), 2u | 40u << 16);  // version 2, block size 40
+  EXPECT_EQ(s[dfd + 12], char(131));             // KHR_DF_MODEL_BC4
+  EXPECT_EQ(s[dfd + 13], 1);                     // BT709 primaries
+  EXPECT_EQ(s[dfd + 14], 1);                     // linear transfer
+  EXPECT_EQ(s[dfd + 15], 0);                     // flags
+  EXPECT_EQ(le(s, dfd + 16, 4), 0x0303u);        // 4x4x1x1 block
+  EXPECT_EQ(le(s, dfd + 20, 4), 8u);             // bytesPlane0
+  EXPECT_EQ(le(s, dfd + 24, 4), 0u);
+  EXPECT_EQ(le(s, dfd + 28, 2), 0u);  // bitOffset
+  EXPECT_EQ(s[dfd + 30], 63);         // bitLength − 1
+  EXPECT_EQ(s[dfd + 31], 0);          // channel BC4 data, unsigned, not linear
+  EXPECT_EQ(le(s, dfd + 32, 4), 0u);
+  EXPECT_EQ(le(s, dfd + 36, 4), 0u);
+  EXPECT_EQ(le(s, dfd + 40, 4), 0xFFFFFFFFu);
+  EXPECT_EQ(kvd, dfd + dfd_len);
+  const std::string kv = std::string("KTXwriter") + '\0' + "gtbake ";
+  EXPECT_EQ(s.substr(kvd + 4, kv.size()), kv);
+  const std::uint64_t kv_len = le(s, kvd, 4);
+  EXPECT_EQ(s[kvd + 4 + kv_len - 1], '\0');
+  EXPECT_EQ(kvd_len, (4 + kv_len + 3) / 4 * 4);
+  EXPECT_EQ(data % 8, 0u);
+  EXPECT_GE(data, kvd + kvd_len);
+  EXPECT_LT(data, kvd + kvd_len + 8);
+  EXPECT_EQ(data + data_len, s.size());
+  checkPayloadErrors(s.substr(data), test::fixtureTable3D(), 8, 8, 6, r.bc4_rmse_3d, r.bc4_max_3d);
+  // Same blocks in both containers.
+  EXPECT_EQ(s.substr(data), slurp(options_.out / "gtso3d.dds").substr(148));
+}
+
+TEST_F(ExportTest, DeterministicAcrossThreadCounts) {
+  options_.threads = 1;
+  runExport(options_);
+  const std::string one = slurp(options_.out / "gtbake_tables.h");
+  options_.threads = 2;
+  runExport(options_);
+  EXPECT_EQ(one, slurp(options_.out / "gtbake_tables.h"));
+}
+
+TEST_F(ExportTest, RejectsMissingFit) {
+  fs::remove(dir_ / "fit.json");
+  expectErrorAndNoOutput("fit.json");
+}
+
+TEST_F(ExportTest, RejectsWrongTableSize) {
+  std::ofstream(dir_ / "gtso" / "gtso4d.f32", std::ios::binary) << "short";
+  expectErrorAndNoOutput("gtso4d.f32");
+}
+
+TEST_F(ExportTest, RejectsUnknownQuantity) {
+  std::string json = slurp(dir_ / "gtso" / "gtso.json");
+  json.replace(json.find("\"cos_theta_o\""), 13, "\"theta_v\"");
+  std::ofstream(dir_ / "gtso" / "gtso.json") << json;
+  expectErrorAndNoOutput("unknown quantity");
+}
+
+TEST_F(ExportTest, RejectsNanTexel) {
+  std::vector<float> t = test::fixtureTable3D();
+  t[17] = std::nanf("");
+  std::ofstream(dir_ / "gtso" / "gtso3d.f32", std::ios::binary)
+      .write(reinterpret_cast<const char*>(t.data()), t.size() * 4);
+  expectErrorAndNoOutput("texel 17");
+}
+
+TEST_F(ExportTest, RejectsMissingCoefficient) {
+  std::string json = slurp(dir_ / "fit.json");
+  json.replace(json.find("\"c0\""), 4, "\"cz\"");
+  std::ofstream(dir_ / "fit.json") << json;
+  expectErrorAndNoOutput("c0");
+}
+
+TEST(FloatLiteral, RoundTripsExactly) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> uni(-10.0f, 10.0f);
+  for (int i = 0; i < 20000; ++i) {
+    const float x = i % 3 == 0 ? std::ldexp(uni(rng), -(i % 40)) : uni(rng);
+    ASSERT_EQ(std::strtof(floatLiteral(x).c_str(), nullptr), x) << floatLiteral(x);
+  }
+  EXPECT_EQ(floatLiteral(1.0f), "1.0");
+}
+
+TEST_F(ExportTest, HeaderConstantsReadBackExactly) {
+  runExport(options_);
+  const std::string h = slurp(options_.out / "gtbake_tables.h");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(h, m, std::regex("kConeApertureU = ([^f;]+)f;")));
+  EXPECT_EQ(std::strtof(m[1].str().c_str(), nullptr), float(test::kFixtureU));
+  ASSERT_TRUE(std::regex_search(h, m, std::regex("kMultiBounceB\\[2\\] = \\{([^f]+)f, ([^f]+)f")));
+  EXPECT_EQ(std::strtof(m[1].str().c_str(), nullptr), float(test::kFixtureCoeffs[2]));
+  EXPECT_EQ(std::strtof(m[2].str().c_str(), nullptr), float(test::kFixtureCoeffs[3]));
+}
+
+TEST_F(ExportTest, HeaderCompilesAlone) {
+  runExport(options_);
+  std::ofstream(dir_ / "consumer.cpp")
+      << "#include \"gtbake_tables.h\"\n"
+      << "float f() { return gtbake::gtso3DLookup(0.5f, 1.0f, 0.5f); }\n";
+  const std::string cmd = std::string(GTBAKE_TEST_CXX) +
+                          " -std=c++17 -fsyntax-only -Wall -Wextra -Wpedantic -Werror -I" +
+                          options_.out.string() + " " + (dir_ / "consumer.cpp").string() + " 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+}
+
+// glslangValidator (Debian glslang-tools) compiles the GLSL include inside a compute shader and
+// the HLSL include with -D.
+TEST_F(ExportTest, ShaderIncludesCompile) {
+  if (std::string(GTBAKE_GLSLANG).empty() ||
+      std::string(GTBAKE_GLSLANG).find("NOTFOUND") != std::string::npos) {
+    GTEST_SKIP() << "glslangValidator not installed (apt-get install glslang-tools)";
+  }
+  runExport(options_);
+  const std::string glsl =
+      "#version 450\nlayout(local_size_x = 1) in;\n"
+      "layout(binding = 0) uniform sampler3D t3;\n"
+      "layout(binding = 1) uniform sampler3D t4;\n"
+      "layout(std430, binding = 2) buffer Out { float result[]; };\n" +
+      slurp(options_.out / "gtbake_tables.glsl") +
+      "void main() {\n  result[0] = gtso3DSample(t3, 0.5, 0.7, 0.3) + "
+      "gtso4DSample(t4, 0.5, 0.7, 0.3, 0.9) + multiBounce(0.5, 0.7) + "
+      "gtsoConeModel(0.5, 0.7, 0.3);\n}\n";
+  std::ofstream(dir_ / "check.comp") << glsl;
+  const std::string hlsl = slurp(options_.out / "gtbake_tables.hlsl") +
+                           "Texture3D<float> t3 : register(t0);\nTexture3D<float> t4 : "
+                           "register(t1);\nSamplerState s : register(s0);\n"
+                           "RWStructuredBuffer<float> result : register(u0);\n"
+                           "[numthreads(1, 1, 1)] void main() {\n  result[0] = gtso3DSample(t3, "
+                           "s, 0.5, 0.7, 0.3) + gtso4DSample(t4, s, 0.5, 0.7, 0.3, 0.9) + "
+                           "multiBounce(0.5, 0.7) + gtsoConeModel(0.5, 0.7, 0.3);\n}\n";
+  std::ofstream(dir_ / "check.hlsl") << hlsl;
+  const std::string tool = GTBAKE_GLSLANG;
+  const std::string g = tool + " -V -S comp -o " + (dir_ / "check_glsl.spv").string() + " " +
+                        (dir_ / "check.comp").string();
+  EXPECT_EQ(std::system(g.c_str()), 0) << g;
+  const std::string d = tool + " -D -V -e main -S comp -o " + (dir_ / "check.spv").string() + " " +
+                        (dir_ / "check.hlsl").string();
+  EXPECT_EQ(std::system(d.c_str()), 0) << d;
+}
+
+}  // namespace
+}  // namespace gtbake
