@@ -11,6 +11,10 @@ struct GtsoOptions {
   int samples = 0;            // lobe samples per (r_p, θo, β) line; 0 = the documented default
   int threads = 0;            // 0 = all cores
   bool progress = true;
+  // > 0: also bake both tables with reference_factor x the cells per axis (reference_factor^2 x
+  // the lobe samples; 4 gives the SPEC's 16x) and record every texel's error against them in
+  // gtso.json. Slow (about reference_factor^2 x the bake); bench_gtso measures the same.
+  int reference_factor = 0;
 };
 
 struct GtsoResult {

@@ -1,0 +1,99 @@
+#include "gtso/cone_fit.h"
+
+#include <ceres/ceres.h>
+
+#include <cmath>
+
+#include "common/error.h"
+#include "gtso/cone_intersection.h"
+
+namespace gtbake::gtso {
+
+namespace {
+
+constexpr double kInitialZ =
+    -2.0;  // u = 0.12 to start: between Uludag's 0.244 and the paper's 0.01
+
+double uFromZ(double z) {
+  return 1.0 / (1.0 + std::exp(-z));
+}
+
+// One texel's residual S_cone(u(z)) - S3; numeric (central) derivative in z.
+struct ConeResidual {
+  GtsoPoint p;
+  double target;
+  RoughnessConvention convention;
+  bool operator()(const double* z, double* residual) const {
+    residual[0] = coneModel(p, uFromZ(z[0]), convention) - target;
+    return true;
+  }
+};
+
+template <typename F>
+void forEachFitTexel(const Table& s3, double rpMin, F&& f) {
+  for (int r = 0; r < s3.size; ++r)
+    for (int b = 0; b < s3.size; ++b)
+      for (int a = 0; a < s3.size; ++a) {
+        const std::array<int, 4> i = {a, b, r, 0};
+        const GtsoPoint p = s3.point(i);
+        if (p.r_p > 0.0 && p.r_p >= rpMin - 1e-12) f(p, s3.values[s3.index(i)]);
+      }
+}
+
+}  // namespace
+
+double coneModel(const GtsoPoint& p, double u, RoughnessConvention convention) {
+  const double w = convention == RoughnessConvention::kAlpha ? p.r_p * p.r_p : p.r_p;
+  const double alphaV = std::acos(std::sqrt(std::clamp(1.0 - p.A, 0.0, 1.0)));
+  return coneSpecularOcclusion(alphaV, specularConeAperture(u, w), p.thetaO);
+}
+
+ConeErrors coneErrors(const Table& s3, double u, RoughnessConvention convention, double rpMin) {
+  ConeErrors e;
+  double sum = 0.0;
+  forEachFitTexel(s3, rpMin, [&](const GtsoPoint& p, double s) {
+    const double d = coneModel(p, u, convention) - s;
+    sum += d * d;
+    e.max_abs = std::max(e.max_abs, std::abs(d));
+    ++e.count;
+  });
+  e.rmse = std::sqrt(sum / std::max(e.count, 1));
+  return e;
+}
+
+ConeFit fitConeU(const Table& s3, RoughnessConvention convention, double rpMin) {
+  double z = kInitialZ;
+  ceres::Problem problem;
+  forEachFitTexel(s3, rpMin, [&](const GtsoPoint& p, double s) {
+    problem.AddResidualBlock(new ceres::NumericDiffCostFunction<ConeResidual, ceres::CENTRAL, 1, 1>(
+                                 new ConeResidual{p, s, convention}),
+                             nullptr, &z);
+  });
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.num_threads = 1;  // deterministic
+  options.function_tolerance = 1e-14;
+  options.parameter_tolerance = 1e-12;
+  options.max_num_iterations = 200;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  if (!summary.IsSolutionUsable() || summary.termination_type == ceres::NO_CONVERGENCE) {
+    throw Error("cone-aperture fit did not converge: " + summary.message);
+  }
+  ceres::Covariance::Options covOptions;
+  ceres::Covariance covariance(covOptions);
+  std::vector<std::pair<const double*, const double*>> blocks = {{&z, &z}};
+  double varZ = 0.0;
+  if (!covariance.Compute(blocks, &problem) || !covariance.GetCovarianceBlock(&z, &z, &varZ)) {
+    throw Error("cone-aperture fit: covariance is rank deficient");
+  }
+  ConeFit fit;
+  fit.u = uFromZ(z);
+  fit.errors = coneErrors(s3, fit.u, convention, rpMin);
+  const double residualVariance =
+      fit.errors.rmse * fit.errors.rmse * fit.errors.count / std::max(fit.errors.count - 1, 1);
+  fit.u_se = fit.u * (1.0 - fit.u) * std::sqrt(varZ * residualVariance);
+  return fit;
+}
+
+}  // namespace gtbake::gtso

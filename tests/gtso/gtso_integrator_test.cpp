@@ -1,0 +1,98 @@
+// The GTSO integral: closed-form limits, invariants and a brute-force check.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/rng.h"
+#include "gtso/gtso_integrator.h"
+
+namespace gtbake::gtso {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kCells = 48;  // coarser than the default: these are invariants, not accuracy
+
+std::vector<double> aAxis(int n) {
+  std::vector<double> c(n);
+  for (int j = 0; j < n; ++j) c[j] = std::sqrt(1.0 - static_cast<double>(j) / (n - 1));
+  return c;
+}
+
+TEST(GtsoIntegrator, FullConeIsOneAndEmptyConeIsZero) {
+  for (double rp : {0.0, 0.05, 0.4, 1.0})
+    for (double cosO : {1.0, 0.5, 0.0}) {
+      const auto s = specularOcclusion(rp, cosO, {{0.0, 0.0, 1.0}}, {0.0, 1.0}, kCells);
+      EXPECT_NEAR(s[0], 1.0, 1e-12) << "A = 1, r_p " << rp << " cos " << cosO;
+      EXPECT_EQ(s[1], 0.0) << "A = 0, r_p " << rp << " cos " << cosO;
+    }
+}
+
+TEST(GtsoIntegrator, MonotoneInA) {
+  const auto cs = aAxis(32);
+  for (double rp : {0.0, 0.1, 0.5, 0.9})
+    for (double cosO : {0.9, 0.4, 0.05}) {
+      std::vector<Vec3> b;
+      for (double beta : {0.0, 0.7, 1.5, 2.5}) b.push_back(bentNormal(std::acos(cosO), beta));
+      const auto s = specularOcclusion(rp, cosO, b, cs, kCells);
+      for (std::size_t k = 0; k < b.size(); ++k)
+        for (std::size_t j = 1; j < cs.size(); ++j) EXPECT_GE(s[k * 32 + j], s[k * 32 + j - 1]);
+    }
+}
+
+TEST(GtsoIntegrator, FourDAtBetaEqualThetaIsThreeD) {
+  const auto cs = aAxis(16);
+  for (double rp : {0.0, 0.2, 0.7})
+    for (double thetaO : {0.0, 0.6, 1.3, kPi / 2}) {
+      const auto s3 = specularOcclusion(rp, std::cos(thetaO), {{0.0, 0.0, 1.0}}, cs, kCells);
+      const auto s4 = specularOcclusion(
+          rp, std::cos(thetaO), {bentNormal(thetaO, 0.3), bentNormal(thetaO, thetaO)}, cs, kCells);
+      for (std::size_t j = 0; j < cs.size(); ++j) EXPECT_NEAR(s4[16 + j], s3[j], 1e-15);
+    }
+}
+
+TEST(GtsoIntegrator, MirrorLimitIsDeltaVOfReflection) {
+  const double thetaO = 0.5;
+  const Vec3 n = {0.0, 0.0, 1.0};
+  // wr makes 0.5 rad with n: inside cones wider than 0.5, outside narrower, half on the edge.
+  const auto s = specularOcclusion(0.0, std::cos(thetaO), {n},
+                                   {std::cos(0.6), std::cos(0.4), std::cos(thetaO)}, kCells);
+  EXPECT_EQ(s[0], 1.0);
+  EXPECT_EQ(s[1], 0.0);
+  EXPECT_NEAR(s[2], 0.5, 0.02);
+  // ... and the smallest roughness approaches it.
+  const auto near = specularOcclusion(0.02, std::cos(thetaO), {n}, {std::cos(0.6), std::cos(0.4)});
+  EXPECT_GT(near[0], 0.999);
+  EXPECT_LT(near[1], 0.001);
+}
+
+// Brute force: uniform hemisphere sampling of fr cos, ratio estimator with its delta-method SE.
+TEST(GtsoIntegrator, MatchesUniformHemisphereBruteForce) {
+  const CounterRng pick(21, 0);
+  constexpr int kSamples = 1 << 21;
+  for (int texel = 0; texel < 6; ++texel) {
+    const auto u = pick.uniform4(texel, 0);
+    const double A = 0.1 + 0.85 * u[0], beta = kPi * u[1], rp = 0.35 + 0.65 * u[2];
+    const double thetaO = 1.45 * u[3], c = std::sqrt(1.0 - A);
+    const Vec3 b = bentNormal(thetaO, beta), wo = viewDirection(std::cos(thetaO));
+    const GgxDistribution ggx(rp * rp);
+    const CounterRng rng(99, texel);
+    double sn = 0, sd = 0, snn = 0, sdd = 0, snd = 0;
+    for (int i = 0; i < kSamples; ++i) {
+      const auto v = rng.uniform4(i, 0);
+      const double z = v[0], r = std::sqrt(1.0 - z * z), phi = 2 * kPi * v[1];
+      const Vec3 wi = {r * std::cos(phi), r * std::sin(phi), z};
+      const double f = ggx.f(wo, wi) * z;
+      const double g = dot(wi, b) >= c ? f : 0.0;
+      sn += g, sd += f, snn += g * g, sdd += f * f, snd += g * f;
+    }
+    const double S = sn / sd, N = kSamples;
+    const double var = (snn - 2 * S * snd + S * S * sdd) / (sd * sd) * N / (N - 1);
+    const double se = std::sqrt(var);
+    const double got = specularOcclusion(rp, std::cos(thetaO), {b}, {c})[0];
+    EXPECT_NEAR(got, S, 4.0 * se + 1e-3)
+        << "A " << A << " beta " << beta << " r_p " << rp << " theta_o " << thetaO << " se " << se;
+  }
+}
+
+}  // namespace
+}  // namespace gtbake::gtso
