@@ -85,6 +85,9 @@ int main(int argc, char** argv) {
   gtso_cmd->add_option("--size", gtso.size, "Texels per axis")->capture_default_str();
   gtso_cmd->add_option("--samples", gtso.samples, "Lobe samples per line (0 = default)");
   gtso_cmd->add_option("--threads", gtso.threads, "Worker threads (0 = all cores)");
+  gtso_cmd->add_option("--reference-factor", gtso.reference_factor,
+                       "Also bake a reference with this many times the cells per axis and record "
+                       "every texel's error in gtso.json (4 = 16x the samples; slow)");
 
   ExportOptions exporter;
   auto* export_cmd = app.add_subcommand("export", "BC4 tables, DDS/KTX2 and the C++ header");

@@ -10,8 +10,7 @@ namespace gtbake::gtso {
 
 namespace {
 
-constexpr double kMirrorTie = 1e-9;    // |wr.b - cos(alpha_v)| below this is "on the boundary"
-constexpr double kMirrorAlpha = 1e-8;  // GGX width standing in for r_p -> 0+ on the boundary
+constexpr double kMirrorTie = 1e-9;  // |wr.b - cos(alpha_v)| below this is "on the boundary"
 constexpr double kHalfPi = 1.57079632679489661923;
 constexpr double kPi = 3.14159265358979323846;
 // psi rows per phi column: psi spans pi/2 and phi pi (the lobe is symmetric in y), so this makes
@@ -237,22 +236,16 @@ std::vector<double> specularOcclusion(double r_p, double cosThetaO, const std::v
     }
     return out;
   }
-  // Mirror limit: the lobe is the delta at wr; S = DeltaV(wr) off the cone boundary, a cone of
-  // zero aperture holds nothing, and on the boundary a vanishing lobe gives the limit.
+  // Mirror limit: the lobe is the delta at wr, so S = DeltaV(wr) = [angle(wr, b) <= alpha_v]
+  // (SPEC §1.4; the boundary belongs to the cone, with a tie tolerance for rounding in wr.b).
+  // A cone of zero aperture (A = 0) holds no solid angle: 0, as for every r_p > 0.
   const Vec3 wo = viewDirection(cosThetaO);
   const Vec3 wr = {-wo.x, 0.0, wo.z};
   for (std::size_t k = 0; k < K; ++k) {
     const double tr = dot(wr, b[k]);
     for (std::size_t j = 0; j < M; ++j) {
       const double c = cosAlphaV[j];
-      double& s = out[k * M + j];
-      if (c >= 1.0) {
-        s = 0.0;
-      } else if (std::abs(tr - c) > kMirrorTie) {
-        s = tr > c ? 1.0 : 0.0;
-      } else {
-        s = lobeIntegral(kMirrorAlpha, cosThetaO, {b[k]}, {c}, cells)[0];
-      }
+      out[k * M + j] = (c < 1.0 && tr >= c - kMirrorTie) ? 1.0 : 0.0;
     }
   }
   return out;

@@ -44,9 +44,8 @@ constexpr int kDefaultLobeCells = 96;  // phi cells (psi gets 2x): 2*96*192 tria
                                        // the accuracy/time trade-off measured by bench_gtso
 
 // S for one lobe (r_p, theta_o) against every bent normal b[k] and every cone cos(alpha_v)[j];
-// returns S[k * cosAlphaV.size() + j]. r_p = 0 gives the mirror limit lim_{r_p -> 0+} S, which is
-// DeltaV(wr) except where wr lies exactly on a cone's boundary (there the limit is evaluated
-// with a vanishing lobe, e.g. 1/2 for an interior wr).
+// returns S[k * cosAlphaV.size() + j]. r_p = 0 gives the mirror limit S = DeltaV(wr), the cone
+// including its boundary; a cone of zero aperture (A = 0) gives 0 for every r_p.
 std::vector<double> specularOcclusion(double r_p, double cosThetaO, const std::vector<Vec3>& b,
                                       const std::vector<double>& cosAlphaV,
                                       int cells = kDefaultLobeCells);

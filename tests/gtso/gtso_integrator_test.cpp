@@ -53,12 +53,13 @@ TEST(GtsoIntegrator, FourDAtBetaEqualThetaIsThreeD) {
 TEST(GtsoIntegrator, MirrorLimitIsDeltaVOfReflection) {
   const double thetaO = 0.5;
   const Vec3 n = {0.0, 0.0, 1.0};
-  // wr makes 0.5 rad with n: inside cones wider than 0.5, outside narrower, half on the edge.
+  // wr makes 0.5 rad with n: inside cones wider than 0.5, outside narrower, and on the edge
+  // inside (SPEC §1.4: DeltaV = 1 where angle <= alpha_v).
   const auto s = specularOcclusion(0.0, std::cos(thetaO), {n},
                                    {std::cos(0.6), std::cos(0.4), std::cos(thetaO)}, kCells);
   EXPECT_EQ(s[0], 1.0);
   EXPECT_EQ(s[1], 0.0);
-  EXPECT_NEAR(s[2], 0.5, 0.02);
+  EXPECT_EQ(s[2], 1.0);
   // ... and the smallest roughness approaches it.
   const auto near = specularOcclusion(0.02, std::cos(thetaO), {n}, {std::cos(0.6), std::cos(0.4)});
   EXPECT_GT(near[0], 0.999);
