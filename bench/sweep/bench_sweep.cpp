@@ -10,7 +10,11 @@
 // rtcIntersect1 (rtcOccluded1) per ray. The bare loop copies each batch into a scratch array
 // first (the sweep builds its rays there too) and counts hits, as the sweep must.
 //
+// The sweep keeps per-walk state in arrays and generates each bounce's directions for all walks
+// still alive in vectorized loops (escape_walk.cpp); the bare loop only copies pre-made rays.
+//
 // Usage: bench_sweep [scene type = cavity] [resolution = 96] [spp = 256] [repeats = 3]
+//        bench_sweep defaults SCENES_DIR OUT_DIR [threads = all]   (runSweep, default settings)
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -26,6 +30,7 @@
 #include "common/threads.h"
 #include "scene/procedural_scenes.h"
 #include "sweep/escape_image.h"
+#include "sweep/sweep_command.h"
 
 namespace gtbake {
 namespace {
@@ -158,7 +163,22 @@ void bareLoop(RTCScene scene, const RaySet& set, bool streams) {
   if (hits.load() == 0) std::puts("(no ray hit anything)");
 }
 
+// The default sweep (SweepOptions' defaults, all cores) over a scene directory, timed.
+int runDefaults(const char* scenes, const char* out, int threads) {
+  SweepOptions options;
+  options.threads = threads;
+  options.scenes = {scenes};
+  options.out = out;
+  options.progress = false;
+  const Timing t = timed([&] { runSweep(options); });
+  std::printf("default sweep: %.2f s wall, %.2f CPU-seconds\n", t.wall, t.cpu);
+  return 0;
+}
+
 int run(int argc, char** argv) {
+  if ((argc == 4 || argc == 5) && std::string(argv[1]) == "defaults") {
+    return runDefaults(argv[2], argv[3], argc == 5 ? std::atoi(argv[4]) : 0);
+  }
   const std::string type = argc > 1 ? argv[1] : "cavity";
   const int res = argc > 2 ? std::atoi(argv[2]) : 96;
   WalkSettings settings;

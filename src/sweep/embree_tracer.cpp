@@ -124,23 +124,26 @@ void EmbreeTracer::occludedStream(RTCRayHit* rays, unsigned count) const {
 }
 
 SurfaceHit EmbreeTracer::surfaceHit(const RTCRayHit& rh) const {
-  const Eigen::Vector3f origin(rh.ray.org_x, rh.ray.org_y, rh.ray.org_z);
-  const Eigen::Vector3f direction(rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+  const float o[3] = {rh.ray.org_x, rh.ray.org_y, rh.ray.org_z};
+  const float d[3] = {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z};
+  const float g[3] = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
+  float p[3];
+  float n[3];
   SurfaceHit hit;
   // Along the ray: no vertex fetch. Its error, a few ulps of max(|origin|, t), is covered by
   // folding |origin|∞ + t into the offset scale next to the triangle's own coordinates.
-  hit.position = origin + rh.ray.tfar * direction;
-  hit.scale = std::max(triangle_scale_[rh.hit.primID], origin.cwiseAbs().maxCoeff() + rh.ray.tfar);
-  Eigen::Vector3f n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-  n.normalize();
-  // Two-sided surface: reflect on the side the ray arrived from.
-  hit.normal = n.dot(direction) > 0.0f ? Eigen::Vector3f(-n) : n;
+  hitFrame(o, d, rh.ray.tfar, g, triangle_scale_[rh.hit.primID], p, n, &hit.scale);
+  hit.position = Eigen::Vector3f(p[0], p[1], p[2]);
+  hit.normal = Eigen::Vector3f(n[0], n[1], n[2]);
   return hit;
 }
 
 Eigen::Vector3f EmbreeTracer::offsetOrigin(const SurfaceHit& hit) const {
-  const float offset = kRayOffsetRelative * std::max(hit.scale, hit.position.cwiseAbs().maxCoeff());
-  return hit.position + offset * hit.normal;
+  const float p[3] = {hit.position.x(), hit.position.y(), hit.position.z()};
+  const float n[3] = {hit.normal.x(), hit.normal.y(), hit.normal.z()};
+  float origin[3];
+  offsetAlongNormal(p, n, hit.scale, origin);
+  return Eigen::Vector3f(origin[0], origin[1], origin[2]);
 }
 
 Ray cameraRay(const PerspectiveCamera& camera, int i, int j, int width, int height) {

@@ -47,6 +47,38 @@ struct Ray {
   Eigen::Vector3f direction;  // unit length
 };
 
+// Scalar kernels behind surfaceHit and offsetOrigin, inline so the walks' stream loop
+// (escape_walk.cpp) vectorizes them; both traversals use them, so they agree bit for bit.
+inline float maxAbs3(float x, float y, float z) {
+  const float ax = x < 0.0f ? -x : x;
+  const float ay = y < 0.0f ? -y : y;
+  const float az = z < 0.0f ? -z : z;
+  const float m = ax > ay ? ax : ay;
+  return m > az ? m : az;
+}
+
+// The hit of the ray o + t·d on a triangle with (unnormalised) geometric normal g and largest
+// |vertex coordinate| tri_scale: position o + t·d, unit normal facing the ray, offset scale
+// max(tri_scale, |o|∞ + t) (see kRayOffsetRelative).
+inline void hitFrame(const float o[3], const float d[3], float t, const float g[3], float tri_scale,
+                     float p[3], float n[3], float* scale) {
+  for (int c = 0; c < 3; ++c) p[c] = o[c] + t * d[c];
+  const float reach = maxAbs3(o[0], o[1], o[2]) + t;
+  *scale = tri_scale > reach ? tri_scale : reach;
+  const float length = __builtin_sqrtf(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  // Two-sided surface: reflect on the side the ray arrived from.
+  const bool facing = g[0] * d[0] + g[1] * d[1] + g[2] * d[2] > 0.0f;
+  const float signed_length = facing ? -length : length;
+  for (int c = 0; c < 3; ++c) n[c] = g[c] / signed_length;
+}
+
+// The secondary-ray origin x + ε·n, ε = kRayOffsetRelative · max(scale, |x|∞).
+inline void offsetAlongNormal(const float p[3], const float n[3], float scale, float origin[3]) {
+  const float m = maxAbs3(p[0], p[1], p[2]);
+  const float offset = kRayOffsetRelative * (scale > m ? scale : m);
+  for (int c = 0; c < 3; ++c) origin[c] = p[c] + offset * n[c];
+}
+
 class EmbreeTracer {
  public:
   // Throws gtbake::Error if the scene has no triangles or an index is out of range.
@@ -69,6 +101,9 @@ class EmbreeTracer {
 
   // The secondary-ray origin for a walk leaving `hit` (see kRayOffsetRelative).
   Eigen::Vector3f offsetOrigin(const SurfaceHit& hit) const;
+
+  // Largest |vertex coordinate| of triangle primID (the offset scale of hits on it).
+  float triangleScale(unsigned prim_id) const { return triangle_scale_[prim_id]; }
 
   // The finished BVH; for benchmarks that replay rays through bare Embree calls.
   RTCScene handle() const { return scene_; }

@@ -3,13 +3,20 @@
 #include <cmath>
 #include <vector>
 
-#include "common/rng.h"
+#include "sweep/cosine_direction.h"
+#include "sweep/philox_lanes.h"
+
+// x86-64: an AVX2 clone (8 float lanes) of each walk loop next to the default (SSE2, 4 lanes),
+// chosen once at load time; both compute the same IEEE operations, so the same bits.
+#if defined(__x86_64__)
+#define GTBAKE_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define GTBAKE_AVX2_CLONES
+#endif
 
 namespace gtbake {
 
 namespace {
-
-constexpr float kQuarterPi = 0.785398163397448309616f;  // π/4, the concentric map's wedge angle
 
 // Columns of the first-bounce stratification grid: the largest divisor of n not above √n.
 int gridColumns(int n) {
@@ -18,37 +25,21 @@ int gridColumns(int n) {
   return a;
 }
 
+// (u0, u1) of the first bounce moved into cell (column, row) of the columns × rows grid.
+inline float stratum(float cell, float u, int cells) {
+  return (cell + u) / static_cast<float>(cells);
+}
+
 }  // namespace
 
 Eigen::Vector3f cosineDirection(const Eigen::Vector3f& n, float u0, float u1) {
-  // Concentric map: the disk point is (r cos φ, r sin φ) with φ = π/4·t, |t| ≤ 1 in the first
-  // wedge pair, and (r sin φ, r cos φ) (φ' = π/2 − φ) in the second; signed r covers the opposite
-  // wedges. So only sin and cos on [−π/4, π/4] are needed: Taylor polynomials to x⁹ and x¹⁰,
-  // whose truncation errors (< 2e-9 and 1e-10) lie below float rounding. Written with selects
-  // rather than branches: this runs once per ray (bench_sweep).
-  const float sx = 2.0f * u0 - 1.0f;
-  const float sy = 2.0f * u1 - 1.0f;
-  const bool first = std::fabs(sx) > std::fabs(sy);
-  const float r = first ? sx : sy;  // also the denominator of t; r = 0 only at the disk centre
-  const float x = r != 0.0f ? kQuarterPi * ((first ? sy : sx) / r) : 0.0f;
-  const float x2 = x * x;
-  const float sin_x =
-      x * (1.0f + x2 * (-1.0f / 6 + x2 * (1.0f / 120 + x2 * (-1.0f / 5040 + x2 / 362880))));
-  const float cos_x =
-      1.0f +
-      x2 * (-0.5f + x2 * (1.0f / 24 + x2 * (-1.0f / 720 + x2 * (1.0f / 40320 - x2 / 3628800))));
-  const float dx = r * (first ? cos_x : sin_x);
-  const float dy = r * (first ? sin_x : cos_x);
-  const float h = 1.0f - dx * dx - dy * dy;
-  const float dz = std::sqrt(h > 0.0f ? h : 0.0f);
-  // Orthonormal basis (t, s, n) (Duff et al. 2017, "Building an orthonormal basis, revisited").
-  // The result is unit length to float rounding; Embree needs no normalisation.
-  const float sign = n.z() >= 0.0f ? 1.0f : -1.0f;
-  const float a = -1.0f / (sign + n.z());
-  const float b = n.x() * n.y() * a;
-  const Eigen::Vector3f t(1.0f + sign * n.x() * n.x() * a, sign * b, -sign * n.x());
-  const Eigen::Vector3f s(b, sign + n.y() * n.y() * a, -n.y());
-  return dx * t + dy * s + dz * n;
+  const float normal[3] = {n.x(), n.y(), n.z()};
+  float t[3];
+  float s[3];
+  float d[3];
+  tangentBasis(normal[0], normal[1], normal[2], t, s);
+  cosineDirection(normal, t, s, u0, u1, d);
+  return Eigen::Vector3f(d[0], d[1], d[2]);
 }
 
 WalkSampler::WalkSampler(const WalkSettings& settings, std::uint64_t stream)
@@ -58,31 +49,188 @@ WalkSampler::WalkSampler(const WalkSettings& settings, std::uint64_t stream)
   rows_ = half / columns_;
 }
 
-Eigen::Vector3f WalkSampler::direction(const Eigen::Vector3f& normal, int s, int k) const {
-  // Counter (sample s, block k): the draws of bounce k of walk s.
-  const auto u = rng_.uniform4(static_cast<std::uint64_t>(s), static_cast<std::uint32_t>(k));
-  float u0 = u[0];
-  float u1 = u[1];
+std::array<std::uint32_t, 4> WalkSampler::blockWords(int s, int k) const {
+  return rng_.words(static_cast<std::uint64_t>(s), static_cast<std::uint32_t>(k >> 1));
+}
+
+Eigen::Vector3f WalkSampler::direction(const Eigen::Vector3f& normal, int s, int k,
+                                       const std::array<std::uint32_t, 4>& words) const {
+  float u0 = wordToUniform(words[2 * (k & 1)]);
+  float u1 = wordToUniform(words[2 * (k & 1) + 1]);
   if (k == 0 && stratify_) {
     const int t = s >> 1;  // index within the half-sample estimate: cell t of the grid
-    u0 = (static_cast<float>(t % columns_) + u0) / static_cast<float>(columns_);
-    u1 = (static_cast<float>(t / columns_) + u1) / static_cast<float>(rows_);
+    u0 = stratum(static_cast<float>(t % columns_), u0, columns_);
+    u1 = stratum(static_cast<float>(t / columns_), u1, rows_);
   }
   return cosineDirection(normal, u0, u1);
 }
 
 namespace {
 
+void resizeScratch(WalkScratch* w, int spp, const WalkSampler& sampler) {
+  const std::size_t n = static_cast<std::size_t>(spp);
+  if (w->walk.size() < n) {
+    w->walk.resize(n);
+    for (auto& v : w->words) v.resize(n);
+    for (auto& v : w->u) v.resize(n);
+    for (int c = 0; c < 3; ++c) {
+      w->from[c].resize(n);
+      w->along[c].resize(n);
+      w->ng[c].resize(n);
+      w->origin[c].resize(n);
+      w->direction[c].resize(n);
+    }
+    w->t.resize(n);
+    w->tri_scale.resize(n);
+    // The fields Embree never writes are set once here (makeRayHit's values); setRay fills the
+    // rest for every segment.
+    w->rays.assign(n, makeRayHit(Ray{Eigen::Vector3f::Zero(), Eigen::Vector3f::UnitZ()}, 0.0f));
+  }
+  if (w->cell_count != spp || w->cell_columns != sampler.columns()) {
+    w->cell[0].resize(n);
+    w->cell[1].resize(n);
+    for (int s = 0; s < spp; ++s) {
+      const int t = s >> 1;
+      w->cell[0][s] = static_cast<float>(t % sampler.columns());
+      w->cell[1][s] = static_cast<float>(t / sampler.columns());
+    }
+    w->cell_count = spp;
+    w->cell_columns = sampler.columns();
+  }
+}
+
+// Bounce k's (u0, u1) for the m walks alive, from the block's words (stratified at k = 0).
+void bounceUniforms(WalkScratch* w, int m, int k, const WalkSampler& sampler) {
+  const std::uint32_t* __restrict a = w->words[2 * (k & 1)].data();
+  const std::uint32_t* __restrict b = w->words[2 * (k & 1) + 1].data();
+  float* __restrict u0 = w->u[0].data();
+  float* __restrict u1 = w->u[1].data();
+  for (int i = 0; i < m; ++i) {
+    u0[i] = wordToUniform(a[i]);
+    u1[i] = wordToUniform(b[i]);
+  }
+  if (k == 0 && sampler.stratified()) {
+    // Every walk is alive at k = 0, so slot i is sample i.
+    const float* __restrict cu = w->cell[0].data();
+    const float* __restrict cv = w->cell[1].data();
+    const int columns = sampler.columns();
+    const int rows = sampler.rows();
+    for (int i = 0; i < m; ++i) {
+      u0[i] = stratum(cu[i], u0[i], columns);
+      u1[i] = stratum(cv[i], u1[i], rows);
+    }
+  }
+}
+
+// The first segments: one origin and basis for every walk.
+GTBAKE_AVX2_CLONES void firstDirectionsKernel(int m, const float n[3], const float t[3],
+                                              const float s[3], const float* __restrict u0,
+                                              const float* __restrict u1, float* __restrict dx,
+                                              float* __restrict dy, float* __restrict dz) {
+  for (int i = 0; i < m; ++i) {
+    float d[3];
+    cosineDirection(n, t, s, u0[i], u1[i], d);
+    dx[i] = d[0];
+    dy[i] = d[1];
+    dz[i] = d[2];
+  }
+}
+
+void firstDirections(WalkScratch* w, int m, const float n[3]) {
+  float t[3];
+  float s[3];
+  tangentBasis(n[0], n[1], n[2], t, s);
+  firstDirectionsKernel(m, n, t, s, w->u[0].data(), w->u[1].data(), w->direction[0].data(),
+                        w->direction[1].data(), w->direction[2].data());
+}
+
+// Later segments: each walk leaves its own last hit (hitFrame, offsetAlongNormal, as the one-ray
+// path's surfaceHit and offsetOrigin). Arrays as restrict parameters, so the loop vectorizes
+// without run-time alias checks.
+GTBAKE_AVX2_CLONES void nextSegmentsKernel(
+    int m, const float* __restrict fx, const float* __restrict fy, const float* __restrict fz,
+    const float* __restrict ax, const float* __restrict ay, const float* __restrict az,
+    const float* __restrict th, const float* __restrict gx, const float* __restrict gy,
+    const float* __restrict gz, const float* __restrict tri, const float* __restrict u0,
+    const float* __restrict u1, float* __restrict ox, float* __restrict oy, float* __restrict oz,
+    float* __restrict dx, float* __restrict dy, float* __restrict dz) {
+  for (int i = 0; i < m; ++i) {
+    const float o[3] = {fx[i], fy[i], fz[i]};
+    const float a[3] = {ax[i], ay[i], az[i]};
+    const float g[3] = {gx[i], gy[i], gz[i]};
+    float p[3];
+    float n[3];
+    float scale;
+    hitFrame(o, a, th[i], g, tri[i], p, n, &scale);
+    float origin[3];
+    offsetAlongNormal(p, n, scale, origin);
+    float t[3];
+    float s[3];
+    tangentBasis(n[0], n[1], n[2], t, s);
+    float d[3];
+    cosineDirection(n, t, s, u0[i], u1[i], d);
+    ox[i] = origin[0];
+    oy[i] = origin[1];
+    oz[i] = origin[2];
+    dx[i] = d[0];
+    dy[i] = d[1];
+    dz[i] = d[2];
+  }
+}
+
+void nextSegments(WalkScratch* w, int m) {
+  nextSegmentsKernel(m, w->from[0].data(), w->from[1].data(), w->from[2].data(), w->along[0].data(),
+                     w->along[1].data(), w->along[2].data(), w->t.data(), w->ng[0].data(),
+                     w->ng[1].data(), w->ng[2].data(), w->tri_scale.data(), w->u[0].data(),
+                     w->u[1].data(), w->origin[0].data(), w->origin[1].data(), w->origin[2].data(),
+                     w->direction[0].data(), w->direction[1].data(), w->direction[2].data());
+}
+
+// A segment in a ray slot whose constant fields (tnear, time, mask, id, flags, instID) are set:
+// origin, direction, [0, tfar], no hit yet; everything else as makeRayHit.
+void setRay(RTCRayHit* rh, float ox, float oy, float oz, float dx, float dy, float dz, float tfar) {
+  rh->ray.org_x = ox;
+  rh->ray.org_y = oy;
+  rh->ray.org_z = oz;
+  rh->ray.dir_x = dx;
+  rh->ray.dir_y = dy;
+  rh->ray.dir_z = dz;
+  rh->ray.tfar = tfar;
+  rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
+}
+
+// Walk after walk, one rtcIntersect1 / rtcOccluded1 per segment. The first segments, which share
+// one origin and basis, are made for all walks at once as in the stream traversal; later ones
+// through surfaceHit, offsetOrigin and WalkSampler (the same kernels, so the same rays).
 std::uint64_t countEscapesSingle(const EmbreeTracer& tracer, const SurfaceHit& start,
                                  const WalkSettings& settings, const WalkSampler& sampler,
-                                 std::uint32_t* counts) {
+                                 std::uint64_t stream, std::uint32_t* counts, WalkScratch* w) {
   const int bounces = settings.bounces;
+  const int spp = settings.spp;
+  resizeScratch(w, spp, sampler);
+  for (int s = 0; s < spp; ++s) w->walk[s] = s;
+  PhiloxLanes(settings.seed, stream)
+      .words(w->walk.data(), spp, 0, w->words[0].data(), w->words[1].data(), w->words[2].data(),
+             w->words[3].data());
+  bounceUniforms(w, spp, 0, sampler);
+  const float n0[3] = {start.normal.x(), start.normal.y(), start.normal.z()};
+  firstDirections(w, spp, n0);
+  const Eigen::Vector3f origin0 = tracer.offsetOrigin(start);
   std::uint64_t rays = 0;
-  for (int s = 0; s < settings.spp; ++s) {
+  for (int s = 0; s < spp; ++s) {
     std::uint32_t* half_counts = counts + (s & 1) * (bounces + 1);
     SurfaceHit at = start;
+    std::array<std::uint32_t, 4> words = {w->words[0][s], w->words[1][s], w->words[2][s],
+                                          w->words[3][s]};
     for (int k = 0; k <= bounces; ++k) {
-      const Ray ray{tracer.offsetOrigin(at), sampler.direction(at.normal, s, k)};
+      Ray ray;
+      if (k == 0) {
+        ray = Ray{origin0,
+                  Eigen::Vector3f(w->direction[0][s], w->direction[1][s], w->direction[2][s])};
+      } else {
+        if ((k & 1) == 0) words = sampler.blockWords(s, k);
+        ray = Ray{tracer.offsetOrigin(at), sampler.direction(at.normal, s, k, words)};
+      }
       ++rays;
       if (k == bounces) {
         // The last counted segment: only whether it escapes matters.
@@ -98,47 +246,82 @@ std::uint64_t countEscapesSingle(const EmbreeTracer& tracer, const SurfaceHit& s
   return rays;
 }
 
+// All walks of the point bounce by bounce (the estimator of escape_walk.h): per bounce the Philox
+// words (even k; odd k uses the carried words 2, 3), the uniforms and the segments of every walk
+// alive in vectorized loops, one rtcIntersect1M (rtcOccluded1M for segment K + 1), then the
+// escapes counted per half and the survivors' hits compacted to the front.
 std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& start,
                                  const WalkSettings& settings, const WalkSampler& sampler,
-                                 std::uint32_t* counts, WalkScratch* scratch) {
+                                 std::uint64_t stream, std::uint32_t* counts, WalkScratch* w) {
   const int bounces = settings.bounces;
-  std::vector<SurfaceHit>& at = scratch->at;
-  std::vector<int>& alive = scratch->alive;
-  std::vector<int>& next = scratch->next;
-  std::vector<RTCRayHit>& rays = scratch->rays;
-  at.assign(static_cast<std::size_t>(settings.spp), start);
-  alive.resize(static_cast<std::size_t>(settings.spp));
-  for (int s = 0; s < settings.spp; ++s) alive[s] = s;
-  rays.resize(alive.size());
+  resizeScratch(w, settings.spp, sampler);
+  const PhiloxLanes philox(settings.seed, stream);
+  const float p0[3] = {start.position.x(), start.position.y(), start.position.z()};
+  const float n0[3] = {start.normal.x(), start.normal.y(), start.normal.z()};
+  float origin0[3];
+  offsetAlongNormal(p0, n0, start.scale, origin0);
+  int m = settings.spp;
+  for (int s = 0; s < m; ++s) w->walk[s] = s;
+  RTCRayHit* rays = w->rays.data();
   std::uint64_t traced = 0;
-  for (int k = 0; k <= bounces && !alive.empty(); ++k) {
-    const unsigned m = static_cast<unsigned>(alive.size());
-    for (unsigned i = 0; i < m; ++i) {
-      const SurfaceHit& from = at[alive[i]];
-      rays[i] =
-          makeRayHit(Ray{tracer.offsetOrigin(from), sampler.direction(from.normal, alive[i], k)},
-                     settings.radius);
+  for (int k = 0; k <= bounces && m > 0; ++k) {
+    if ((k & 1) == 0) {
+      philox.words(w->walk.data(), m, static_cast<std::uint32_t>(k >> 1), w->words[0].data(),
+                   w->words[1].data(), w->words[2].data(), w->words[3].data());
     }
-    traced += m;
+    bounceUniforms(w, m, k, sampler);
+    const float* dx = w->direction[0].data();
+    const float* dy = w->direction[1].data();
+    const float* dz = w->direction[2].data();
+    if (k == 0) {
+      firstDirections(w, m, n0);
+      for (int i = 0; i < m; ++i) {
+        setRay(&rays[i], origin0[0], origin0[1], origin0[2], dx[i], dy[i], dz[i], settings.radius);
+      }
+    } else {
+      nextSegments(w, m);
+      const float* ox = w->origin[0].data();
+      const float* oy = w->origin[1].data();
+      const float* oz = w->origin[2].data();
+      for (int i = 0; i < m; ++i) {
+        setRay(&rays[i], ox[i], oy[i], oz[i], dx[i], dy[i], dz[i], settings.radius);
+      }
+    }
+    traced += static_cast<std::uint64_t>(m);
     if (k == bounces) {
       // The last counted segment: only whether it escapes matters.
-      tracer.occludedStream(rays.data(), m);
-      for (unsigned i = 0; i < m; ++i) {
-        if (rays[i].ray.tfar >= 0.0f) ++counts[(alive[i] & 1) * (bounces + 1) + k];
+      tracer.occludedStream(rays, static_cast<unsigned>(m));
+      for (int i = 0; i < m; ++i) {
+        if (rays[i].ray.tfar >= 0.0f) ++counts[(w->walk[i] & 1) * (bounces + 1) + k];
       }
       break;
     }
-    tracer.intersectStream(rays.data(), m);
-    next.clear();
-    for (unsigned i = 0; i < m; ++i) {
-      if (rays[i].hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-        ++counts[(alive[i] & 1) * (bounces + 1) + k];
-      } else {
-        at[alive[i]] = tracer.surfaceHit(rays[i]);
-        next.push_back(alive[i]);
+    tracer.intersectStream(rays, static_cast<unsigned>(m));
+    // Count the escapes; compact the others' hits (slot alive ≤ i, so in place).
+    int alive = 0;
+    for (int i = 0; i < m; ++i) {
+      const RTCRayHit& rh = rays[i];
+      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+        ++counts[(w->walk[i] & 1) * (bounces + 1) + k];
+        continue;
       }
+      w->walk[alive] = w->walk[i];
+      w->words[2][alive] = w->words[2][i];
+      w->words[3][alive] = w->words[3][i];
+      w->from[0][alive] = rh.ray.org_x;
+      w->from[1][alive] = rh.ray.org_y;
+      w->from[2][alive] = rh.ray.org_z;
+      w->along[0][alive] = rh.ray.dir_x;
+      w->along[1][alive] = rh.ray.dir_y;
+      w->along[2][alive] = rh.ray.dir_z;
+      w->t[alive] = rh.ray.tfar;
+      w->ng[0][alive] = rh.hit.Ng_x;
+      w->ng[1][alive] = rh.hit.Ng_y;
+      w->ng[2][alive] = rh.hit.Ng_z;
+      w->tri_scale[alive] = tracer.triangleScale(rh.hit.primID);
+      ++alive;
     }
-    alive.swap(next);
+    m = alive;
   }
   return traced;
 }
@@ -149,8 +332,9 @@ std::uint64_t countEscapes(const EmbreeTracer& tracer, const SurfaceHit& start,
                            const WalkSettings& settings, std::uint64_t stream,
                            std::uint32_t* counts, WalkScratch* scratch) {
   const WalkSampler sampler(settings, stream);
-  return settings.streams ? countEscapesStream(tracer, start, settings, sampler, counts, scratch)
-                          : countEscapesSingle(tracer, start, settings, sampler, counts);
+  return settings.streams
+             ? countEscapesStream(tracer, start, settings, sampler, stream, counts, scratch)
+             : countEscapesSingle(tracer, start, settings, sampler, stream, counts, scratch);
 }
 
 }  // namespace gtbake

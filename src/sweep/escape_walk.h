@@ -19,7 +19,13 @@
 // Traversal order. The walks of one point advance together, one bounce at a time: bounce k's
 // rays of all walks still alive form one stream; those that escape are counted, the others carry
 // their hit to bounce k + 1. Each walk's rays depend only on (seed, stream, sample, bounce), so
-// this order gives exactly the counts of tracing walk after walk.
+// this order gives exactly the counts of tracing walk after walk. The walks' state lives in
+// arrays (WalkScratch), compacted after each bounce, and each bounce's random words, hit frames,
+// offsets and directions are computed for all walks alive in branch-free loops that the compiler
+// vectorizes (AVX2 clones picked at run time; Philox in AVX2 intrinsics, philox_lanes.h): the
+// same IEEE float operations lane by lane as one walk at a time (no FMA contraction,
+// -ffp-contract=off), so the rays are bit-identical on every machine and for the one-ray
+// traversal.
 //
 // Stratified first bounce. Within each half, the first direction of walk t is drawn uniformly in
 // cell t of an a×b grid over the unit square (a·b = N/2, a the largest divisor ≤ √(N/2)), then
@@ -31,6 +37,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -52,16 +59,28 @@ struct WalkSettings {
 };
 
 // A cosine-distributed unit direction about the unit normal n, from (u0, u1) ∈ [0,1)² through the
-// concentric disk map (Shirley & Chiu 1997) lifted to the hemisphere (Malley's method).
+// concentric disk map (Shirley & Chiu 1997) lifted to the hemisphere (Malley's method); the
+// kernels of cosine_direction.h.
 Eigen::Vector3f cosineDirection(const Eigen::Vector3f& n, float u0, float u1);
 
-// Where bounce k of walk s points: (u0, u1) from counter (sample s, block k) of the stream keyed
-// by (seed, stream), the first bounce stratified (cell s/2 of the half's grid), mapped by
-// cosineDirection about the normal.
+// Where bounce k of walk s points. Random numbers: one Philox call, counter (sample s, block
+// ⌊k/2⌋) of the stream keyed by (seed, stream), gives four words, the (u0, u1) of two bounces:
+// words 0, 1 for even k, words 2, 3 for odd k. The first bounce is stratified (cell ⌊s/2⌋ of the
+// half's grid). Then cosineDirection about the normal.
 class WalkSampler {
  public:
   WalkSampler(const WalkSettings& settings, std::uint64_t stream);
-  Eigen::Vector3f direction(const Eigen::Vector3f& normal, int s, int k) const;
+  // The Philox words of walk s's block ⌊k/2⌋: the draws of bounces 2⌊k/2⌋ and 2⌊k/2⌋ + 1.
+  std::array<std::uint32_t, 4> blockWords(int s, int k) const;
+  // Bounce k's direction from its block's words (blockWords(s, k)).
+  Eigen::Vector3f direction(const Eigen::Vector3f& normal, int s, int k,
+                            const std::array<std::uint32_t, 4>& words) const;
+  Eigen::Vector3f direction(const Eigen::Vector3f& normal, int s, int k) const {
+    return direction(normal, s, k, blockWords(s, k));
+  }
+  bool stratified() const { return stratify_; }
+  int columns() const { return columns_; }
+  int rows() const { return rows_; }
 
  private:
   CounterRng rng_;
@@ -70,11 +89,22 @@ class WalkSampler {
   int rows_;
 };
 
-// Per-thread buffers for the stream traversal, reused from point to point.
+// Per-thread buffers for the stream traversal, reused from point to point: per walk still alive
+// (compacted after every bounce), structure of arrays so the per-bounce loops vectorize.
 struct WalkScratch {
-  std::vector<SurfaceHit> at;
-  std::vector<int> alive;
-  std::vector<int> next;
+  std::vector<std::int32_t> walk;       // sample index s
+  std::vector<std::uint32_t> words[4];  // Philox words of the current block (2, 3 carry to odd k)
+  std::vector<float> u[2];              // this bounce's (u0, u1)
+  std::vector<float> from[3];           // ray origin of the last segment
+  std::vector<float> along[3];          // its direction
+  std::vector<float> t;                 // its hit distance
+  std::vector<float> ng[3];             // the hit's geometric normal (unnormalised)
+  std::vector<float> tri_scale;         // the hit triangle's largest |vertex coordinate|
+  std::vector<float> origin[3];         // the next segment's origin
+  std::vector<float> direction[3];      // and direction
+  std::vector<float> cell[2];           // per sample: the first bounce's stratum (column, row)
+  int cell_columns = 0;                 // grid the strata were made for
+  int cell_count = 0;
   std::vector<RTCRayHit> rays;
 };
 

@@ -12,7 +12,7 @@ struct SweepOptions {
   // .gltf files, or directories whose *.gltf files are all taken (sorted by name).
   std::vector<std::filesystem::path> scenes;
   std::filesystem::path out;
-  // Defaults (docs/sweep.md): 7 scenes × 192² px × 384 walks ≈ 164 M rays, ~25 s on 2 cores. The
+  // Defaults (docs/sweep.md): 7 scenes × 192² px × 384 walks ≈ 164 M rays, ~19 s on 2 cores. The
   // fit's standard errors shrink with the pixel count (its residuals are model misfit, not noise):
   // 192² gives SE(b₁) ≈ 0.004 ≤ 0.005; 384 stratified walks leave a noise variance of A of 4e-5,
   // 5e-4 of A's spread over the pixels, so the errors-in-variables bias is negligible.
