@@ -39,6 +39,7 @@ int main(int argc, char** argv) {
   CLI::App app{"gtbake " GTBAKE_VERSION
                ": regenerate GTAO/GTSO constants and tables from path-traced ground truth"};
   app.require_subcommand(1);
+  app.fallthrough();  // --quiet is accepted after the subcommand too
   app.set_version_flag("--version", GTBAKE_VERSION);
   bool quiet = false;
   app.add_flag("--quiet,-q", quiet, "No progress bars (results still go to stdout)");

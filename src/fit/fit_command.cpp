@@ -68,9 +68,9 @@ double maxRatio(const MultiBounceCoeffs& values, const MultiBounceCoeffs& se) {
   return ratio;
 }
 
-json fitJson(const SweepData& data, const MultiBounceFit& fit, const MultiBounceCoeffs& shipped,
-             const ErrorTable& refit_errors, const ErrorTable& shipped_errors,
-             const CurveDifference& diff) {
+json fitJson(const fs::path& json_path, const SweepData& data, const MultiBounceFit& fit,
+             const MultiBounceCoeffs& shipped, const ErrorTable& refit_errors,
+             const ErrorTable& shipped_errors, const CurveDifference& diff) {
   json out;
   out["per_albedo"] = json::array();
   json bias_rows = json::array();
@@ -128,7 +128,10 @@ json fitJson(const SweepData& data, const MultiBounceFit& fit, const MultiBounce
       {"per_albedo", bias_rows}};
   json scenes = json::array();
   for (const SweepScene& s : data.scenes) scenes.push_back(s.name);
-  out["sweep"] = {{"dir", data.dir.string()},
+  // Relative to fit.json's directory, so the record does not depend on where the run happened.
+  const fs::path sweep_dir =
+      fs::absolute(data.dir).lexically_relative(fs::absolute(json_path).parent_path());
+  out["sweep"] = {{"dir", sweep_dir.empty() ? "." : sweep_dir.string()},
                   {"spp", data.spp},
                   {"bounces", data.bounces},
                   {"scenes", scenes},
@@ -219,7 +222,8 @@ FitResult runFit(const FitOptions& options) {
   const fs::path report_dir = options.report ? *options.report : out_dir / "report";
   writeFitReport(report_dir,
                  {&s.data, &s.fit, options.shipped, &s.refit_errors, &s.other_errors, s.diff});
-  const json doc = fitJson(s.data, s.fit, options.shipped, s.refit_errors, s.other_errors, s.diff);
+  const json doc =
+      fitJson(options.out, s.data, s.fit, options.shipped, s.refit_errors, s.other_errors, s.diff);
   writeFileAtomically(options.out, doc.dump(2) + "\n");
   printSummary(s.data, s.fit, options.shipped, s.refit_errors, s.other_errors, s.diff);
   std::printf("wrote %s and %s\n", options.out.string().c_str(),

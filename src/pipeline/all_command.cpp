@@ -83,7 +83,7 @@ void runAll(const AllOptions& options) {
     std::printf("  %-4s %16.4f ± %.4f %12.4f %+12.4f\n", kNames[i], fitted.linear[i],
                 fitted.linear_se[i], kPaperCoeffs[i], fitted.linear[i] - kPaperCoeffs[i]);
   }
-  std::printf("  cone aperture u  %.4f ± %.4f (paper: 0.01)\n", baked.u, baked.u_se);
+  std::printf("  cone aperture u  %.3g ± %.2g (paper: 0.01; docs/gtso.md)\n", baked.u, baked.u_se);
   std::printf("  BC4 3D table     RMSE %.2e  max %.2e\n", exported.bc4_rmse_3d,
               exported.bc4_max_3d);
   std::printf("  BC4 4D table     RMSE %.2e  max %.2e\n", exported.bc4_rmse_4d,

@@ -172,7 +172,8 @@ SweepResult runSweep(const SweepOptions& options) {
     nlohmann::ordered_json entry;
     entry["name"] = scene.name;
     entry["file"] = exr.filename().string();
-    entry["gltf"] = files[s].string();
+    // Relative to the sweep directory, so the record does not depend on where the run happened.
+    entry["gltf"] = fs::absolute(files[s]).lexically_relative(fs::absolute(options.out)).string();
     entry["width"] = options.width;
     entry["height"] = options.height;
     entry["unmasked_pixels"] = unmasked;

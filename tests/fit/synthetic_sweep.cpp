@@ -1,5 +1,7 @@
 #include "synthetic_sweep.h"
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -127,7 +129,9 @@ void writeWalkSweep(const fs::path& dir, const std::vector<std::string>& scenes,
 }
 
 fs::path freshDir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("gtbake_fit_" + name);
+  // The pid keeps tests that CTest runs in parallel (one process each) out of each other's way.
+  const fs::path dir =
+      fs::path(::testing::TempDir()) / ("gtbake_fit_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

@@ -1,5 +1,6 @@
 // Tables: axis mapping, lookup, determinism, BC4 proxy, and the cone-aperture fit.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -86,7 +87,8 @@ namespace {
 // End to end at a tiny size: the files have the documented sizes and gtso.json its keys; bad
 // options are rejected before anything is written.
 TEST(GtsoCommand, WritesTablesAndReport) {
-  const auto dir = std::filesystem::temp_directory_path() / "gtbake_test_gtso";
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("gtbake_test_gtso_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   GtsoOptions bad;
   bad.out = dir;
