@@ -138,13 +138,16 @@ SweepResult runSweep(const SweepOptions& options) {
     const EscapeImage image = traceEscapeImage(tracer, scene.camera, options.width, options.height,
                                                settings, "sweep " + scene.name, options.progress);
     const std::vector<ExrChannel> channels = escapeChannels(image);
+    // Relative to the sweep directory, so the record does not depend on where the run happened.
+    const std::string gltf =
+        fs::absolute(files[s]).lexically_relative(fs::absolute(options.out)).string();
     const std::map<std::string, std::string> attributes = {
         {"gtbake.version", GTBAKE_VERSION},
         {"gtbake.spp", std::to_string(options.spp)},
         {"gtbake.bounces", std::to_string(options.bounces)},
         {"gtbake.seed", std::to_string(options.seed)},
         {"gtbake.radius", std::isinf(options.radius) ? "inf" : formatNumber(options.radius)},
-        {"gtbake.scene", files[s].string()},
+        {"gtbake.scene", gltf},
         {"gtbake.stratified_first_bounce", options.stratify_first_bounce ? "1" : "0"}};
     const fs::path exr = options.out / (scene.name + ".exr");
     writeExr(exr, options.width, options.height, channels, attributes);
@@ -172,8 +175,7 @@ SweepResult runSweep(const SweepOptions& options) {
     nlohmann::ordered_json entry;
     entry["name"] = scene.name;
     entry["file"] = exr.filename().string();
-    // Relative to the sweep directory, so the record does not depend on where the run happened.
-    entry["gltf"] = fs::absolute(files[s]).lexically_relative(fs::absolute(options.out)).string();
+    entry["gltf"] = gltf;
     entry["width"] = options.width;
     entry["height"] = options.height;
     entry["unmasked_pixels"] = unmasked;
