@@ -6,8 +6,8 @@
 //   refit RMSE 0.030984090585188483, max |err| 0.4047271239801469; standard errors a1..c0: 0.00113445432 0.000217615291 0.00179977005 0.000340325706 0.000680675772 0.000126773467
 //   shipped constants vs refit: max |dG| 0.01306541436455569 at A = 0.764418016910553, rho = 0.9
 // gtso.json: version 1; roughness perceptual roughness r_p; GGX alpha = r_p^2; texel rule texel i holds the value at i/(N-1) of the axis range
-//   gtso3d.f32: samples 18432, max |S - reference| null
-//   gtso4d.f32: samples 18432, max |S - reference| null
+//   gtso3d.f32: samples 18432, max |S - reference| not measured by this run (bench_gtso measures every texel: docs/gtso.md)
+//   gtso4d.f32: samples 18432, max |S - reference| not measured by this run (bench_gtso measures every texel: docs/gtso.md)
 // Cone aperture u = 7.9851104156105078e-05 (SE 9.50500752e-06), convention cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2 (GGX width)
 //   errors of S_cone vs S3: {"fitted":{"max_abs":0.5747582587612392,"rmse":0.16483158323567457,"texels":31744},"fitted_r_p_ge_0.3":{"max_abs":0.5747582587612392,"rmse":0.1931862216549134,"texels":22528},"u_0.01":{"all":{"max_abs":0.6826482356449429,"rmse":0.17022748059816428,"texels":31744},"r_p_ge_0.3":{"max_abs":0.6826482356449429,"rmse":0.19867421002288038,"texels":22528}},"u_0.244":{"all":{"max_abs":0.8226193990803081,"rmse":0.20284775624117327,"texels":31744},"r_p_ge_0.3":{"max_abs":0.8226193990803081,"rmse":0.23607322912774847,"texels":22528}}}
 // BC4 vs the float tables (exact per-block optimum, D3D float decode): 3D RMSE 0.00468393379, max 0.0589942634; 4D RMSE 0.00256925929, max 0.0538303554
