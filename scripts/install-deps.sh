@@ -7,6 +7,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libstb-dev librandom123-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libsquish-dev libnvtt-dev glslang-tools
+  chromium
 )
 missing=()
 for p in "${packages[@]}"; do
