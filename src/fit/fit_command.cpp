@@ -14,6 +14,7 @@
 #include "fit/fit_errors.h"
 #include "fit/fit_report.h"
 #include "fit/multibounce_fit.h"
+#include "fit/scene_mix.h"
 #include "fit/sweep_data.h"
 #include "gtbake_version.h"
 
@@ -68,9 +69,26 @@ double maxRatio(const MultiBounceCoeffs& values, const MultiBounceCoeffs& se) {
   return ratio;
 }
 
+json curveJson(const CurveDifference& d) {
+  return {{"value", d.value}, {"A", d.A}, {"rho", d.rho}};
+}
+
+json sceneMixJson(const std::vector<SceneMixRow>& mix) {
+  json rows = json::array();
+  for (const SceneMixRow& r : mix) {
+    rows.push_back({{"left_out", r.left_out},
+                    {"linear", coeffsJson(r.linear)},
+                    {"max_curve_difference_vs_refit", curveJson(r.vs_refit)},
+                    {"max_curve_difference_vs_shipped", curveJson(r.vs_shipped)}});
+  }
+  return {{"method", "refit with each scene left out, same EIV setting as the main fit"},
+          {"leave_one_out", rows}};
+}
+
 json fitJson(const fs::path& json_path, const SweepData& data, const MultiBounceFit& fit,
              const MultiBounceCoeffs& shipped, const ErrorTable& refit_errors,
-             const ErrorTable& shipped_errors, const CurveDifference& diff) {
+             const ErrorTable& shipped_errors, const CurveDifference& diff,
+             const std::vector<SceneMixRow>& mix) {
   json out;
   out["per_albedo"] = json::array();
   json bias_rows = json::array();
@@ -98,6 +116,7 @@ json fitJson(const fs::path& json_path, const SweepData& data, const MultiBounce
   out["linear_misfit"] = {{"se", coeffsJson(fit.linear.misfit_se)},
                           {"rms_residual", cubicJson(fit.linear.misfit_rms)}};
   out["linear_uncorrected"] = coeffsJson(fit.linear.uncorrected);
+  out["scene_mix"] = sceneMixJson(mix);
   out["se_definition"] =
       "Monte Carlo sandwich: C (sum psi psi^T) C, C = Ceres covariance (J^T J)^-1, psi from "
       "half-sample differences (noise in G, in A and their correlation); se_iid = Ceres "
@@ -187,6 +206,17 @@ void printSummary(const SweepData& data, const MultiBounceFit& fit,
               diff.rho);
 }
 
+void printSceneMix(const std::vector<SceneMixRow>& mix) {
+  if (mix.empty()) return;
+  std::printf("\nleave one scene out   %8s %8s %8s   %-22s %-22s\n", "a1", "b1", "c1",
+              "max|dG| vs refit", "max|dG| vs shipped");
+  for (const SceneMixRow& r : mix) {
+    std::printf("  %-19s %8.4f %8.4f %8.4f   %.4f (A %.2f, rho %.1f)   %.4f (A %.2f, rho %.1f)\n",
+                r.left_out.c_str(), r.linear[0], r.linear[2], r.linear[4], r.vs_refit.value,
+                r.vs_refit.A, r.vs_refit.rho, r.vs_shipped.value, r.vs_shipped.A, r.vs_shipped.rho);
+  }
+}
+
 struct Scored {
   SweepData data;
   MultiBounceFit fit;
@@ -220,12 +250,15 @@ FitResult runFit(const FitOptions& options) {
       options.out.parent_path().empty() ? fs::path(".") : options.out.parent_path();
   ensureDirectory(out_dir);
   const fs::path report_dir = options.report ? *options.report : out_dir / "report";
-  writeFitReport(report_dir,
-                 {&s.data, &s.fit, options.shipped, &s.refit_errors, &s.other_errors, s.diff});
-  const json doc =
-      fitJson(options.out, s.data, s.fit, options.shipped, s.refit_errors, s.other_errors, s.diff);
+  const std::vector<SceneMixRow> mix =
+      leaveOneSceneOut(s.data, options.eiv_correction, s.fit.linear.coeffs, options.shipped);
+  writeFitReport(report_dir, {&s.data, &s.fit, options.shipped, &s.refit_errors, &s.other_errors,
+                              s.diff, &mix});
+  const json doc = fitJson(options.out, s.data, s.fit, options.shipped, s.refit_errors,
+                           s.other_errors, s.diff, mix);
   writeFileAtomically(options.out, doc.dump(2) + "\n");
   printSummary(s.data, s.fit, options.shipped, s.refit_errors, s.other_errors, s.diff);
+  printSceneMix(mix);
   std::printf("wrote %s and %s\n", options.out.string().c_str(),
               (report_dir / "index.html").string().c_str());
   return {s.fit.linear.coeffs, s.fit.linear.se};

@@ -11,6 +11,7 @@
 
 #include "fit/fit_errors.h"
 #include "fit/multibounce_fit.h"
+#include "fit/scene_mix.h"
 
 namespace gtbake {
 
@@ -21,6 +22,7 @@ struct FitReportInput {
   const ErrorTable* refit_errors = nullptr;
   const ErrorTable* shipped_errors = nullptr;
   CurveDifference curve_difference;
+  const std::vector<SceneMixRow>* scene_mix = nullptr;  // leave-one-scene-out refits
 };
 
 // Writes dir/index.html and dir/*.svg (each atomically); creates dir.
