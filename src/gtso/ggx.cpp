@@ -81,15 +81,21 @@ double GgxDistribution::weight(Vec3 wo, Vec3 wi) const {
   return 1.0 / (1.0 + Lambda(wi) / (1.0 + Lambda(wo)));
 }
 
-// Heitz 2018, Listing 1, with the concentric disk: stretch wo into the hemisphere configuration
-// (alpha = 1), sample the projected visible hemisphere (a disk whose lower half is squashed by
-// s = (1 + Vh.z) / 2), lift to the hemisphere, unstretch.
-Vec3 GgxDistribution::sampleWm(Vec3 wo, Point2 u) const {
+// The hemisphere configuration of wo (stretched to alpha = 1) and an orthonormal frame (T1, T2)
+// around it, T1 horizontal; shared by sampleWm and its inverse so both use the same frame.
+std::array<Vec3, 3> GgxDistribution::stretchedFrame(Vec3 wo) const {
   const Vec3 vh = normalize({alpha_ * wo.x, alpha_ * wo.y, wo.z});
   const double lensq = vh.x * vh.x + vh.y * vh.y;
   const Vec3 t1v =
       lensq > 0.0 ? (1.0 / std::sqrt(lensq)) * Vec3{-vh.y, vh.x, 0.0} : Vec3{1.0, 0.0, 0.0};
-  const Vec3 t2v = cross(vh, t1v);
+  return {vh, t1v, cross(vh, t1v)};
+}
+
+// Heitz 2018, Listing 1, with the concentric disk: stretch wo into the hemisphere configuration
+// (alpha = 1), sample the projected visible hemisphere (a disk whose lower half is squashed by
+// s = (1 + Vh.z) / 2), lift to the hemisphere, unstretch.
+Vec3 GgxDistribution::sampleWm(Vec3 wo, Point2 u) const {
+  const auto [vh, t1v, t2v] = stretchedFrame(wo);
   const Point2 p = sampleUniformDiskConcentric(u);
   const double t1 = p.x;
   const double s = 0.5 * (1.0 + vh.z);
@@ -102,11 +108,7 @@ Vec3 GgxDistribution::sampleWm(Vec3 wo, Point2 u) const {
 // The steps of sampleWm run backwards: stretch wm back to the hemisphere configuration, project on
 // (T1, T2), undo the squash of the lower half, invert the concentric map.
 Point2 GgxDistribution::invertWm(Vec3 wo, Vec3 wm) const {
-  const Vec3 vh = normalize({alpha_ * wo.x, alpha_ * wo.y, wo.z});
-  const double lensq = vh.x * vh.x + vh.y * vh.y;
-  const Vec3 t1v =
-      lensq > 0.0 ? (1.0 / std::sqrt(lensq)) * Vec3{-vh.y, vh.x, 0.0} : Vec3{1.0, 0.0, 0.0};
-  const Vec3 t2v = cross(vh, t1v);
+  const auto [vh, t1v, t2v] = stretchedFrame(wo);
   const Vec3 nh = normalize({wm.x / alpha_, wm.y / alpha_, wm.z});
   const double t1 = dot(nh, t1v);
   const double s = 0.5 * (1.0 + vh.z);

@@ -16,6 +16,7 @@
 // (gtso_integrator.h); the sampler itself serves brute-force checks and tests.
 #pragma once
 
+#include <array>
 #include <cmath>
 
 namespace gtbake::gtso {
@@ -85,6 +86,7 @@ class GgxDistribution {
   double weight(Vec3 wo, Vec3 wi) const;
 
  private:
+  std::array<Vec3, 3> stretchedFrame(Vec3 wo) const;  // (Vh, T1, T2) of Heitz 2018
   double alpha_;
 };
 
