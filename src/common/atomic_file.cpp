@@ -60,6 +60,11 @@ void ensureDirectory(const fs::path& dir) {
   if (ec) throw Error("cannot create directory " + dir.string() + ": " + ec.message());
 }
 
+std::string relativePath(const fs::path& path, const fs::path& base) {
+  const fs::path relative = fs::absolute(path).lexically_relative(fs::absolute(base));
+  return relative.empty() ? "." : relative.string();
+}
+
 std::string readFile(const fs::path& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw Error("no such file: " + path.string());

@@ -41,6 +41,11 @@ void writeAtomically(const std::filesystem::path& path,
 // Creates `dir` (and parents) or throws gtbake::Error with a one-line reason.
 void ensureDirectory(const std::filesystem::path& dir);
 
+// `path` relative to directory `base` (both made absolute first), "." when they are the same.
+// Generated files record their inputs this way, so a record does not depend on where the run
+// happened (luts/ reproduces from any --out).
+std::string relativePath(const std::filesystem::path& path, const std::filesystem::path& base);
+
 // Reads a whole file; throws gtbake::Error naming the file if it is missing or unreadable.
 std::string readFile(const std::filesystem::path& path);
 

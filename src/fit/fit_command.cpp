@@ -147,10 +147,7 @@ json fitJson(const fs::path& json_path, const SweepData& data, const MultiBounce
       {"per_albedo", bias_rows}};
   json scenes = json::array();
   for (const SweepScene& s : data.scenes) scenes.push_back(s.name);
-  // Relative to fit.json's directory, so the record does not depend on where the run happened.
-  const fs::path sweep_dir =
-      fs::absolute(data.dir).lexically_relative(fs::absolute(json_path).parent_path());
-  out["sweep"] = {{"dir", sweep_dir.empty() ? "." : sweep_dir.string()},
+  out["sweep"] = {{"dir", relativePath(data.dir, fs::absolute(json_path).parent_path())},
                   {"spp", data.spp},
                   {"bounces", data.bounces},
                   {"scenes", scenes},

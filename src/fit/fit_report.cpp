@@ -301,10 +301,9 @@ void writeFitReport(const fs::path& dir, const FitReportInput& in) {
       "td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}"
       "th{background:#f3f3f3}img{margin:4px;border:1px solid #eee}</style></head><body>\n"
       "<h1>gtbake fit: multi-bounce Eq. 10</h1>\n<p>Sweep <code>" +
-      fs::absolute(data.dir).lexically_relative(fs::absolute(dir)).string() +
-      "</code>: " + std::to_string(data.scenes.size()) + " scenes (" + scenes + "), " +
-      std::to_string(data.points()) + " points, " + std::to_string(data.spp) + " spp, " +
-      std::to_string(data.bounces) + " bounces. EIV correction " +
+      relativePath(data.dir, dir) + "</code>: " + std::to_string(data.scenes.size()) + " scenes (" +
+      scenes + "), " + std::to_string(data.points()) + " points, " + std::to_string(data.spp) +
+      " spp, " + std::to_string(data.bounces) + " bounces. EIV correction " +
       (fit.eiv_corrected ? "on" : "off") + ". gtbake " + GTBAKE_VERSION +
       ". G = a(&rho;)A&sup3; &minus; b(&rho;)A&sup2; + c(&rho;)A.</p>\n"
       "<h2>Linear coefficients</h2>\n" +

@@ -138,9 +138,7 @@ SweepResult runSweep(const SweepOptions& options) {
     const EscapeImage image = traceEscapeImage(tracer, scene.camera, options.width, options.height,
                                                settings, "sweep " + scene.name, options.progress);
     const std::vector<ExrChannel> channels = escapeChannels(image);
-    // Relative to the sweep directory, so the record does not depend on where the run happened.
-    const std::string gltf =
-        fs::absolute(files[s]).lexically_relative(fs::absolute(options.out)).string();
+    const std::string gltf = relativePath(files[s], options.out);
     const std::map<std::string, std::string> attributes = {
         {"gtbake.version", GTBAKE_VERSION},
         {"gtbake.spp", std::to_string(options.spp)},
