@@ -70,6 +70,11 @@ int main(int argc, char** argv) {
   fit_cmd->add_option("--report", fit.report, "HTML report directory (default: beside --out)");
   fit_cmd->add_option("--shipped", fit_shipped,
                       "Constants to compare against, a1,a0,b1,b0,c1,c0 (default: the paper's)");
+  std::string fit_weighting = "pixel";
+  fit_cmd->add_option("--weighting", fit_weighting, "Point weights: pixel, scene or flat-a")
+      ->capture_default_str();
+  fit_cmd->add_flag("--constrain-open", fit.constrain_open,
+                    "Constrain a - b + c = 1 (G(1, rho) = 1 for an open surface)");
 
   ValidateOptions validate;
   std::string validate_coeffs;
@@ -79,6 +84,9 @@ int main(int argc, char** argv) {
       ->required();
   validate_cmd->add_option("--coeffs", validate_coeffs,
                            "a1,a0,b1,b0,c1,c0 (default: the paper's Equation 10)");
+  std::string validate_weighting = "pixel";
+  validate_cmd->add_option("--weighting", validate_weighting, "Point weights of the refit")
+      ->capture_default_str();
 
   GtsoOptions gtso;
   auto* gtso_cmd = app.add_subcommand("gtso", "Bake the 3D and 4D GTSO tables and fit u");
@@ -126,10 +134,12 @@ int main(int argc, char** argv) {
       runSweep(sweep);
     } else if (*fit_cmd) {
       if (!fit_shipped.empty()) fit.shipped = parseCoeffs(fit_shipped);
+      fit.weighting = parseWeighting(fit_weighting);
       fit.progress = progress;
       runFit(fit);
     } else if (*validate_cmd) {
       if (!validate_coeffs.empty()) validate.coeffs = parseCoeffs(validate_coeffs);
+      validate.weighting = parseWeighting(validate_weighting);
       validate.progress = progress;
       runValidate(validate);
     } else if (*gtso_cmd) {

@@ -1,29 +1,32 @@
 // `gtbake fit` and `gtbake validate`: Equation 10 from a sweep (SPEC §1.3, §2).
 #pragma once
 
-#include <array>
 #include <filesystem>
 #include <optional>
+#include <string>
+
+#include "fit/multibounce_coeffs.h"
+#include "fit/normal_equations.h"
 
 namespace gtbake {
-
-// {a1, a0, b1, b0, c1, c0}: a(ρ) = a1·ρ + a0 etc., G = a·A³ − b·A² + c·A.
-using MultiBounceCoeffs = std::array<double, 6>;
-inline constexpr MultiBounceCoeffs kPaperCoeffs = {2.0404,  -0.3324, 4.7951,
-                                                   -0.6417, 2.7552,  0.6903};
 
 struct FitOptions {
   std::filesystem::path sweep;                  // directory written by `gtbake sweep`
   std::filesystem::path out;                    // fit.json
   std::optional<std::filesystem::path> report;  // HTML report directory (default: beside `out`)
   MultiBounceCoeffs shipped = kPaperCoeffs;     // the constants compared against the refit
-  bool eiv_correction = true;  // report the split-half jackknife correction (docs/fit.md §4)
+  bool eiv_correction = true;  // SIMEX correction of the bias from noise in A (docs/fit.md §4)
+  Weighting weighting = Weighting::kPixel;
+  bool constrain_open = false;  // a − b + c = 1 for every ρ (G(1, ρ) = 1)
   bool progress = true;
 };
 
 struct FitResult {
   MultiBounceCoeffs linear{};
-  MultiBounceCoeffs linear_se{};
+  MultiBounceCoeffs linear_se{};  // Monte Carlo (another seed, same pixels)
+  MultiBounceCoeffs scene_se{};   // scene jackknife (zero without one)
+  double band_max = 0.0;          // largest scene-jackknife SE of G(A, ρ)
+  std::string verdict;            // the shipped constants against the band
 };
 
 // Writes fit.json and the report; prints the summary table to stdout.
@@ -32,10 +35,12 @@ FitResult runFit(const FitOptions& options);
 struct ValidateOptions {
   std::filesystem::path sweep;
   MultiBounceCoeffs coeffs = kPaperCoeffs;
+  Weighting weighting = Weighting::kPixel;
   bool progress = true;
 };
 
-// Prints the error table of `coeffs` beside the refit's. Writes nothing.
+// Prints the error table of `coeffs` beside the refit's and their score against the refit's
+// scene-level band. Writes nothing.
 void runValidate(const ValidateOptions& options);
 
 }  // namespace gtbake

@@ -5,7 +5,6 @@
 #include <cstdio>
 
 #include "common/error.h"
-#include "fit/multibounce_fit.h"
 
 namespace gtbake {
 
@@ -15,7 +14,9 @@ constexpr double kRhoMin = 0.1;  // the paper's albedo range (SPEC §1.3), unitl
 constexpr double kRhoMax = 0.9;
 // Grid of the curve-distance search (nodes; 1/200 in A and 1/200 of the ρ range).
 constexpr int kGridSteps = 200;
-// Local refinement: each round shrinks the window around the best node by this factor.
+// Local refinement: each round scans kRefineSteps² cells of a window around the best node and
+// shrinks it by kRefineShrink (30 rounds: the window ends ~1e-9 of a grid cell wide).
+constexpr int kRefineSteps = 10;
 constexpr int kRefineRounds = 30;
 constexpr double kRefineShrink = 0.5;
 
@@ -43,10 +44,10 @@ std::string rhoLabel(double rho) {
 }  // namespace
 
 void requireFiniteCoeffs(const MultiBounceCoeffs& coeffs, const std::string& what) {
-  const char* names[6] = {"a1", "a0", "b1", "b0", "c1", "c0"};
   for (int i = 0; i < 6; ++i) {
-    if (!std::isfinite(coeffs[i]))
-      throw Error(what + ": coefficient " + names[i] + " is not finite");
+    if (!std::isfinite(coeffs[i])) {
+      throw Error(what + ": coefficient " + kCoeffNames[i] + " is not finite");
+    }
   }
 }
 
@@ -80,24 +81,24 @@ CurveDifference maxCurveDifference(const MultiBounceCoeffs& k1, const MultiBounc
   for (int i = 0; i < 6; ++i) d[i] = k1[i] - k2[i];
   const auto diff = [&](double A, double rho) { return evalMultiBounce(d, A, rho); };
   CurveDifference best;
-  const auto scan = [&](double a_lo, double a_hi, double r_lo, double r_hi) {
-    for (int u = 0; u <= kGridSteps; ++u) {
-      const double A = a_lo + (a_hi - a_lo) * u / kGridSteps;
-      for (int v = 0; v <= kGridSteps; ++v) {
-        const double rho = r_lo + (r_hi - r_lo) * v / kGridSteps;
+  const auto scan = [&](double a_lo, double a_hi, double r_lo, double r_hi, int steps) {
+    for (int u = 0; u <= steps; ++u) {
+      const double A = a_lo + (a_hi - a_lo) * u / steps;
+      for (int v = 0; v <= steps; ++v) {
+        const double rho = r_lo + (r_hi - r_lo) * v / steps;
         const double value = diff(A, rho);
         if (std::abs(value) > best.value) best = {std::abs(value), A, rho, value};
       }
     }
   };
-  scan(0.0, 1.0, kRhoMin, kRhoMax);
+  scan(0.0, 1.0, kRhoMin, kRhoMax, kGridSteps);
   double half_a = 1.0 / kGridSteps;
   double half_r = (kRhoMax - kRhoMin) / kGridSteps;
   for (int round = 0; round < kRefineRounds; ++round) {
     const double A = best.A;
     const double rho = best.rho;
     scan(std::max(0.0, A - half_a), std::min(1.0, A + half_a), std::max(kRhoMin, rho - half_r),
-         std::min(kRhoMax, rho + half_r));
+         std::min(kRhoMax, rho + half_r), kRefineSteps);
     half_a *= kRefineShrink;
     half_r *= kRefineShrink;
   }

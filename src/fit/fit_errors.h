@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "fit/fit_command.h"
+#include "fit/multibounce_coeffs.h"
 #include "fit/sweep_data.h"
 
 namespace gtbake {

@@ -2,13 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <sstream>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "common/atomic_file.h"
+#include "fit/svg_plot.h"
 #include "gtbake_version.h"
 
 namespace gtbake {
@@ -23,6 +21,10 @@ constexpr std::size_t kScatterPerScene = 600;
 // Samples of each drawn curve (points; smooth at the plot size).
 constexpr int kCurveSamples = 101;
 
+std::string fmt(double v, const char* format = "%.4f") {
+  return formatNumber(v, format);
+}
+
 // One colour per albedo, viridis control points (dark = low ρ).
 const char* albedoColor(std::size_t j, std::size_t count) {
   static const char* const kRamp[7] = {"#440154", "#443983", "#31688e", "#21918c",
@@ -31,115 +33,16 @@ const char* albedoColor(std::size_t j, std::size_t count) {
   return kRamp[std::min<std::size_t>(index, 6)];
 }
 
-std::string fmt(double v, const char* format = "%.4f") {
-  char text[64];
-  std::snprintf(text, sizeof(text), format, v);
-  return text;
+std::vector<double> sampleA() {
+  std::vector<double> xs;
+  for (int i = 0; i < kCurveSamples; ++i) xs.push_back(i / double(kCurveSamples - 1));
+  return xs;
 }
-
-// A minimal SVG line/scatter plot in data coordinates.
-class SvgPlot {
- public:
-  SvgPlot(double x0, double x1, double y0, double y1, const std::string& title,
-          const std::string& xlabel, const std::string& ylabel)
-      : x0_(x0), x1_(x1) {
-    // y axis: widen to a multiple of a 1-2-5 step so the tick labels are round numbers.
-    const double raw = (y1 - y0) / 5.0;
-    const double decade = std::pow(10.0, std::floor(std::log10(raw)));
-    const double step = raw <= decade       ? decade
-                        : raw <= 2 * decade ? 2 * decade
-                        : raw <= 5 * decade ? 5 * decade
-                                            : 10 * decade;
-    y0_ = std::floor(y0 / step + 1e-9) * step;
-    y1_ = std::ceil(y1 / step - 1e-9) * step;
-    const int y_ticks = static_cast<int>(std::lround((y1_ - y0_) / step));
-    out_ << "<svg xmlns='http://www.w3.org/2000/svg' width='" << kW << "' height='" << kH
-         << "' viewBox='0 0 " << kW << ' ' << kH << "' font-family='sans-serif' font-size='12'>\n"
-         << "<rect width='100%' height='100%' fill='white'/>\n"
-         << "<text x='" << kW / 2 << "' y='18' text-anchor='middle' font-size='14'>" << title
-         << "</text>\n"
-         << "<text x='" << (kL + kW - kR) / 2 << "' y='" << kH - 6 << "' text-anchor='middle'>"
-         << xlabel << "</text>\n"
-         << "<text transform='translate(14," << (kT + kH - kB) / 2
-         << ") rotate(-90)' text-anchor='middle'>" << ylabel << "</text>\n";
-    for (int t = 0; t <= 5; ++t) {
-      const double x = x0 + (x1 - x0) * t / 5.0;
-      out_ << "<line x1='" << px(x) << "' y1='" << py(y0_) << "' x2='" << px(x) << "' y2='"
-           << py(y1_) << "' stroke='#ddd'/>\n<text x='" << px(x) << "' y='" << py(y0_) + 16
-           << "' text-anchor='middle'>" << fmt(x, "%.1f") << "</text>\n";
-    }
-    for (int t = 0; t <= y_ticks; ++t) {
-      const double y = y0_ + step * t;
-      out_ << "<line x1='" << px(x0) << "' y1='" << py(y) << "' x2='" << px(x1) << "' y2='" << py(y)
-           << "' stroke='#ddd'/>\n<text x='" << px(x0) - 4 << "' y='" << py(y) + 4
-           << "' text-anchor='end'>" << fmt(std::abs(y) < 1e-12 ? 0.0 : y, "%g") << "</text>\n";
-    }
-    out_ << "<rect x='" << kL << "' y='" << kT << "' width='" << kW - kL - kR << "' height='"
-         << kH - kT - kB << "' fill='none' stroke='black'/>\n";
-  }
-
-  // Legends go top-left by default, bottom-right for plots whose curves fill the top-left.
-  void legendBottomRight(int rows) { legend_origin_ = {kW - kR - 180, kH - kB - 8 - 16.0 * rows}; }
-
-  void points(const std::vector<double>& xs, const std::vector<double>& ys, const char* color,
-              double radius = 1.5) {
-    out_ << "<g fill='" << color << "' fill-opacity='0.45'>";
-    for (std::size_t i = 0; i < xs.size(); ++i) {
-      out_ << "<circle cx='" << fmt(px(xs[i]), "%.1f") << "' cy='" << fmt(py(ys[i]), "%.1f")
-           << "' r='" << radius << "'/>";
-    }
-    out_ << "</g>\n";
-  }
-
-  void curve(const std::vector<double>& xs, const std::vector<double>& ys, const char* color,
-             bool dashed = false, double width = 1.6) {
-    out_ << "<polyline fill='none' stroke='" << color << "' stroke-width='" << width << "'"
-         << (dashed ? " stroke-dasharray='5,4'" : "") << " points='";
-    for (std::size_t i = 0; i < xs.size(); ++i) {
-      out_ << fmt(px(xs[i]), "%.1f") << ',' << fmt(py(ys[i]), "%.1f") << ' ';
-    }
-    out_ << "'/>\n";
-  }
-
-  void errorBar(double x, double y, double half, const char* color) {
-    out_ << "<line x1='" << px(x) << "' y1='" << py(y - half) << "' x2='" << px(x) << "' y2='"
-         << py(y + half) << "' stroke='" << color << "' stroke-width='1.5'/>"
-         << "<circle cx='" << px(x) << "' cy='" << py(y) << "' r='3.5' fill='" << color << "'/>\n";
-  }
-
-  void legend(const std::string& text, const char* color, bool dashed = false) {
-    const double x = legend_origin_.first;
-    const double y = legend_origin_.second + 16 * legend_rows_++;
-    out_ << "<line x1='" << x << "' y1='" << y - 4 << "' x2='" << x + 24 << "' y2='" << y - 4
-         << "' stroke='" << color << "' stroke-width='2'"
-         << (dashed ? " stroke-dasharray='5,4'" : "") << "/><text x='" << x + 30 << "' y='" << y
-         << "'>" << text << "</text>\n";
-  }
-
-  std::string str() const { return out_.str() + "</svg>\n"; }
-
- private:
-  static constexpr double kW = 440, kH = 340, kL = 56, kR = 14, kT = 28, kB = 40;
-  double px(double x) const { return kL + (x - x0_) / (x1_ - x0_) * (kW - kL - kR); }
-  double py(double y) const { return kH - kB - (y - y0_) / (y1_ - y0_) * (kH - kT - kB); }
-
-  double x0_, x1_, y0_, y1_;
-  int legend_rows_ = 0;
-  std::pair<double, double> legend_origin_{kL + 10, kT + 14};
-  std::ostringstream out_;
-};
 
 void curveOf(SvgPlot& plot, const Cubic& theta, const char* color, bool dashed) {
-  std::vector<double> xs, ys;
-  for (int i = 0; i < kCurveSamples; ++i) {
-    xs.push_back(i / double(kCurveSamples - 1));
-    ys.push_back(evalCubic(theta, xs.back()));
-  }
-  plot.curve(xs, ys, color, dashed);
-}
-
-std::string curveDistance(const CurveDifference& d) {
-  return fmt(d.value, "%.4f") + " (A " + fmt(d.A, "%.2f") + ", &rho; " + fmt(d.rho, "%.1f") + ")";
+  std::vector<double> ys;
+  for (double A : sampleA()) ys.push_back(evalCubic(theta, A));
+  plot.curve(sampleA(), ys, color, dashed);
 }
 
 std::string table(const std::vector<std::string>& header,
@@ -155,132 +58,289 @@ std::string table(const std::vector<std::string>& header,
   return html + "</table>\n";
 }
 
-std::string sceneMixSection(const std::vector<SceneMixRow>& mix) {
-  if (mix.empty()) return "";
-  std::vector<std::vector<std::string>> rows;
-  for (const SceneMixRow& r : mix) {
-    rows.push_back({r.left_out, fmt(r.linear[0]), fmt(r.linear[2]), fmt(r.linear[4]),
-                    curveDistance(r.vs_refit), curveDistance(r.vs_shipped)});
-  }
-  return "<h2>What the scene mix does: leave one scene out</h2>\n"
-         "<p>The refit without each scene. The Monte Carlo SE says what another seed would move; "
-         "this says what the choice of scenes moves, in the coefficients and in the curve "
-         "G(A, &rho;) over A&isin;[0,1], &rho;&isin;[0.1,0.9].</p>\n" +
-         table(
-             {"left out", "a1", "b1", "c1", "max |&Delta;G| vs refit", "max |&Delta;G| vs shipped"},
-             rows);
+std::string curveDistance(const CurveDifference& d) {
+  return fmt(d.value, "%.4f") + " (A " + fmt(d.A, "%.2f") + ", &rho; " + fmt(d.rho, "%.2f") + ")";
 }
 
-std::string errorTables(const ErrorTable& refit, const ErrorTable& shipped) {
-  std::vector<std::vector<std::string>> rows;
-  const auto add = [&](const std::string& label, const ErrorRow& r, const ErrorRow& s) {
-    rows.push_back({label, fmt(r.rmse, "%.5f"), fmt(r.max_abs, "%.5f"), fmt(s.rmse, "%.5f"),
-                    fmt(s.max_abs, "%.5f")});
-  };
-  for (std::size_t j = 0; j < refit.per_albedo.size(); ++j) {
-    add("&rho; = " + refit.per_albedo[j].label, refit.per_albedo[j], shipped.per_albedo[j]);
+// Collects the figures of the page: each written beside index.html.
+class Figures {
+ public:
+  explicit Figures(fs::path dir) : dir_(std::move(dir)) {}
+  void add(const std::string& name, const SvgPlot& plot) {
+    writeFileAtomically(dir_ / name, plot.str());
+    html_ += "<img src='" + name + "' alt='" + name + "'>\n";
   }
-  for (std::size_t s = 0; s < refit.per_scene.size(); ++s) {
-    add(refit.per_scene[s].label, refit.per_scene[s], shipped.per_scene[s]);
-  }
-  add("all", {"", 0, refit.rmse, refit.max_abs}, {"", 0, shipped.rmse, shipped.max_abs});
-  return table({"", "refit RMSE", "refit max|e|", "shipped RMSE", "shipped max|e|"}, rows);
-}
+  void heading(const std::string& text) { html_ += text; }
+  std::string html() const { return html_; }
 
-}  // namespace
+ private:
+  fs::path dir_;
+  std::string html_;
+};
 
-void writeFitReport(const fs::path& dir, const FitReportInput& in) {
-  ensureDirectory(dir);
-  const SweepData& data = *in.data;
-  const MultiBounceFit& fit = *in.fit;
-  const std::size_t M = data.albedos.size();
-  std::string figures;
-  const auto figure = [&](const std::string& name, const SvgPlot& plot) {
-    writeFileAtomically(dir / name, plot.str());
-    figures += "<img src='" + name + "' alt='" + name + "'>\n";
+// G_shipped − G_refit per albedo against ±t·SE_G, and G(A) per albedo with the band.
+void bandFigures(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures& figures) {
+  const SceneJackknife& jk = a.jackknife;
+  const MultiBounceCoeffs& refit = a.fit.linear.coeffs;
+  const std::size_t M = a.data.albedos.size();
+  const std::vector<double> xs = sampleA();
+  const auto band = [&](double A, double rho) {
+    return jk.available ? jk.threshold * curveBand(jk.covariance, A, rho) : 0.0;
   };
-
-  figures += "<h2>Figure 6: A vs G per scene, every albedo, with the per-albedo cubics</h2>\n";
-  for (const SweepScene& scene : data.scenes) {
-    SvgPlot plot(0, 1, 0, 1, scene.name, "A (ambient occlusion)", "G (multi-bounce)");
-    const std::size_t count = scene.end - scene.begin;
-    const std::size_t stride = std::max<std::size_t>(1, count / kScatterPerScene);
-    for (std::size_t j = 0; j < M; ++j) {
-      std::vector<double> xs, ys;
-      for (std::size_t i = scene.begin; i < scene.end; i += stride) {
-        xs.push_back(data.full.A[i]);
-        ys.push_back(data.full.G[j][i]);
-      }
-      plot.points(xs, ys, albedoColor(j, M));
+  SvgPlot plot(0, 1, 0, 1, "G(A): refit with band (solid), shipped (dashed)", "A", "G");
+  plot.legendBottomRight(static_cast<int>(M));
+  for (std::size_t j = M; j-- > 0;) {
+    const double rho = a.data.albedos[j];
+    std::vector<double> lo, hi;
+    for (double A : xs) {
+      lo.push_back(evalMultiBounce(refit, A, rho) - band(A, rho));
+      hi.push_back(evalMultiBounce(refit, A, rho) + band(A, rho));
     }
-    for (std::size_t j = 0; j < M; ++j) curveOf(plot, fit.per_albedo[j].theta, "#000", false);
-    plot.legendBottomRight(1);
-    plot.legend("per-albedo cubic (all scenes)", "#000");
-    figure("fig6_" + scene.name + ".svg", plot);
+    if (jk.available) plot.band(xs, lo, hi, albedoColor(j, M), 0.35);
+    curveOf(plot, cubicAt(refit, rho), albedoColor(j, M), false);
+    curveOf(plot, cubicAt(shipped, rho), albedoColor(j, M), true);
+    plot.legend("&#961; = " + fmt(rho, "%.2f"), albedoColor(j, M));
   }
+  figures.heading(
+      "<h2>Eq. 10: refit (solid, band &#177;t SE shaded) against the shipped "
+      "constants (dashed), G(A) per albedo</h2>\n");
+  figures.add("refit_vs_shipped.svg", plot);
+  if (!jk.available) return;
+  figures.heading(
+      "<h2>The band per albedo: G<sub>shipped</sub> &minus; G<sub>refit</sub> (dashed) against "
+      "&#177;t&middot;SE<sub>G</sub> (shaded), t = " +
+      fmt(jk.threshold, "%.2f") + "</h2>\n");
+  double span = 0.0;
+  for (double rho : a.data.albedos) {
+    for (double A : xs) {
+      span =
+          std::max({span, jk.threshold * curveBand(jk.covariance, A, rho),
+                    std::abs(evalMultiBounce(shipped, A, rho) - evalMultiBounce(refit, A, rho))});
+    }
+  }
+  for (std::size_t j = 0; j < M; ++j) {
+    const double rho = a.data.albedos[j];
+    SvgPlot panel(0, 1, -1.05 * span, 1.05 * span, "&#961; = " + fmt(rho, "%.2f"), "A",
+                  "G &minus; G<tspan font-size='9'>refit</tspan>");
+    std::vector<double> lo, hi, diff, zero(xs.size(), 0.0);
+    for (double A : xs) {
+      lo.push_back(-band(A, rho));
+      hi.push_back(band(A, rho));
+      diff.push_back(evalMultiBounce(shipped, A, rho) - evalMultiBounce(refit, A, rho));
+    }
+    panel.band(xs, lo, hi, "#c0392b");
+    panel.curve(xs, zero, "#c0392b");
+    panel.curve(xs, diff, "#333", true);
+    panel.legend("refit &#177; t SE (scene jackknife)", "#c0392b");
+    panel.legend("shipped", "#333", true);
+    figures.add("band_rho" + fmt(100 * rho, "%03.0f") + ".svg", panel);
+  }
+}
 
-  figures += "<h2>Figure 7: per-albedo cubics and their coefficients against &rho;</h2>\n";
+// Figure 7: the per-albedo cubics, and a(ρ), b(ρ), c(ρ) with their lines and bands.
+void figure7(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures& figures) {
+  const MultiBounceFit& fit = a.fit;
+  const SceneJackknife& jk = a.jackknife;
+  const std::size_t M = a.data.albedos.size();
+  figures.heading(
+      "<h2>Figure 7: per-albedo cubics, and their coefficients against &rho; (bars &#177;2 SE "
+      "Monte Carlo, shaded &#177;t SE scene jackknife of the line)</h2>\n");
   {
     SvgPlot plot(0, 1, 0, 1, "per-albedo cubic fits", "A", "G");
     plot.legendBottomRight(static_cast<int>(M));
     for (std::size_t j = M; j-- > 0;) {
       curveOf(plot, fit.per_albedo[j].theta, albedoColor(j, M), false);
-      plot.legend("&#961; = " + fmt(data.albedos[j], "%.2f"), albedoColor(j, M));
+      plot.legend("&#961; = " + fmt(a.data.albedos[j], "%.2f"), albedoColor(j, M));
     }
-    figure("fig7_cubics.svg", plot);
+    figures.add("fig7_cubics.svg", plot);
   }
-  const char* names[3] = {"a", "b", "c"};
+  const std::vector<double> rhos = {0.0, 0.25, 0.5, 0.75, 1.0};
   for (int q = 0; q < 3; ++q) {
+    const auto line = [&](const MultiBounceCoeffs& k, double rho) {
+      return k[2 * q] * rho + k[2 * q + 1];
+    };
+    const auto lineSe = [&](double rho) {
+      if (!jk.available) return 0.0;
+      const double v = jk.covariance[6 * (2 * q) + 2 * q] * rho * rho +
+                       2.0 * jk.covariance[6 * (2 * q) + 2 * q + 1] * rho +
+                       jk.covariance[6 * (2 * q + 1) + 2 * q + 1];
+      return jk.threshold * std::sqrt(std::max(v, 0.0));
+    };
     double lo = 1e9, hi = -1e9;
     for (const AlbedoFit& f : fit.per_albedo) {
       lo = std::min({lo, f.theta[q], f.uncorrected[q]});
       hi = std::max({hi, f.theta[q], f.uncorrected[q]});
     }
-    for (double rho : {0.0, 1.0}) {
-      for (const MultiBounceCoeffs* k : {&fit.linear.coeffs, &in.shipped}) {
-        lo = std::min(lo, (*k)[2 * q] * rho + (*k)[2 * q + 1]);
-        hi = std::max(hi, (*k)[2 * q] * rho + (*k)[2 * q + 1]);
+    for (double rho : rhos) {
+      for (const MultiBounceCoeffs* k : {&fit.linear.coeffs, &shipped}) {
+        lo = std::min(lo, line(*k, rho) - lineSe(rho));
+        hi = std::max(hi, line(*k, rho) + lineSe(rho));
       }
     }
     const double pad = 0.05 * (hi - lo + 1e-9);
-    SvgPlot plot(0, 1, lo - pad, hi + pad, std::string(names[q]) + "(&#961;), bars &#177;2 SE",
-                 "&#961; (albedo)", names[q]);
-    for (const MultiBounceCoeffs* k : {&fit.linear.coeffs, &in.shipped}) {
-      const bool shipped = k == &in.shipped;
-      plot.curve({0.0, 1.0}, {(*k)[2 * q + 1], (*k)[2 * q] + (*k)[2 * q + 1]},
-                 shipped ? "#888" : "#c0392b", shipped);
+    SvgPlot plot(0, 1, lo - pad, hi + pad, std::string(kCubicNames[q]) + "(&#961;)",
+                 "&#961; (albedo)", kCubicNames[q]);
+    std::vector<double> ys, band_lo, band_hi, paper;
+    for (double rho : rhos) {
+      ys.push_back(line(fit.linear.coeffs, rho));
+      band_lo.push_back(ys.back() - lineSe(rho));
+      band_hi.push_back(ys.back() + lineSe(rho));
+      paper.push_back(line(shipped, rho));
     }
+    if (jk.available) plot.band(rhos, band_lo, band_hi, "#c0392b");
+    plot.curve(rhos, ys, "#c0392b");
+    plot.curve(rhos, paper, "#888", true);
     for (const AlbedoFit& f : fit.per_albedo) plot.errorBar(f.rho, f.theta[q], 2 * f.se[q], "#222");
-    plot.legend("refit line", "#c0392b");
+    plot.legend("refit line &#177; t SE (scenes)", "#c0392b");
     plot.legend("shipped (paper) line", "#888", true);
-    figure(std::string("fig7_") + names[q] + ".svg", plot);
+    figures.add(std::string("fig7_") + kCubicNames[q] + ".svg", plot);
   }
+}
 
-  figures += "<h2>Eq. 10: refit (solid) against shipped constants (dashed), G(A) per albedo</h2>\n";
-  {
-    SvgPlot plot(0, 1, 0, 1, "refit (solid) vs shipped (dashed)", "A", "G");
-    plot.legendBottomRight(static_cast<int>(M));
-    for (std::size_t j = M; j-- > 0;) {
-      curveOf(plot, cubicAt(fit.linear.coeffs, data.albedos[j]), albedoColor(j, M), false);
-      curveOf(plot, cubicAt(in.shipped, data.albedos[j]), albedoColor(j, M), true);
-      plot.legend("&#961; = " + fmt(data.albedos[j], "%.2f"), albedoColor(j, M));
+// Figure 6: A vs G per scene, every albedo, with the pooled per-albedo cubics.
+void figure6(const FitAnalysis& a, Figures& figures) {
+  const std::size_t M = a.data.albedos.size();
+  figures.heading(
+      "<h2>Figure 6: A vs G per scene, every albedo, with the per-albedo cubics</h2>\n");
+  for (const SweepScene& scene : a.data.scenes) {
+    SvgPlot plot(0, 1, 0, 1, scene.name, "A (ambient occlusion)", "G (multi-bounce)");
+    const std::size_t stride =
+        std::max<std::size_t>(1, (scene.end - scene.begin) / kScatterPerScene);
+    for (std::size_t j = 0; j < M; ++j) {
+      std::vector<double> xs, ys;
+      for (std::size_t i = scene.begin; i < scene.end; i += stride) {
+        xs.push_back(a.data.full.A[i]);
+        ys.push_back(a.data.full.G[j][i]);
+      }
+      plot.points(xs, ys, albedoColor(j, M));
     }
-    figure("refit_vs_shipped.svg", plot);
+    for (std::size_t j = 0; j < M; ++j) curveOf(plot, a.fit.per_albedo[j].theta, "#000", false);
+    plot.legendBottomRight(1);
+    plot.legend("per-albedo cubic (all scenes)", "#000");
+    figures.add("fig6_" + scene.name + ".svg", plot);
   }
+}
 
-  const char* coeff_names[6] = {"a1", "a0", "b1", "b0", "c1", "c0"};
-  std::vector<std::vector<std::string>> coeff_rows;
-  for (int i = 0; i < 6; ++i) {
-    coeff_rows.push_back(
-        {coeff_names[i], fmt(fit.linear.coeffs[i]), fmt(fit.linear.se[i], "%.5f"),
-         fmt(in.shipped[i]), fmt((fit.linear.coeffs[i] - in.shipped[i]) / fit.linear.se[i], "%.1f"),
-         fmt(fit.linear.eiv_bias[i], "%+.5f"),
-         fmt(fit.eiv_corrected ? std::abs(fit.linear.eiv_bias[i] - fit.linear.eiv_bias_linear[i])
-                               : std::abs(fit.linear.eiv_bias[i]),
-             "%.5f"),
-         fmt(fit.linear.misfit_se[i])});
+std::string headline(const FitAnalysis& a) {
+  const SceneJackknife& jk = a.jackknife;
+  std::string html = "<h2>How sure: the curve band</h2>\n<p>";
+  if (jk.available) {
+    html +=
+        "Scene-jackknife standard error of G(A, &rho;) over A&isin;(0,1], "
+        "&rho;&isin;[0.1,0.9]: largest <b>" +
+        fmt(jk.band_max.value) + "</b> at A = " + fmt(jk.band_max.A, "%.3f") +
+        ", &rho; = " + fmt(jk.band_max.rho, "%.2f") + " (" + std::to_string(jk.scenes) +
+        " scenes). Monte Carlo SE of G (another seed): largest " +
+        fmt(jk.mc_band_max.value, "%.5f") + ".";
+  } else {
+    html += jk.message + ".";
   }
-  std::vector<std::vector<std::string>> albedo_rows;
+  html += "</p>\n<p><b>Shipped constants: " + a.shipped_score.verdict +
+          ".</b> Largest |G<sub>refit</sub> &minus; G<sub>shipped</sub>|: " +
+          curveDistance(a.shipped_difference) + ".</p>\n";
+  return html;
+}
+
+std::string coefficientTables(const FitAnalysis& a, const MultiBounceCoeffs& shipped) {
+  const LinearFit& lin = a.fit.linear;
+  const SceneJackknife& jk = a.jackknife;
+  std::vector<std::vector<std::string>> rows;
+  for (int i = 0; i < 6; ++i) {
+    rows.push_back({kCoeffNames[i], fmt(lin.coeffs[i]), jk.available ? fmt(jk.se[i]) : "&ndash;",
+                    fmt(lin.se[i], "%.5f"), fmt(shipped[i]),
+                    jk.available ? fmt((shipped[i] - lin.coeffs[i]) / jk.se[i], "%.1f") : "&ndash;",
+                    fmt(lin.eiv_bias[i], "%+.5f"),
+                    fmt(remainingBias(lin.eiv_bias[i], lin.eiv_bias_two_point[i],
+                                      a.fit.settings.eiv_correction),
+                        "%.5f")});
+  }
+  std::string html =
+      "<h2>Linear coefficients</h2>\n" +
+      table({"coef", "refit", "SE (scenes)", "SE (Monte Carlo)", "shipped",
+             "(shipped&minus;refit)/SE scenes", "EIV bias", "bias left"},
+            rows) +
+      "<p>SE (scenes): delete-one-scene jackknife, what the choice of scenes moves. SE (Monte "
+      "Carlo): what a rerun with another seed moves. EIV bias: measured bias of the uncorrected "
+      "fit from noise in A; bias left: what remains in the reported value. See docs/fit.md.</p>\n";
+  if (jk.available) {
+    std::vector<std::vector<std::string>> corr;
+    for (int r = 0; r < 6; ++r) {
+      std::vector<std::string> row = {kCoeffNames[r]};
+      for (int c = 0; c < 6; ++c) row.push_back(fmt(jk.correlation[6 * r + c], "%+.3f"));
+      corr.push_back(row);
+    }
+    html += "<h3>Scene-jackknife correlation</h3>\n" +
+            table({"", kCoeffNames[0], kCoeffNames[1], kCoeffNames[2], kCoeffNames[3],
+                   kCoeffNames[4], kCoeffNames[5]},
+                  corr);
+  }
+  return html;
+}
+
+std::string alternativeTables(const FitAnalysis& a) {
+  std::vector<std::vector<std::string>> rows;
+  for (const Alternative& alt : a.weightings) {
+    rows.push_back({alt.name, curveDistance(alt.vs_default), fmt(alt.linear[0]), fmt(alt.linear[2]),
+                    fmt(alt.linear[4]), fmt(alt.rmse, "%.5f")});
+  }
+  const OpenSurface& o = a.open_surface;
+  const double cost = a.fit.settings.constrain_open ? a.refit_errors.rmse - a.constraint.rmse
+                                                    : a.constraint.rmse - a.refit_errors.rmse;
+  return "<h2>Point weighting and the open surface</h2>\n" +
+         table({"weighting", "max |&Delta;G| vs pixel", "a1", "b1", "c1", "RMSE"}, rows) +
+         "<p>G(1, &rho;) of the refit = " + fmt(o.intercept, "%.5f") + " " + fmt(o.slope, "%+.5f") +
+         " &rho; (an open surface gives 1). The constraint a &minus; b + c "
+         "= 1 (--constrain-open) changes the RMSE by " +
+         fmt(cost, "%+.2e") + "; the curves differ by " + fmt(a.constraint.vs_default.value) +
+         " at most.</p>\n";
+}
+
+std::string errorTables(const FitAnalysis& a) {
+  std::vector<std::vector<std::string>> rows;
+  const ErrorTable& r = a.refit_errors;
+  const ErrorTable& s = a.shipped_errors;
+  for (std::size_t j = 0; j < r.per_albedo.size(); ++j) {
+    rows.push_back({"&rho; = " + r.per_albedo[j].label, fmt(r.per_albedo[j].rmse, "%.5f"),
+                    fmt(a.floor.per_albedo[j].floor, "%.5f"), fmt(r.per_albedo[j].max_abs, "%.5f"),
+                    fmt(s.per_albedo[j].rmse, "%.5f"), fmt(s.per_albedo[j].max_abs, "%.5f"), "",
+                    ""});
+  }
+  for (std::size_t k = 0; k < r.per_scene.size(); ++k) {
+    rows.push_back({r.per_scene[k].label, fmt(r.per_scene[k].rmse, "%.5f"),
+                    fmt(a.floor.per_scene[k].floor, "%.5f"), fmt(r.per_scene[k].max_abs, "%.5f"),
+                    fmt(s.per_scene[k].rmse, "%.5f"), fmt(s.per_scene[k].max_abs, "%.5f"),
+                    std::to_string(a.scene_weights[k].points),
+                    fmt(100 * a.scene_weights[k].share, "%.1f") + "%"});
+  }
+  rows.push_back({"all", fmt(r.rmse, "%.5f"), fmt(a.floor.rmse, "%.5f"), fmt(r.max_abs, "%.5f"),
+                  fmt(s.rmse, "%.5f"), fmt(s.max_abs, "%.5f"), std::to_string(a.data.points()),
+                  "100%"});
+  return "<h2>Errors of G against the path-traced data, and the floor</h2>\n" +
+         table({"", "refit RMSE", "floor RMSE", "refit max|e|", "shipped RMSE", "shipped max|e|",
+                "points", "weight"},
+               rows) +
+         "<p>Floor: RMSE of the best function of (A, &rho;) alone on the same points (conditional "
+         "mean in " +
+         std::to_string(kFloorBins) +
+         " bins of A, small-sample corrected): the scatter no G(A, &rho;) can remove. Weight: the "
+         "scene's share of the fit's total weight.</p>\n";
+}
+
+std::string leaveOneOutTable(const FitAnalysis& a) {
+  if (a.jackknife.leave_one_out.empty()) return "";
+  std::vector<std::vector<std::string>> rows;
+  for (const LeaveOneOut& r : a.jackknife.leave_one_out) {
+    rows.push_back({r.left_out, fmt(r.linear[0]), fmt(r.linear[2]), fmt(r.linear[4]),
+                    curveDistance(r.vs_refit), curveDistance(r.vs_shipped)});
+  }
+  return "<h2>Leave one scene out (the jackknife's replicas)</h2>\n" +
+         table(
+             {"left out", "a1", "b1", "c1", "max |&Delta;G| vs refit", "max |&Delta;G| vs shipped"},
+             rows);
+}
+
+std::string perAlbedoTable(const MultiBounceFit& fit) {
+  std::vector<std::vector<std::string>> rows;
   for (const AlbedoFit& f : fit.per_albedo) {
     std::vector<std::string> row = {fmt(f.rho, "%.2f")};
     for (int q = 0; q < 3; ++q) {
@@ -289,42 +349,45 @@ void writeFitReport(const fs::path& dir, const FitReportInput& in) {
     }
     row.push_back(fmt(f.rmse, "%.5f"));
     row.push_back(fmt(f.max_abs, "%.5f"));
-    albedo_rows.push_back(row);
+    rows.push_back(row);
   }
-  std::string scenes;
-  for (const SweepScene& s : data.scenes) scenes += (scenes.empty() ? "" : ", ") + s.name;
+  const Cubic& rms = fit.linear.lack_of_fit_rms;
+  return "<h2>Per-albedo cubics</h2>\n" +
+         table({"&rho;", "a &#177; SE MC", "EIV bias a", "b &#177; SE MC", "EIV bias b",
+                "c &#177; SE MC", "EIV bias c", "RMSE", "max|e|"},
+               rows) +
+         "<p>Lack of fit of the lines in &rho; (model error of the linear-in-&rho; law, not an "
+         "uncertainty): RMS residual a " +
+         fmt(rms[0]) + ", b " + fmt(rms[1]) + ", c " + fmt(rms[2]) + ".</p>\n";
+}
 
-  std::string html =
+}  // namespace
+
+void writeFitReport(const fs::path& dir, const FitAnalysis& a, const MultiBounceCoeffs& shipped) {
+  ensureDirectory(dir);
+  Figures figures(dir);
+  bandFigures(a, shipped, figures);
+  figure7(a, shipped, figures);
+  figure6(a, figures);
+  const FitSettings& s = a.fit.settings;
+  std::string scenes;
+  for (const SweepScene& sc : a.data.scenes) scenes += (scenes.empty() ? "" : ", ") + sc.name;
+  const std::string html =
       "<!DOCTYPE html>\n<html><head><meta charset='utf-8'><title>gtbake fit report</title>\n"
       "<style>body{font-family:sans-serif;margin:24px;max-width:1400px}"
       "table{border-collapse:collapse;margin:8px 0 20px}"
       "td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}"
       "th{background:#f3f3f3}img{margin:4px;border:1px solid #eee}</style></head><body>\n"
       "<h1>gtbake fit: multi-bounce Eq. 10</h1>\n<p>Sweep <code>" +
-      relativePath(data.dir, dir) + "</code>: " + std::to_string(data.scenes.size()) + " scenes (" +
-      scenes + "), " + std::to_string(data.points()) + " points, " + std::to_string(data.spp) +
-      " spp, " + std::to_string(data.bounces) + " bounces. EIV correction " +
-      (fit.eiv_corrected ? "on" : "off") + ". gtbake " + GTBAKE_VERSION +
-      ". G = a(&rho;)A&sup3; &minus; b(&rho;)A&sup2; + c(&rho;)A.</p>\n"
-      "<h2>Linear coefficients</h2>\n" +
-      table({"coef", "refit", "SE (MC)", "shipped", "(refit&minus;shipped)/SE", "EIV bias",
-             "bias left", "misfit SE"},
-            coeff_rows) +
-      "<p>SE (MC): Monte Carlo standard error (what a rerun with another seed moves). EIV bias: "
-      "measured bias of the uncorrected fit from noise in A; bias left: what remains in the "
-      "reported value. Misfit SE: OLS SE from the scatter of the 7 per-albedo coefficients about "
-      "their line (model error of the linear-in-&rho; law, not noise). See docs/fit.md.</p>\n" +
-      "<p>Largest |G<sub>refit</sub> &minus; G<sub>shipped</sub>| over A&isin;[0,1], "
-      "&rho;&isin;[0.1,0.9]: <b>" +
-      fmt(in.curve_difference.value, "%.5f") + "</b> at A = " + fmt(in.curve_difference.A, "%.3f") +
-      ", &rho; = " + fmt(in.curve_difference.rho, "%.3f") + ".</p>\n<h2>Per-albedo cubics</h2>\n" +
-      table({"&rho;", "a &#177; SE", "EIV bias a", "b &#177; SE", "EIV bias b", "c &#177; SE",
-             "EIV bias c", "RMSE", "max|e|"},
-            albedo_rows) +
-      "<h2>Errors of G against the path-traced data</h2>\n" +
-      errorTables(*in.refit_errors, *in.shipped_errors) +
-      (in.scene_mix ? sceneMixSection(*in.scene_mix) : std::string()) + figures +
-      "</body></html>\n";
+      relativePath(a.data.dir, dir) + "</code>: " + std::to_string(a.data.scenes.size()) +
+      " scenes (" + scenes + "), " + std::to_string(a.data.points()) + " points, " +
+      std::to_string(a.data.spp) + " spp, " + std::to_string(a.data.bounces) +
+      " bounces. Weighting " + weightingName(s.weighting) + ", open surface " +
+      (s.constrain_open ? "constrained" : "free") + ", EIV correction " +
+      (s.eiv_correction ? "on" : "off") + ". gtbake " + GTBAKE_VERSION +
+      ". G = a(&rho;)A&sup3; &minus; b(&rho;)A&sup2; + c(&rho;)A.</p>\n" + headline(a) +
+      coefficientTables(a, shipped) + alternativeTables(a) + errorTables(a) + leaveOneOutTable(a) +
+      perAlbedoTable(a.fit) + figures.html() + "</body></html>\n";
   writeFileAtomically(dir / "index.html", html);
 }
 

@@ -1,31 +1,21 @@
-// The HTML report of a fit: one self-contained index.html plus SVG figures, all drawn by the
-// small SVG plotter in fit_report.cpp (no dependencies, crisp at any zoom).
+// The HTML report of a fit: one self-contained index.html plus SVG figures (svg_plot.h).
 //
-// Figures: (1) the paper's Figure 6: A vs G per scene, every albedo, with the per-albedo cubics;
-// (2) Figure 7: the per-albedo cubics (left) and a(ρ), b(ρ), c(ρ) with ±2 SE bars and their lines;
-// (3) Eq. 10 refit against the shipped constants, G(A) per albedo; plus the error tables.
+// Leads with the curve band and the verdict on the shipped constants, then: (1) the band per
+// albedo: G_shipped − G_refit against ±t·SE_G (one panel per albedo) and G(A) with the band;
+// (2) the paper's Figure 7: per-albedo cubics and a(ρ), b(ρ), c(ρ) with the jackknife band of
+// each line and ±2 SE (Monte Carlo) bars; (3) the paper's Figure 6: A vs G per scene; plus the
+// tables (coefficients, correlation, weightings, floor and errors, scene weights, leave one out).
 // Scatter points are subsampled deterministically (a fixed stride per scene).
 #pragma once
 
 #include <filesystem>
 
-#include "fit/fit_errors.h"
-#include "fit/multibounce_fit.h"
-#include "fit/scene_mix.h"
+#include "fit/fit_analysis.h"
 
 namespace gtbake {
 
-struct FitReportInput {
-  const SweepData* data = nullptr;
-  const MultiBounceFit* fit = nullptr;
-  MultiBounceCoeffs shipped{};
-  const ErrorTable* refit_errors = nullptr;
-  const ErrorTable* shipped_errors = nullptr;
-  CurveDifference curve_difference;
-  const std::vector<SceneMixRow>* scene_mix = nullptr;  // leave-one-scene-out refits
-};
-
 // Writes dir/index.html and dir/*.svg (each atomically); creates dir.
-void writeFitReport(const std::filesystem::path& dir, const FitReportInput& input);
+void writeFitReport(const std::filesystem::path& dir, const FitAnalysis& a,
+                    const MultiBounceCoeffs& shipped);
 
 }  // namespace gtbake

@@ -1,290 +1,260 @@
 #include "fit/multibounce_fit.h"
 
-#include <ceres/ceres.h>
-#include <tbb/parallel_for.h>
-
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "common/error.h"
+#include "fit/ceres_linear.h"
 
 namespace gtbake {
 
 namespace {
 
-// Points per residual block (points; one block per 256 points keeps Ceres' per-block overhead
-// small next to the arithmetic, and autodiff stays cheap with 3 parameters).
-constexpr int kChunk = 256;
-// Noise levels of the errors-in-variables extrapolation (see fitMultiBounce).
-constexpr int kLevels = 5;
+CubicParameterization parameterization(const FitSettings& settings) {
+  return settings.constrain_open ? openConstrainedCubic() : freeCubic();
+}
 
-// Residuals of the cubic over up to kChunk points: r_i = G_i − (a A_i³ − b A_i² + c A_i).
-// Unused slots of the last chunk are zero with zero derivative, so they add nothing to JᵀJ.
-struct CubicChunkResidual {
-  const double* A;
-  const double* G;
-  int count;
+// φ̂ of every level for one albedo; the unit covariance of level 0 when asked.
+struct LevelSolves {
+  std::array<Cubic, kLevels> theta{};
+  std::vector<double> unit_covariance;  // (TᵀSwT)⁻¹, N × N, level 0
+};
 
-  template <typename T>
-  bool operator()(const T* theta, T* residual) const {
-    for (int i = 0; i < kChunk; ++i) {
-      if (i < count) {
-        const T a(A[i]);
-        residual[i] = T(G[i]) - ((theta[0] * a - theta[1]) * a + theta[2]) * a;
-      } else {
-        residual[i] = T(0.0);
+LevelSolves solveLevels(const LevelStatistics& sums, std::size_t albedo,
+                        const CubicParameterization& p, bool with_covariance) {
+  LevelSolves out;
+  for (int l = 0; l < kLevels; ++l) {
+    const ReducedProblem reduced = reduceProblem(sums[l], albedo, p);
+    const LinearSolve solve =
+        solveLinear(reduced.R, reduced.z, p.N, with_covariance && l == 0, "the per-albedo cubic");
+    out.theta[l] = p.theta(solve.phi);
+    if (l == 0) out.unit_covariance = solve.unit_covariance;
+  }
+  return out;
+}
+
+// The reported and diagnostic per-albedo coefficients from the levels' θ (SIMEX, header).
+void extrapolate(const LevelSolves& solves, bool eiv_correction, AlbedoFit& f) {
+  for (int q = 0; q < 3; ++q) {
+    const double t1 = solves.theta[0][q];
+    const double t2 = 0.5 * (solves.theta[1][q] + solves.theta[2][q]);
+    const double t3 = 0.5 * (solves.theta[3][q] + solves.theta[4][q]);
+    f.uncorrected[q] = t1;
+    f.half_mean[q] = t2;
+    // Quadratic in v through v = 1, 2, 3, extrapolated to v = 0: θ0 = 3θ1 − 3θ2 + θ3.
+    f.eiv_bias[q] = t1 - (3.0 * t1 - 3.0 * t2 + t3);
+    f.eiv_bias_two_point[q] = t2 - t1;
+    f.theta[q] = eiv_correction ? t1 - f.eiv_bias[q] : t1;
+  }
+}
+
+// The lines q(ρ) = q1 ρ + q0 of stage 2 and the map L = (RᵀR)⁻¹Rᵀ (2 × M) they apply.
+struct Lines {
+  MultiBounceCoeffs coeffs{};
+  Eigen::MatrixXd L;
+};
+
+Lines fitLines(const std::vector<double>& albedos, const std::vector<Cubic>& theta, bool with_map) {
+  const std::size_t M = albedos.size();
+  std::vector<double> design(2 * M);
+  for (std::size_t j = 0; j < M; ++j) {
+    design[2 * j] = albedos[j];
+    design[2 * j + 1] = 1.0;
+  }
+  Lines out;
+  for (int q = 0; q < 3; ++q) {
+    std::vector<double> y(M);
+    for (std::size_t j = 0; j < M; ++j) y[j] = theta[j][q];
+    const LinearSolve line = solveLinear(design, y, 2, with_map && q == 0,
+                                         std::string("the line ") + kCubicNames[q] + "(rho)");
+    out.coeffs[2 * q] = line.phi[0];
+    out.coeffs[2 * q + 1] = line.phi[1];
+    if (with_map && q == 0) {
+      const Eigen::Matrix2d C = Eigen::Map<const Eigen::Matrix<double, 2, 2, Eigen::RowMajor>>(
+          line.unit_covariance.data());
+      out.L.resize(2, static_cast<Eigen::Index>(M));
+      for (std::size_t j = 0; j < M; ++j) {
+        out.L.col(static_cast<Eigen::Index>(j)) = C * Eigen::Vector2d(albedos[j], 1.0);
       }
     }
-    return true;
-  }
-
-  static ceres::CostFunction* Create(const double* A, const double* G, int count) {
-    return new ceres::AutoDiffCostFunction<CubicChunkResidual, kChunk, 3>(
-        new CubicChunkResidual{A, G, count});
-  }
-};
-
-// Residual of one coefficient's line in ρ: r_j = q_j − (q1 ρ_j + q0).
-struct LineResidual {
-  double rho;
-  double q;
-
-  template <typename T>
-  bool operator()(const T* line, T* residual) const {
-    residual[0] = T(q) - (line[0] * T(rho) + line[1]);
-    return true;
-  }
-
-  static ceres::CostFunction* Create(double rho, double q) {
-    return new ceres::AutoDiffCostFunction<LineResidual, 1, 2>(new LineResidual{rho, q});
-  }
-};
-
-ceres::Solver::Options solverOptions() {
-  ceres::Solver::Options options;
-  // QR of the Jacobian: the cubic's XᵀX has condition ~1e5, and at the optimum the normal
-  // equations' predicted decrease drowns in rounding (Ceres then rejects the steps as invalid).
-  options.linear_solver_type = ceres::DENSE_QR;
-  // The problem is linear: let the first Levenberg–Marquardt step be the Gauss–Newton step.
-  options.initial_trust_region_radius = 1e16;
-  options.num_threads = 1;  // one thread per solve: Ceres' multi-threaded reductions reorder sums
-  options.max_num_iterations = 100;
-  options.function_tolerance = 1e-14;
-  options.gradient_tolerance = 1e-14;
-  options.parameter_tolerance = 1e-14;
-  options.logging_type = ceres::SILENT;
-  return options;
-}
-
-void requireConverged(const ceres::Solver::Summary& summary, const std::string& what) {
-  if (summary.termination_type != ceres::CONVERGENCE || !summary.IsSolutionUsable()) {
-    throw Error("Ceres did not converge on " + what + ": " + summary.message);
-  }
-}
-
-// (JᵀJ)⁻¹ of the parameter block, from ceres::Covariance.
-template <int N>
-std::array<double, N * N> unitCovariance(ceres::Problem& problem, double* block,
-                                         const std::string& what) {
-  ceres::Covariance::Options options;
-  options.algorithm_type = ceres::DENSE_SVD;
-  options.num_threads = 1;
-  ceres::Covariance covariance(options);
-  std::vector<std::pair<const double*, const double*>> blocks = {{block, block}};
-  std::array<double, N * N> out{};
-  if (!covariance.Compute(blocks, &problem) ||
-      !covariance.GetCovarianceBlock(block, block, out.data())) {
-    throw Error("Ceres covariance failed on " + what + " (rank-deficient data?)");
   }
   return out;
 }
 
-// Fits q(ρ) = q1 ρ + q0 through Ceres; returns the line and (RᵀR)⁻¹.
-std::pair<std::array<double, 2>, std::array<double, 4>> fitLine(const std::vector<double>& rho,
-                                                                const std::vector<double>& q,
-                                                                const std::string& what) {
-  std::array<double, 2> line = {0.0, 0.0};
-  ceres::Problem problem;
-  for (std::size_t j = 0; j < rho.size(); ++j) {
-    problem.AddResidualBlock(LineResidual::Create(rho[j], q[j]), nullptr, line.data());
-  }
-  ceres::Solver::Summary summary;
-  ceres::Solve(solverOptions(), &problem, &summary);
-  requireConverged(summary, what);
-  return {line, unitCovariance<2>(problem, line.data(), what)};
-}
-
-Eigen::Matrix3d toMatrix(const std::array<double, 9>& m) {
-  return Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(m.data());
-}
-
-}  // namespace
-
-double evalCubic(const Cubic& theta, double A) {
-  return ((theta[0] * A - theta[1]) * A + theta[2]) * A;
-}
-
-Cubic cubicAt(const MultiBounceCoeffs& k, double rho) {
-  return {k[0] * rho + k[1], k[2] * rho + k[3], k[4] * rho + k[5]};
-}
-
-double evalMultiBounce(const MultiBounceCoeffs& coeffs, double A, double rho) {
-  return evalCubic(cubicAt(coeffs, rho), A);
-}
-
-CubicSolve fitCubic(const std::vector<double>& A, const std::vector<double>& G,
-                    bool with_covariance) {
-  CubicSolve out;
-  out.points = A.size();
-  ceres::Problem::Options problem_options;
-  ceres::Problem problem(problem_options);
-  for (std::size_t begin = 0; begin < A.size(); begin += kChunk) {
-    const int count = static_cast<int>(std::min<std::size_t>(kChunk, A.size() - begin));
-    problem.AddResidualBlock(CubicChunkResidual::Create(&A[begin], &G[begin], count), nullptr,
-                             out.theta.data());
-  }
-  ceres::Solver::Summary summary;
-  ceres::Solve(solverOptions(), &problem, &summary);
-  requireConverged(summary, "the per-albedo cubic");
-  if (with_covariance) {
-    out.unit_covariance = unitCovariance<3>(problem, out.theta.data(), "the per-albedo cubic");
-  }
-  for (std::size_t i = 0; i < A.size(); ++i) {
-    const double r = G[i] - evalCubic(out.theta, A[i]);
-    out.rss += r * r;
+MultiBounceCoeffs applyLines(const Eigen::MatrixXd& L, const std::vector<Cubic>& theta) {
+  MultiBounceCoeffs out{};
+  for (int q = 0; q < 3; ++q) {
+    for (int e = 0; e < 2; ++e) {
+      for (std::size_t j = 0; j < theta.size(); ++j) {
+        out[2 * q + e] += L(e, static_cast<Eigen::Index>(j)) * theta[j][q];
+      }
+    }
   }
   return out;
 }
 
-MultiBounceFit fitMultiBounce(const SweepData& data, bool eiv_correction) {
+// Monte Carlo covariance of the stacked θ̂ (3M × 3M) by the weighted sandwich (header).
+Eigen::MatrixXd monteCarloCovariance(const SweepData& data, const std::vector<double>& w,
+                                     const std::vector<LevelSolves>& solves,
+                                     const CubicParameterization& p) {
   const std::size_t M = data.albedos.size();
   const std::size_t n = data.points();
-  // Noise levels (SIMEX with the sweep's own noise, docs/fit.md §4): d_i = (h0_i − h1_i)/2 has
-  // the variance of the full estimate and is uncorrelated with it, so full + c·d has (1 + c²)
-  // times the full estimate's noise variance, with the same A–G correlation. c = ±1 are the two
-  // halves. Solves: [level][albedo] for c = 0, +1, −1, +√2, −√2.
-  const double kLevelC[kLevels] = {0.0, 1.0, -1.0, std::sqrt(2.0), -std::sqrt(2.0)};
-  std::vector<PointSet> sets(kLevels);
-  for (int l = 0; l < kLevels; ++l) {
-    const double c = 0.5 * kLevelC[l];
-    sets[l].A.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      sets[l].A[i] = data.full.A[i] + c * (data.half[0].A[i] - data.half[1].A[i]);
-    }
-    sets[l].G.assign(M, std::vector<double>(n));
-    for (std::size_t j = 0; j < M; ++j) {
-      for (std::size_t i = 0; i < n; ++i) {
-        sets[l].G[j][i] = data.full.G[j][i] + c * (data.half[0].G[j][i] - data.half[1].G[j][i]);
-      }
-    }
-  }
-  // Independent solves run in parallel; each writes its own slot, so the result does not
-  // depend on the thread count.
-  std::vector<CubicSolve> solves(kLevels * M);
-  tbb::parallel_for(std::size_t{0}, kLevels * M, [&](std::size_t s) {
-    solves[s] = fitCubic(sets[s / M].A, sets[s / M].G[s % M], s < M);
-  });
-
-  // Monte Carlo covariance of the stacked full-estimate θ̂ (3M), by the sandwich C (Σ ψψᵀ) C.
-  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(3 * M, 3 * M);
-  Eigen::VectorXd psi(3 * M);
+  const int N = p.N;
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> T(
+      p.T.data(), 3, N);
+  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(N * M, N * M);
+  Eigen::VectorXd psi(N * M);
   for (std::size_t i = 0; i < n; ++i) {
     const double a = data.full.A[i];
     const double dA = 0.5 * (data.half[0].A[i] - data.half[1].A[i]);
     const Eigen::Vector3d x(a * a * a, -a * a, a);
     const Eigen::Vector3d dx(3.0 * a * a, -2.0 * a, 1.0);
     for (std::size_t j = 0; j < M; ++j) {
-      const Cubic& t = solves[j].theta;
+      const Cubic& t = solves[j].theta[0];
       const double r = data.full.G[j][i] - evalCubic(t, a);
       const double slope = (3.0 * t[0] * a - 2.0 * t[1]) * a + t[2];
       const double dG = 0.5 * (data.half[0].G[j][i] - data.half[1].G[j][i]);
-      psi.segment<3>(3 * j) = x * (dG - slope * dA) + dx * (r * dA);
+      psi.segment(N * j, N) = w[i] * (T.transpose() * (x * (dG - slope * dA) + dx * (r * dA)));
     }
     meat.selfadjointView<Eigen::Lower>().rankUpdate(psi);
   }
   meat = meat.selfadjointView<Eigen::Lower>();
-  Eigen::MatrixXd bread = Eigen::MatrixXd::Zero(3 * M, 3 * M);
+  Eigen::MatrixXd bread = Eigen::MatrixXd::Zero(3 * M, N * M);
   for (std::size_t j = 0; j < M; ++j) {
-    bread.block<3, 3>(3 * j, 3 * j) = toMatrix(solves[j].unit_covariance);
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
+        C(solves[j].unit_covariance.data(), N, N);
+    bread.block(3 * j, N * j, 3, N) = T * C;
   }
-  const Eigen::MatrixXd cov = bread * meat * bread;
+  return bread * meat * bread.transpose();
+}
 
-  MultiBounceFit fit;
-  fit.eiv_corrected = eiv_correction;
-  for (std::size_t j = 0; j < M; ++j) {
-    AlbedoFit f;
-    f.rho = data.albedos[j];
-    f.points = n;
-    const CubicSolve& full = solves[j];
-    const Eigen::Matrix3d unit = toMatrix(full.unit_covariance);
-    const double sigma2 = full.rss / static_cast<double>(n - 3);
-    for (int q = 0; q < 3; ++q) {
-      f.uncorrected[q] = full.theta[q];
-      // θ at noise variance v × (the full estimate's): v = 1, 2 (halves), 3.
-      const double t1 = full.theta[q];
-      const double t2 = 0.5 * (solves[M + j].theta[q] + solves[2 * M + j].theta[q]);
-      const double t3 = 0.5 * (solves[3 * M + j].theta[q] + solves[4 * M + j].theta[q]);
-      f.half_mean[q] = t2;
-      // Quadratic in v through v = 1, 2, 3, extrapolated to v = 0: θ0 = 3θ1 − 3θ2 + θ3.
-      f.eiv_bias[q] = t1 - (3.0 * t1 - 3.0 * t2 + t3);
-      f.eiv_bias_linear[q] = t2 - t1;
-      f.theta[q] = eiv_correction ? f.uncorrected[q] - f.eiv_bias[q] : f.uncorrected[q];
-      f.se[q] = std::sqrt(cov(3 * j + q, 3 * j + q));
-      f.se_iid[q] = std::sqrt(unit(q, q) * sigma2);
-    }
-    double sum2 = 0.0;
+// Stage-1 Monte Carlo SE, iid SE and unweighted errors of every albedo.
+void albedoErrors(const SweepData& data, const std::vector<double>& w,
+                  const std::vector<LevelSolves>& solves, const CubicParameterization& p,
+                  const Eigen::MatrixXd& cov, std::vector<AlbedoFit>& per_albedo) {
+  const std::size_t n = data.points();
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> T(
+      p.T.data(), 3, p.N);
+  for (std::size_t j = 0; j < per_albedo.size(); ++j) {
+    AlbedoFit& f = per_albedo[j];
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
+        C(solves[j].unit_covariance.data(), p.N, p.N);
+    const Eigen::Matrix3d unit = T * C * T.transpose();
+    double weighted_rss = 0.0, sum2 = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
+      const double r0 = data.full.G[j][i] - evalCubic(f.uncorrected, data.full.A[i]);
+      weighted_rss += w[i] * r0 * r0;
       const double r = data.full.G[j][i] - evalCubic(f.theta, data.full.A[i]);
       sum2 += r * r;
       f.max_abs = std::max(f.max_abs, std::abs(r));
     }
+    const double sigma2 = weighted_rss / static_cast<double>(n - static_cast<std::size_t>(p.N));
+    for (int q = 0; q < 3; ++q) {
+      f.se[q] = std::sqrt(cov(3 * j + q, 3 * j + q));
+      f.se_iid[q] = std::sqrt(unit(q, q) * sigma2);
+    }
     f.rmse = std::sqrt(sum2 / static_cast<double>(n));
-    fit.per_albedo.push_back(f);
   }
+}
 
-  // Stage 2. The line is L·q with L = (RᵀR)⁻¹Rᵀ (R rows (ρ_j, 1)); Ceres gives (RᵀR)⁻¹.
-  const char* names[3] = {"a", "b", "c"};
+}  // namespace
+
+double remainingBias(double bias, double bias_two_point, bool corrected) {
+  return corrected ? std::abs(bias - bias_two_point) : std::abs(bias);
+}
+
+MultiBounceCoeffs coefficientsFromStatistics(const LevelStatistics& sums,
+                                             const std::vector<double>& albedos,
+                                             const FitSettings& settings) {
+  const CubicParameterization p = parameterization(settings);
+  std::vector<Cubic> theta(albedos.size());
+  for (std::size_t j = 0; j < albedos.size(); ++j) {
+    AlbedoFit f;
+    extrapolate(solveLevels(sums, j, p, false), settings.eiv_correction, f);
+    theta[j] = f.theta;
+  }
+  return fitLines(albedos, theta, false).coeffs;
+}
+
+MultiBounceFit fitMultiBounce(const SweepData& data, const FitSettings& settings) {
+  const std::size_t M = data.albedos.size();
+  const CubicParameterization p = parameterization(settings);
+  MultiBounceFit fit;
+  fit.settings = settings;
+  fit.weights = pointWeights(data, settings.weighting);
+  fit.scene_stats = sceneStatistics(data, fit.weights);
+  const LevelStatistics sums =
+      sumScenes(fit.scene_stats, std::vector<bool>(data.scenes.size(), true));
+
+  std::vector<LevelSolves> solves(M);
+  fit.per_albedo.resize(M);
+  for (std::size_t j = 0; j < M; ++j) {
+    solves[j] = solveLevels(sums, j, p, true);
+    fit.per_albedo[j].rho = data.albedos[j];
+    fit.per_albedo[j].points = data.points();
+    extrapolate(solves[j], settings.eiv_correction, fit.per_albedo[j]);
+  }
+  const Eigen::MatrixXd cov = monteCarloCovariance(data, fit.weights, solves, p);
+  albedoErrors(data, fit.weights, solves, p, cov, fit.per_albedo);
+
+  // Stage 2: the lines, and the same linear map L applied to the diagnostics.
+  const auto column = [&](Cubic AlbedoFit::*member) {
+    std::vector<Cubic> out;
+    for (const AlbedoFit& f : fit.per_albedo) out.push_back(f.*member);
+    return out;
+  };
+  const std::vector<Cubic> reported = column(&AlbedoFit::theta);
+  const Lines lines = fitLines(data.albedos, reported, true);
+  LinearFit& lin = fit.linear;
+  lin.coeffs = lines.coeffs;
+  lin.uncorrected = fitLines(data.albedos, column(&AlbedoFit::uncorrected), false).coeffs;
+  lin.eiv_bias = applyLines(lines.L, column(&AlbedoFit::eiv_bias));
+  lin.eiv_bias_two_point = applyLines(lines.L, column(&AlbedoFit::eiv_bias_two_point));
+  // Monte Carlo covariance of the six: Λ Cov(θ) Λᵀ, Λ(2q + e, 3j + q) = L(e, j).
+  Eigen::MatrixXd Lambda = Eigen::MatrixXd::Zero(6, 3 * M);
   for (int q = 0; q < 3; ++q) {
-    std::vector<double> reported(M), raw(M), bias(M), bias_linear(M);
-    for (std::size_t j = 0; j < M; ++j) {
-      reported[j] = fit.per_albedo[j].theta[q];
-      raw[j] = fit.per_albedo[j].uncorrected[q];
-      bias[j] = fit.per_albedo[j].eiv_bias[q];
-      bias_linear[j] = fit.per_albedo[j].eiv_bias_linear[q];
-    }
-    const std::string what = std::string("the line ") + names[q] + "(rho)";
-    const auto [line, unit] = fitLine(data.albedos, reported, what);
-    const auto raw_line = fitLine(data.albedos, raw, what).first;
-    Eigen::MatrixXd L(2, M);
-    const Eigen::Matrix2d C =
-        Eigen::Map<const Eigen::Matrix<double, 2, 2, Eigen::RowMajor>>(unit.data());
-    for (std::size_t j = 0; j < M; ++j) L.col(j) = C * Eigen::Vector2d(data.albedos[j], 1.0);
-    Eigen::MatrixXd cov_q(M, M);
-    for (std::size_t j = 0; j < M; ++j) {
-      for (std::size_t k = 0; k < M; ++k) cov_q(j, k) = cov(3 * j + q, 3 * k + q);
-    }
-    const Eigen::Matrix2d cov_line = L * cov_q * L.transpose();
-    double misfit2 = 0.0;
-    for (std::size_t j = 0; j < M; ++j) {
-      const double r = reported[j] - (line[0] * data.albedos[j] + line[1]);
-      misfit2 += r * r;
-    }
-    const double dof = static_cast<double>(M) - 2.0;
     for (int e = 0; e < 2; ++e) {
-      const Eigen::Vector2d b = L * Eigen::Map<const Eigen::VectorXd>(bias.data(), M);
-      const Eigen::Vector2d bl = L * Eigen::Map<const Eigen::VectorXd>(bias_linear.data(), M);
-      fit.linear.eiv_bias_linear[2 * q + e] = bl[e];
-      fit.linear.coeffs[2 * q + e] = line[e];
-      fit.linear.uncorrected[2 * q + e] = raw_line[e];
-      fit.linear.eiv_bias[2 * q + e] = b[e];
-      fit.linear.se[2 * q + e] = std::sqrt(cov_line(e, e));
-      fit.linear.misfit_se[2 * q + e] = dof > 0 ? std::sqrt(C(e, e) * misfit2 / dof) : 0.0;
+      for (std::size_t j = 0; j < M; ++j) {
+        Lambda(2 * q + e, 3 * j + q) = lines.L(e, static_cast<Eigen::Index>(j));
+      }
     }
-    fit.linear.misfit_rms[q] = std::sqrt(misfit2 / static_cast<double>(M));
+  }
+  const Eigen::MatrixXd cov6 = Lambda * cov * Lambda.transpose();
+  for (int r = 0; r < 6; ++r) {
+    lin.se[r] = std::sqrt(cov6(r, r));
+    for (int c = 0; c < 6; ++c) lin.mc_covariance[6 * r + c] = cov6(r, c);
+  }
+  for (int q = 0; q < 3; ++q) {
+    double sum2 = 0.0;
+    for (std::size_t j = 0; j < M; ++j) {
+      const double r =
+          reported[j][q] - (lin.coeffs[2 * q] * data.albedos[j] + lin.coeffs[2 * q + 1]);
+      sum2 += r * r;
+      lin.lack_of_fit_max[q] = std::max(lin.lack_of_fit_max[q], std::abs(r));
+    }
+    lin.lack_of_fit_rms[q] = std::sqrt(sum2 / static_cast<double>(M));
   }
   return fit;
+}
+
+CubicSolve fitCubic(const std::vector<double>& A, const std::vector<double>& G) {
+  NormalEquations sums;
+  sums.moment.assign(1, {});
+  for (std::size_t i = 0; i < A.size(); ++i) sums.add(1.0, A[i], &G[i], 1);
+  const CubicParameterization p = freeCubic();
+  const ReducedProblem reduced = reduceProblem(sums, 0, p);
+  const LinearSolve solve = solveLinear(reduced.R, reduced.z, 3, true, "the cubic");
+  CubicSolve out;
+  out.theta = p.theta(solve.phi);
+  std::copy(solve.unit_covariance.begin(), solve.unit_covariance.end(),
+            out.unit_covariance.begin());
+  for (std::size_t i = 0; i < A.size(); ++i) {
+    const double r = G[i] - evalCubic(out.theta, A[i]);
+    out.rss += r * r;
+  }
+  return out;
 }
 
 }  // namespace gtbake

@@ -1,19 +1,23 @@
 // The multi-bounce fit of paper Section 5, Equation 10 (SPEC §1.3), in two Ceres stages.
 //
-// Stage 1, per albedo ρ: least squares over every unmasked point i of every scene of
-//   G_i ≈ a·A_i³ − b·A_i² + c·A_i            (θ = (a, b, c), regressors x_i = (A³, −A², A)).
+// Stage 1, per albedo ρ: weighted least squares over every unmasked point i of every scene of
+//   G_i ≈ a·A_i³ − b·A_i² + c·A_i            (θ = (a, b, c), regressors x_i = (A_i³, −A_i², A_i)),
+// solved from the sums of normal_equations.h (a 3 × 3 reduced problem per albedo, or 2 × 2 with
+// the open-surface constraint a − b + c = 1).
 // Stage 2, per coefficient q ∈ {a, b, c}: least squares over the albedos of q(ρ) ≈ q1·ρ + q0.
+// With the constraint every albedo has a − b + c = 1, and the lines are linear in the data, so
+// a(ρ) − b(ρ) + c(ρ) = 1 for every ρ too (a1 − b1 + c1 = 0, a0 − b0 + c0 = 1).
 //
-// Standard errors (docs/fit.md §3). The sampling uncertainty of θ is Monte Carlo noise: the scenes
-// and pixels are fixed, the walks are random. To first order θ̂ − θ = C Σ_i ψ_i with
-// C = (XᵀX)⁻¹ (= Ceres' covariance, which assumes unit residual variance) and the influence
+// Monte Carlo standard errors (docs/fit.md §3): the scenes and pixels fixed, the walks random.
+// To first order φ̂ − φ = C Σ_i w_i Tᵀψ_i with C = (TᵀSwT)⁻¹ (= Ceres' covariance of the reduced
+// problem) and the influence
 //   ψ_i = x_i δG_i + (x_i' r_i − x_i f'(A_i)) δA_i        (r_i the residual, f the cubic),
 // which counts noise in G, noise in the regressor A and their correlation. δ_i is estimated per
 // point from the two half-sample estimates, δ_i = (h0_i − h1_i)/2 (E δ_i² = Var of the full mean),
-// so Cov(θ̂) = C (Σ ψ_i ψ_iᵀ) C — a sandwich with known per-point variance. `se` is that; `se_iid`
-// is Ceres' covariance scaled by σ̂² = RSS/(n − 3) (it treats scene-to-scene misfit as iid noise).
-// Stage 2 is linear in the stage-1 coefficients, so its SE propagates the full cross-albedo
-// covariance exactly; the misfit of the line in ρ is reported separately (`misfit_*`).
+// so Cov(φ̂) = C (Σ w_i² Tᵀψ_i ψ_iᵀT) C — a sandwich with known per-point variance. `se` is that;
+// `se_iid` is Ceres' covariance scaled by σ̂² = Σ w r²/(n − N). Stage 2 is linear in the stage-1
+// coefficients, so its covariance propagates the full cross-albedo covariance exactly.
+// The scene-level uncertainty (what the choice of scenes moves) is scene_jackknife.h.
 //
 // Errors in variables (docs/fit.md §4): noise in A biases θ̂ by β·v + γ·v² + … in the noise
 // variance v (v = 1 for the full estimate). With d_i = (h0_i − h1_i)/2 (same variance as the
@@ -27,61 +31,74 @@
 #include <cstddef>
 #include <vector>
 
-#include "fit/fit_command.h"
+#include "fit/multibounce_coeffs.h"
+#include "fit/normal_equations.h"
 #include "fit/sweep_data.h"
 
 namespace gtbake {
 
-using Cubic = std::array<double, 3>;  // (a, b, c): G = a·A³ − b·A² + c·A
-
-struct CubicSolve {
-  Cubic theta{};
-  std::array<double, 9> unit_covariance{};  // (JᵀJ)⁻¹ from ceres::Covariance, row-major 3×3
-  double rss = 0.0;                         // Σ r_i²
-  std::size_t points = 0;
+struct FitSettings {
+  bool eiv_correction = true;
+  Weighting weighting = Weighting::kPixel;
+  bool constrain_open = false;  // a − b + c = 1 for every ρ: an open surface has G(1, ρ) = 1
 };
-
-// One Ceres least-squares solve of the cubic; throws gtbake::Error if Ceres does not converge.
-// `unit_covariance` is filled only when `with_covariance`.
-CubicSolve fitCubic(const std::vector<double>& A, const std::vector<double>& G,
-                    bool with_covariance = true);
-
-double evalCubic(const Cubic& theta, double A);
-// Eq. 10: G(A, ρ) for the linear coefficients {a1, a0, b1, b0, c1, c0}.
-double evalMultiBounce(const MultiBounceCoeffs& coeffs, double A, double rho);
-Cubic cubicAt(const MultiBounceCoeffs& coeffs, double rho);
 
 struct AlbedoFit {
   double rho = 0.0;
-  Cubic theta{};        // reported coefficients (EIV-corrected when the correction is on)
-  Cubic se{};           // Monte Carlo sandwich SE (see above)
-  Cubic se_iid{};       // Ceres covariance × RSS/(n − 3)
-  Cubic uncorrected{};  // θ̂ on the full estimate
-  Cubic half_mean{};    // mean of θ̂ on the two halves
-  Cubic eiv_bias{};     // measured bias of θ̂_full (quadratic extrapolation in noise variance)
-  Cubic
-      eiv_bias_linear{};  // the two-point (split-half jackknife) estimate: half_mean − uncorrected
-  double rmse = 0.0;      // of `theta` against the full-estimate points
+  Cubic theta{};               // reported coefficients (EIV-corrected when the correction is on)
+  Cubic se{};                  // Monte Carlo sandwich SE (see above)
+  Cubic se_iid{};              // Ceres covariance × Σ w r²/(n − N)
+  Cubic uncorrected{};         // θ̂ on the full estimate
+  Cubic half_mean{};           // mean of θ̂ on the two halves
+  Cubic eiv_bias{};            // measured bias of θ̂_full (quadratic extrapolation in v)
+  Cubic eiv_bias_two_point{};  // the two-point estimate from the halves: half_mean − uncorrected
+  double rmse = 0.0;           // of `theta` against the full-estimate points, unweighted
   double max_abs = 0.0;
   std::size_t points = 0;
 };
 
 struct LinearFit {
-  MultiBounceCoeffs coeffs{};           // from the reported per-albedo θ
-  MultiBounceCoeffs se{};               // propagated Monte Carlo SE
-  MultiBounceCoeffs uncorrected{};      // the same line through the uncorrected θ̂_full
-  MultiBounceCoeffs eiv_bias{};         // line through the per-albedo biases
-  MultiBounceCoeffs eiv_bias_linear{};  // line through the split-half (two-point) biases
-  MultiBounceCoeffs misfit_se{};        // classical OLS SE from the line's own residuals (5 dof)
-  Cubic misfit_rms{};                   // RMS residual of a(ρ), b(ρ), c(ρ) about their lines
+  MultiBounceCoeffs coeffs{};              // lines through the reported per-albedo θ
+  MultiBounceCoeffs se{};                  // Monte Carlo SE (sqrt of mc_covariance's diagonal)
+  std::array<double, 36> mc_covariance{};  // Monte Carlo covariance, row-major 6 × 6
+  MultiBounceCoeffs uncorrected{};         // the same lines through the uncorrected θ̂_full
+  MultiBounceCoeffs eiv_bias{};            // lines through the per-albedo biases
+  MultiBounceCoeffs eiv_bias_two_point{};  // lines through the two-point biases
+  // Lack of fit of "linear in ρ": RMS and max |residual| of a(ρ), b(ρ), c(ρ) about their lines.
+  // Model error of the law, not an uncertainty of the six numbers.
+  Cubic lack_of_fit_rms{};
+  Cubic lack_of_fit_max{};
 };
 
 struct MultiBounceFit {
+  FitSettings settings;
   std::vector<AlbedoFit> per_albedo;
   LinearFit linear;
-  bool eiv_corrected = true;
+  std::vector<double> weights;               // per point, mean 1
+  std::vector<LevelStatistics> scene_stats;  // [scene] the sums the fit was solved from
 };
 
-MultiBounceFit fitMultiBounce(const SweepData& data, bool eiv_correction);
+// What remains of the errors-in-variables bias in a reported coefficient (docs/fit.md §4): with
+// the correction the gap between the quadratic and the two-point estimates (it bounds the next
+// order), without it the whole measured bias.
+double remainingBias(double bias, double bias_two_point, bool corrected);
+
+// Stage 1 and 2 coefficients from summed statistics, no standard errors: a refit on any union of
+// scenes (the jackknife's replicas) costs ~40 Ceres solves of 2 or 3 parameters.
+MultiBounceCoeffs coefficientsFromStatistics(const LevelStatistics& sums,
+                                             const std::vector<double>& albedos,
+                                             const FitSettings& settings);
+
+// The full fit: weights, per-scene statistics, both stages, Monte Carlo SEs, per-albedo errors.
+MultiBounceFit fitMultiBounce(const SweepData& data, const FitSettings& settings = {});
+
+// One cubic fit of raw points with unit weights (the closed-form cross-check of the reduction):
+// θ, (XᵀX)⁻¹ row-major and Σ r².
+struct CubicSolve {
+  Cubic theta{};
+  std::array<double, 9> unit_covariance{};
+  double rss = 0.0;
+};
+CubicSolve fitCubic(const std::vector<double>& A, const std::vector<double>& G);
 
 }  // namespace gtbake

@@ -45,7 +45,7 @@ TEST(MultiBounceFit, CeresMatchesClosedFormLeastSquares) {
 // noise and an exact model the sandwich SE equals Ceres' covariance × σ̂².
 TEST(MultiBounceFit, RecoversKnownCoefficientsWithinThreeSE) {
   const SweepData data = knownCoefficientSweep(kPaperCoeffs, 20000, 0.0, 0.01, 0.0, 11);
-  const MultiBounceFit fit = fitMultiBounce(data, true);
+  const MultiBounceFit fit = fitMultiBounce(data);
   for (const AlbedoFit& f : fit.per_albedo) {
     const Cubic truth = cubicAt(kPaperCoeffs, f.rho);
     for (int q = 0; q < 3; ++q) {
@@ -66,7 +66,7 @@ TEST(MultiBounceFit, StandardErrorMatchesScatterOverSeeds) {
   double sum[6] = {}, sum2[6] = {}, se[6] = {};
   for (int s = 0; s < kSeeds; ++s) {
     const SweepData data = knownCoefficientSweep(kPaperCoeffs, 3000, 0.01, 0.02, 0.5, 100 + s);
-    const MultiBounceFit fit = fitMultiBounce(data, true);
+    const MultiBounceFit fit = fitMultiBounce(data);
     for (int i = 0; i < 6; ++i) {
       sum[i] += fit.linear.coeffs[i];
       sum2[i] += fit.linear.coeffs[i] * fit.linear.coeffs[i];
@@ -85,7 +85,7 @@ TEST(MultiBounceFit, StandardErrorMatchesScatterOverSeeds) {
 // measurement finds that bias, and the corrected fit is back within 3 SE of the truth.
 TEST(MultiBounceFit, EivBiasDetectsPlantedRegressorNoise) {
   const SweepData data = knownCoefficientSweep(kPaperCoeffs, 40000, 0.035, 0.005, 0.3, 23);
-  const MultiBounceFit fit = fitMultiBounce(data, true);
+  const MultiBounceFit fit = fitMultiBounce(data);
   double worst_raw = 0.0;
   for (int i = 0; i < 6; ++i) {
     const double actual = fit.linear.uncorrected[i] - kPaperCoeffs[i];
@@ -97,9 +97,91 @@ TEST(MultiBounceFit, EivBiasDetectsPlantedRegressorNoise) {
   EXPECT_GT(worst_raw, 5.0);
 }
 
+// The fit from per-scene sums equals an independent raw-point implementation of the same
+// estimator (per level a QR least-squares cubic on the raw points, SIMEX extrapolation, QR lines)
+// to 1e-9 relative: the reduction to normal equations changes no coefficient.
+TEST(MultiBounceFit, SufficientStatisticsMatchRawPointLeastSquares) {
+  const SweepData data = test::pooledSweep(
+      {{"s1", kPaperCoeffs, 7000}, {"s2", {3.0, -0.2, 6.0, -0.5, 3.2, 0.7}, 5000}}, 0.03, 0.01, 0.4,
+      5);
+  const MultiBounceFit fit = fitMultiBounce(data);
+  const std::size_t n = data.points(), M = data.albedos.size();
+  std::vector<std::array<double, 3>> level_theta[kLevels];
+  for (int l = 0; l < kLevels; ++l) {
+    const double c = 0.5 * kLevelScale[l];
+    Eigen::MatrixXd X(n, 3);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double A = data.full.A[i] + c * (data.half[0].A[i] - data.half[1].A[i]);
+      X.row(i) << A * A * A, -A * A, A;
+    }
+    const auto qr = X.colPivHouseholderQr();
+    for (std::size_t j = 0; j < M; ++j) {
+      Eigen::VectorXd y(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        y[i] = data.full.G[j][i] + c * (data.half[0].G[j][i] - data.half[1].G[j][i]);
+      }
+      const Eigen::Vector3d t = qr.solve(y);
+      level_theta[l].push_back({t[0], t[1], t[2]});
+    }
+  }
+  Eigen::MatrixXd R(M, 2), theta(M, 3);
+  for (std::size_t j = 0; j < M; ++j) {
+    R.row(j) << data.albedos[j], 1.0;
+    for (int q = 0; q < 3; ++q) {
+      const double t1 = level_theta[0][j][q];
+      const double t2 = 0.5 * (level_theta[1][j][q] + level_theta[2][j][q]);
+      const double t3 = 0.5 * (level_theta[3][j][q] + level_theta[4][j][q]);
+      theta(j, q) = 3.0 * t1 - 3.0 * t2 + t3;
+      EXPECT_NEAR(fit.per_albedo[j].theta[q], theta(j, q), 1e-9 * std::abs(theta(j, q)));
+    }
+  }
+  for (int q = 0; q < 3; ++q) {
+    const Eigen::Vector2d line = R.colPivHouseholderQr().solve(theta.col(q));
+    for (int e = 0; e < 2; ++e) {
+      EXPECT_NEAR(fit.linear.coeffs[2 * q + e], line[e], 1e-9 * std::abs(line[e])) << q << e;
+    }
+  }
+}
+
+// --constrain-open: every per-albedo cubic and the lines satisfy a − b + c = 1, so G(1, ρ) = 1 to
+// rounding; the constrained cubic equals an independent QR solve of G − A ≈ a(A³ − A) − b(A² − A);
+// and the constraint cannot lower the least-squares RSS.
+TEST(MultiBounceFit, ConstrainOpenGivesOneAtAEqualsOne) {
+  const SweepData data = test::pooledSweep(
+      {{"s1", kPaperCoeffs, 6000}, {"s2", {3.0, -0.2, 6.0, -0.5, 3.2, 0.6}, 6000}}, 0.0, 0.01, 0.0,
+      9);
+  FitSettings settings;
+  settings.eiv_correction = false;
+  const MultiBounceFit free_fit = fitMultiBounce(data, settings);
+  settings.constrain_open = true;
+  const MultiBounceFit fit = fitMultiBounce(data, settings);
+  for (double rho = 0.0; rho <= 1.0; rho += 0.05) {
+    EXPECT_NEAR(evalMultiBounce(fit.linear.coeffs, 1.0, rho), 1.0, 1e-13) << rho;
+  }
+  // The free fit on this data is not open (a − b + c differs from 1), so the test can fail.
+  EXPECT_GT(std::abs(evalMultiBounce(free_fit.linear.coeffs, 1.0, 0.9) - 1.0), 1e-3);
+  const std::size_t n = data.points();
+  Eigen::MatrixXd X(n, 2);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double A = data.full.A[i];
+    X.row(i) << A * A * A - A, -(A * A - A);
+  }
+  const auto qr = X.colPivHouseholderQr();
+  for (std::size_t j = 0; j < data.albedos.size(); ++j) {
+    Eigen::VectorXd y(n);
+    for (std::size_t i = 0; i < n; ++i) y[i] = data.full.G[j][i] - data.full.A[i];
+    const Eigen::Vector2d ab = qr.solve(y);
+    const Cubic& t = fit.per_albedo[j].theta;
+    EXPECT_NEAR(t[0], ab[0], 1e-9 * std::abs(ab[0]));
+    EXPECT_NEAR(t[1], ab[1], 1e-9 * std::abs(ab[1]));
+    EXPECT_NEAR(t[2], 1.0 - ab[0] + ab[1], 1e-9);
+    EXPECT_GE(fit.per_albedo[j].rmse, free_fit.per_albedo[j].rmse);
+  }
+}
+
 // Every point at the same A cannot determine a cubic: a one-line gtbake::Error, not numbers.
 TEST(MultiBounceFit, DegenerateDataIsAnError) {
-  const std::vector<double> A(3000, 0.5);
+  const std::vector<double> A(3000, 0.5);  // cannot determine a cubic
   std::vector<double> G(3000);
   for (std::size_t i = 0; i < G.size(); ++i) G[i] = 0.4 + 1e-3 * static_cast<double>(i % 7);
   EXPECT_THROW(fitCubic(A, G), Error);
@@ -111,7 +193,7 @@ TEST(MultiBounceFit, DeterministicAcrossThreadCounts) {
   MultiBounceFit fits[2];
   for (int t = 0; t < 2; ++t) {
     ThreadLimit limit(t + 1);
-    fits[t] = fitMultiBounce(data, true);
+    fits[t] = fitMultiBounce(data);
   }
   for (int i = 0; i < 6; ++i) {
     EXPECT_EQ(fits[0].linear.coeffs[i], fits[1].linear.coeffs[i]);

@@ -50,6 +50,43 @@ SweepData knownCoefficientSweep(const MultiBounceCoeffs& coeffs, std::size_t n, 
   return data;
 }
 
+void appendScene(const SweepData& from, std::size_t s, SweepData& to, int copies) {
+  if (to.albedos.empty()) {
+    to.dir = from.dir;
+    to.spp = from.spp;
+    to.bounces = from.bounces;
+    to.albedos = from.albedos;
+    for (PointSet* set : {&to.full, &to.half[0], &to.half[1]}) set->G.resize(from.albedos.size());
+  }
+  const SweepScene& scene = from.scenes[s];
+  const auto b = static_cast<std::ptrdiff_t>(scene.begin);
+  const auto e = static_cast<std::ptrdiff_t>(scene.end);
+  const std::size_t begin = to.full.A.size();
+  for (int c = 0; c < copies; ++c) {
+    const PointSet* src[3] = {&from.full, &from.half[0], &from.half[1]};
+    PointSet* dst[3] = {&to.full, &to.half[0], &to.half[1]};
+    for (int k = 0; k < 3; ++k) {
+      dst[k]->A.insert(dst[k]->A.end(), src[k]->A.begin() + b, src[k]->A.begin() + e);
+      for (std::size_t j = 0; j < from.albedos.size(); ++j) {
+        dst[k]->G[j].insert(dst[k]->G[j].end(), src[k]->G[j].begin() + b, src[k]->G[j].begin() + e);
+      }
+    }
+  }
+  to.scenes.push_back({scene.name, begin, to.full.A.size()});
+}
+
+SweepData pooledSweep(const std::vector<SyntheticScene>& scenes, double sigma_A, double sigma_G,
+                      double correlation, std::uint64_t seed) {
+  SweepData data;
+  for (const SyntheticScene& scene : scenes) {
+    SweepData one =
+        knownCoefficientSweep(scene.coeffs, scene.points, sigma_A, sigma_G, correlation, seed++);
+    one.scenes[0].name = scene.name;
+    appendScene(one, 0, data);
+  }
+  return data;
+}
+
 std::vector<double> cavityLaw(double A, int bounces) {
   std::vector<double> p;
   for (int k = 0; k <= bounces; ++k) p.push_back(A * std::pow(1.0 - A, k));
@@ -128,10 +165,28 @@ void writeWalkSweep(const fs::path& dir, const std::vector<std::string>& scenes,
   writeFileAtomically(dir / "sweep.json", doc.dump(2));
 }
 
+namespace {
+
+// The pid keeps tests that CTest runs in parallel (one process each) out of each other's way.
+fs::path processRoot() {
+  return fs::path(::testing::TempDir()) / ("gtbake_fit_" + std::to_string(::getpid()));
+}
+
+class RemoveTempRoot : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(processRoot(), ignored);
+  }
+};
+
+[[maybe_unused]] ::testing::Environment* const kRemoveTempRoot =
+    ::testing::AddGlobalTestEnvironment(new RemoveTempRoot);
+
+}  // namespace
+
 fs::path freshDir(const std::string& name) {
-  // The pid keeps tests that CTest runs in parallel (one process each) out of each other's way.
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("gtbake_fit_" + name + "_" + std::to_string(::getpid()));
+  const fs::path dir = processRoot() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

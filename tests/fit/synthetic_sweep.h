@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "fit/fit_command.h"
+#include "fit/multibounce_coeffs.h"
 #include "fit/sweep_data.h"
 
 namespace gtbake::test {
@@ -20,6 +20,21 @@ inline const std::vector<double> kAlbedos = {0.1, 0.2, 0.3, 0.4, 0.5, 0.7, 0.9};
 // The full estimate is the mean of the halves; one scene "synthetic" holds every point.
 SweepData knownCoefficientSweep(const MultiBounceCoeffs& coeffs, std::size_t n, double sigma_A,
                                 double sigma_G, double correlation, std::uint64_t seed);
+
+// One scene of a pooled synthetic sweep: its name, law and draw (see knownCoefficientSweep).
+struct SyntheticScene {
+  std::string name;
+  MultiBounceCoeffs coeffs;
+  std::size_t points;
+};
+
+// Scenes drawn one by one with knownCoefficientSweep (seeds seed, seed + 1, …) and pooled like
+// loadSweep pools a sweep's scenes.
+SweepData pooledSweep(const std::vector<SyntheticScene>& scenes, double sigma_A, double sigma_G,
+                      double correlation, std::uint64_t seed);
+
+// Appends scene `s` of `from` to `to` (points and its range), `copies` times.
+void appendScene(const SweepData& from, std::size_t s, SweepData& to, int copies = 1);
 
 // The escape probabilities p_0..p_K of a pixel (their sum ≤ 1; the rest never escapes).
 using EscapeLaw = std::function<std::vector<double>(double u)>;
@@ -34,7 +49,8 @@ void writeWalkSweep(const std::filesystem::path& dir, const std::vector<std::str
                     int width, int height, int spp, int bounces, const EscapeLaw& law,
                     std::uint64_t seed);
 
-// A fresh empty directory under the test temp dir.
+// A fresh empty directory under this test process's own temp root, which is removed when the
+// test program ends (a gtest global environment).
 std::filesystem::path freshDir(const std::string& name);
 
 }  // namespace gtbake::test

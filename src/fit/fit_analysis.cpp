@@ -1,0 +1,113 @@
+#include "fit/fit_analysis.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gtbake {
+
+namespace {
+
+constexpr double kRhoMin = 0.1;  // the paper's albedo range (SPEC §1.3), unitless
+constexpr double kRhoMax = 0.9;
+
+// The per-scene statistics of `weighting`, reusing the fit's where they are the same sums: scene
+// weights are constant within a scene, so scene-weighted sums are pixel sums times a constant.
+std::vector<LevelStatistics> statisticsFor(const SweepData& data, const MultiBounceFit& fit,
+                                           Weighting weighting) {
+  if (weighting == fit.settings.weighting) return fit.scene_stats;
+  if (weighting == Weighting::kScene && fit.settings.weighting == Weighting::kPixel) {
+    const std::vector<double> w = pointWeights(data, Weighting::kScene);
+    std::vector<LevelStatistics> out(fit.scene_stats.size());
+    for (std::size_t s = 0; s < out.size(); ++s) {
+      for (int l = 0; l < kLevels; ++l) {
+        out[s][l] = fit.scene_stats[s][l].scaled(w[data.scenes[s].begin]);
+      }
+    }
+    return out;
+  }
+  return sceneStatistics(data, pointWeights(data, weighting));
+}
+
+LevelStatistics total(const std::vector<LevelStatistics>& scenes) {
+  return sumScenes(scenes, std::vector<bool>(scenes.size(), true));
+}
+
+}  // namespace
+
+OpenSurface openSurface(const MultiBounceCoeffs& k) {
+  OpenSurface out;
+  out.slope = k[0] - k[2] + k[4];
+  out.intercept = k[1] - k[3] + k[5];
+  for (double rho : {kRhoMin, kRhoMax}) {
+    out.max_deviation =
+        std::max(out.max_deviation, std::abs(out.intercept + out.slope * rho - 1.0));
+  }
+  return out;
+}
+
+std::vector<SceneWeight> sceneWeights(const SweepData& data, const std::vector<double>& weights) {
+  double sum = 0.0;
+  for (double w : weights) sum += w;
+  std::vector<SceneWeight> out;
+  for (const SweepScene& s : data.scenes) {
+    double part = 0.0;
+    for (std::size_t i = s.begin; i < s.end; ++i) part += weights[i];
+    out.push_back({s.name, s.end - s.begin, part / sum});
+  }
+  return out;
+}
+
+std::vector<Alternative> weightingAlternatives(const SweepData& data, const MultiBounceFit& fit) {
+  std::vector<Alternative> out;
+  for (Weighting w : kWeightings) {
+    FitSettings settings = fit.settings;
+    settings.weighting = w;
+    const MultiBounceCoeffs k = w == fit.settings.weighting
+                                    ? fit.linear.coeffs
+                                    : coefficientsFromStatistics(total(statisticsFor(data, fit, w)),
+                                                                 data.albedos, settings);
+    out.push_back({weightingName(w), k, {}, errorTable(data, k).rmse});
+  }
+  for (Alternative& a : out) a.vs_default = maxCurveDifference(a.linear, out.front().linear);
+  return out;
+}
+
+Alternative constraintAlternative(const SweepData& data, const MultiBounceFit& fit) {
+  FitSettings settings = fit.settings;
+  settings.constrain_open = !settings.constrain_open;
+  const MultiBounceCoeffs k =
+      coefficientsFromStatistics(total(fit.scene_stats), data.albedos, settings);
+  Alternative out{settings.constrain_open ? "constrain-open on" : "constrain-open off", k,
+                  maxCurveDifference(k, fit.linear.coeffs), errorTable(data, k).rmse};
+  return out;
+}
+
+FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& settings,
+                         const MultiBounceCoeffs& shipped, Progress* progress) {
+  const auto step = [&] {
+    if (progress != nullptr) progress->add(1);
+  };
+  FitAnalysis a;
+  a.data = loadSweep(sweep);
+  step();
+  a.fit = fitMultiBounce(a.data, settings);
+  a.scene_weights = sceneWeights(a.data, a.fit.weights);
+  step();
+  a.jackknife = sceneJackknife(a.data, a.fit, shipped);
+  step();
+  a.refit_errors = errorTable(a.data, a.fit.linear.coeffs);
+  a.shipped_errors = errorTable(a.data, shipped);
+  a.shipped_difference = maxCurveDifference(a.fit.linear.coeffs, shipped);
+  a.shipped_score = scoreAgainstBand(a.jackknife, a.fit.linear.coeffs, shipped);
+  a.open_surface = openSurface(a.fit.linear.coeffs);
+  step();
+  a.weightings = weightingAlternatives(a.data, a.fit);
+  step();
+  a.constraint = constraintAlternative(a.data, a.fit);
+  step();
+  a.floor = fitFloor(a.data);
+  step();
+  return a;
+}
+
+}  // namespace gtbake

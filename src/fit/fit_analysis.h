@@ -1,0 +1,68 @@
+// Everything `fit` and `validate` compute from a sweep, in named steps (the commands only format
+// it): the fit, its scene jackknife and band, the score of the shipped constants, the weighting
+// and open-surface alternatives, the floor and the error tables.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "common/progress.h"
+#include "fit/fit_errors.h"
+#include "fit/fit_floor.h"
+#include "fit/multibounce_fit.h"
+#include "fit/scene_jackknife.h"
+#include "fit/sweep_data.h"
+
+namespace gtbake {
+
+// G(1, ρ) = (a1 − b1 + c1)ρ + (a0 − b0 + c0): an open surface (A = 1) should give exactly 1.
+struct OpenSurface {
+  double intercept = 0.0;      // a0 − b0 + c0
+  double slope = 0.0;          // a1 − b1 + c1
+  double max_deviation = 0.0;  // max |G(1, ρ) − 1| over ρ ∈ [0.1, 0.9]
+};
+OpenSurface openSurface(const MultiBounceCoeffs& k);
+
+// The same fit under another setting, against the reported one.
+struct Alternative {
+  std::string name;  // "pixel", "scene", "flat-a", or "constrain-open on|off"
+  MultiBounceCoeffs linear{};
+  CurveDifference vs_default;  // max |G_alternative − G_default| (default: pixel weighting)
+  double rmse = 0.0;           // unweighted RMSE of G over every point and albedo
+};
+
+// A scene's share of the fit's total weight.
+struct SceneWeight {
+  std::string scene;
+  std::size_t points = 0;
+  double share = 0.0;  // Σ_{i ∈ scene} w_i / Σ w_i
+};
+
+struct FitAnalysis {
+  SweepData data;
+  MultiBounceFit fit;
+  SceneJackknife jackknife;
+  ErrorTable refit_errors;
+  ErrorTable shipped_errors;
+  CurveDifference shipped_difference;   // max |G_refit − G_shipped|
+  BandScore shipped_score;              // the shipped constants against the band
+  OpenSurface open_surface;             // of the refit
+  std::vector<Alternative> weightings;  // pixel, scene, flat-a (same constraint setting)
+  Alternative constraint;               // the other constrain-open setting, same weighting
+  FitFloor floor;
+  std::vector<SceneWeight> scene_weights;
+};
+
+// Stages of analyzeSweep, for a progress bar (kAnalysisStages units).
+inline constexpr int kAnalysisStages = 7;
+
+FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& settings,
+                         const MultiBounceCoeffs& shipped, Progress* progress);
+
+// The steps, each testable alone.
+std::vector<SceneWeight> sceneWeights(const SweepData& data, const std::vector<double>& weights);
+std::vector<Alternative> weightingAlternatives(const SweepData& data, const MultiBounceFit& fit);
+Alternative constraintAlternative(const SweepData& data, const MultiBounceFit& fit);
+
+}  // namespace gtbake

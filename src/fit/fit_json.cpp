@@ -1,0 +1,260 @@
+// fit.json: stable keys read by `export` (linear, linear_se, errors, shipped, sweep, version) and
+// by the docs markers (docs/fit.md §8 lists every key).
+#include <algorithm>
+#include <cmath>
+
+#include "common/atomic_file.h"
+#include "fit/fit_outputs.h"
+#include "gtbake_version.h"
+
+namespace gtbake {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+json coeffsJson(const MultiBounceCoeffs& k) {
+  json out = json::object();
+  for (int i = 0; i < 6; ++i) out[kCoeffNames[i]] = k[i];
+  return out;
+}
+
+json cubicJson(const Cubic& t) {
+  json out = json::object();
+  for (int q = 0; q < 3; ++q) out[kCubicNames[q]] = t[q];
+  return out;
+}
+
+json matrixJson(const std::array<double, 36>& m) {
+  json rows = json::array();
+  for (int r = 0; r < 6; ++r) {
+    json row = json::array();
+    for (int c = 0; c < 6; ++c) row.push_back(m[6 * r + c]);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+json curveJson(const CurveDifference& d) {
+  return {{"value", d.value}, {"A", d.A}, {"rho", d.rho}};
+}
+
+json gridJson(const GridPoint& p) {
+  return {{"value", p.value}, {"A", p.A}, {"rho", p.rho}};
+}
+
+json errorJson(const ErrorTable& table) {
+  json out = {{"rmse", table.rmse}, {"max_abs", table.max_abs}};
+  out["per_albedo"] = json::array();
+  for (const ErrorRow& row : table.per_albedo) {
+    out["per_albedo"].push_back({{"rho", row.rho}, {"rmse", row.rmse}, {"max_abs", row.max_abs}});
+  }
+  out["per_scene"] = json::array();
+  for (const ErrorRow& row : table.per_scene) {
+    out["per_scene"].push_back(
+        {{"scene", row.label}, {"rmse", row.rmse}, {"max_abs", row.max_abs}});
+  }
+  return out;
+}
+
+double maxRatio(const MultiBounceCoeffs& values, const MultiBounceCoeffs& se) {
+  double ratio = 0.0;
+  for (int i = 0; i < 6; ++i) ratio = std::max(ratio, std::abs(values[i]) / se[i]);
+  return ratio;
+}
+
+json perAlbedoJson(const MultiBounceFit& fit) {
+  json rows = json::array();
+  for (const AlbedoFit& f : fit.per_albedo) {
+    rows.push_back({{"rho", f.rho},
+                    {"a", f.theta[0]},
+                    {"b", f.theta[1]},
+                    {"c", f.theta[2]},
+                    {"se", cubicJson(f.se)},
+                    {"se_iid", cubicJson(f.se_iid)},
+                    {"uncorrected", cubicJson(f.uncorrected)},
+                    {"rmse", f.rmse},
+                    {"max_abs", f.max_abs},
+                    {"points", f.points}});
+  }
+  return rows;
+}
+
+json eivJson(const MultiBounceFit& fit) {
+  const LinearFit& lin = fit.linear;
+  json rows = json::array();
+  for (const AlbedoFit& f : fit.per_albedo) {
+    Cubic ratio;
+    for (int q = 0; q < 3; ++q) ratio[q] = std::abs(f.eiv_bias[q]) / f.se[q];
+    rows.push_back({{"rho", f.rho},
+                    {"bias", cubicJson(f.eiv_bias)},
+                    {"half_mean", cubicJson(f.half_mean)},
+                    {"bias_two_point", cubicJson(f.eiv_bias_two_point)},
+                    {"ratio_to_se", cubicJson(ratio)}});
+  }
+  MultiBounceCoeffs ratio, residual;
+  for (int i = 0; i < 6; ++i) {
+    ratio[i] = std::abs(lin.eiv_bias[i]) / lin.se[i];
+    residual[i] =
+        remainingBias(lin.eiv_bias[i], lin.eiv_bias_two_point[i], fit.settings.eiv_correction);
+  }
+  return {{"method",
+           "SIMEX with the sweep's own noise: fits at noise variance v = 1 (full), 2 (halves), 3 "
+           "(full +- sqrt(2)(H0-H1)/2), quadratic extrapolation to v = 0; bias = fit(full) - "
+           "extrapolation; linear_two_point = mean(fit(H0),fit(H1)) - fit(full)"},
+          {"corrected", fit.settings.eiv_correction},
+          {"linear", coeffsJson(lin.eiv_bias)},
+          {"linear_two_point", coeffsJson(lin.eiv_bias_two_point)},
+          {"linear_ratio_to_se", coeffsJson(ratio)},
+          {"max_ratio_to_se", maxRatio(lin.eiv_bias, lin.se)},
+          {"residual_bound", coeffsJson(residual)},
+          {"max_residual_ratio_to_se", maxRatio(residual, lin.se)},
+          {"per_albedo", rows}};
+}
+
+json jackknifeJson(const SceneJackknife& jk) {
+  json rows = json::array();
+  for (const LeaveOneOut& r : jk.leave_one_out) {
+    rows.push_back({{"left_out", r.left_out},
+                    {"linear", coeffsJson(r.linear)},
+                    {"max_curve_difference_vs_refit", curveJson(r.vs_refit)},
+                    {"max_curve_difference_vs_shipped", curveJson(r.vs_shipped)}});
+  }
+  json out = {{"method",
+               "delete-one-scene jackknife: Cov = (S-1)/S sum_s (k_(s) - mean)(k_(s) - mean)^T "
+               "over the refits without scene s (same weighting, constraint and EIV setting); "
+               "band = sqrt(g^T Cov g), g = dG/dk, on A = 0.005..1 step 0.005, rho = 0.1..0.9 "
+               "step 0.01"},
+              {"available", jk.available},
+              {"scenes", jk.scenes},
+              {"leave_one_out", rows},
+              {"monte_carlo_band_max", gridJson(jk.mc_band_max)}};
+  if (!jk.available) {
+    out["message"] = jk.message;
+    return out;
+  }
+  out["se"] = coeffsJson(jk.se);
+  out["covariance"] = matrixJson(jk.covariance);
+  out["correlation"] = matrixJson(jk.correlation);
+  out["band_max"] = gridJson(jk.band_max);
+  out["t_quantile"] = jk.threshold;
+  return out;
+}
+
+json scoreJson(const BandScore& s) {
+  return {{"max_ratio_to_band", s.max_ratio.value},
+          {"A", s.max_ratio.A},
+          {"rho", s.max_ratio.rho},
+          {"shipped_minus_refit", s.difference},
+          {"band", s.band},
+          {"threshold", s.threshold},
+          {"consistent", s.consistent},
+          {"verdict", s.verdict}};
+}
+
+json openJson(const OpenSurface& o) {
+  return {{"G1_intercept", o.intercept},
+          {"G1_slope", o.slope},
+          {"max_abs_G1_minus_1", o.max_deviation}};
+}
+
+json alternativesJson(const FitAnalysis& a) {
+  json w = json::array();
+  for (const Alternative& alt : a.weightings) {
+    w.push_back({{"weighting", alt.name},
+                 {"linear", coeffsJson(alt.linear)},
+                 {"max_curve_difference_vs_pixel", curveJson(alt.vs_default)},
+                 {"rmse", alt.rmse}});
+  }
+  return w;
+}
+
+json floorJson(const FitAnalysis& a) {
+  json albedos = json::array();
+  for (std::size_t j = 0; j < a.floor.per_albedo.size(); ++j) {
+    albedos.push_back({{"rho", a.floor.per_albedo[j].rho},
+                       {"floor", a.floor.per_albedo[j].floor},
+                       {"eq10_rmse", a.refit_errors.per_albedo[j].rmse}});
+  }
+  json scenes = json::array();
+  for (std::size_t s = 0; s < a.floor.per_scene.size(); ++s) {
+    scenes.push_back({{"scene", a.floor.per_scene[s].label},
+                      {"floor", a.floor.per_scene[s].floor},
+                      {"eq10_rmse", a.refit_errors.per_scene[s].rmse}});
+  }
+  return {{"method",
+           "RMSE about the conditional mean of G in 1024 equal bins of A per albedo, divided by "
+           "n - occupied bins (the best function of (A, rho) alone)"},
+          {"bins", kFloorBins},
+          {"rmse", a.floor.rmse},
+          {"eq10_rmse", a.refit_errors.rmse},
+          {"floor_share_of_eq10_mse",
+           a.floor.rmse * a.floor.rmse / (a.refit_errors.rmse * a.refit_errors.rmse)},
+          {"per_albedo", albedos},
+          {"per_scene", scenes}};
+}
+
+}  // namespace
+
+json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceCoeffs& shipped) {
+  const MultiBounceFit& fit = a.fit;
+  json out;
+  out["settings"] = {{"weighting", weightingName(fit.settings.weighting)},
+                     {"constrain_open", fit.settings.constrain_open},
+                     {"eiv_correction", fit.settings.eiv_correction}};
+  out["per_albedo"] = perAlbedoJson(fit);
+  out["linear"] = coeffsJson(fit.linear.coeffs);
+  out["linear_se"] = coeffsJson(fit.linear.se);
+  out["linear_uncorrected"] = coeffsJson(fit.linear.uncorrected);
+  out["se_definition"] =
+      "linear_se and per_albedo se: Monte Carlo (another seed, same pixels), a sandwich "
+      "C (sum w^2 psi psi^T) C with C = Ceres covariance (J^T J)^-1 and psi from half-sample "
+      "differences (noise in G, in A and their correlation), propagated through the lines with "
+      "the full cross-albedo covariance; se_iid = Ceres covariance x sum w r^2/(n-N). The "
+      "scene-level uncertainty is scene_jackknife";
+  out["scene_jackknife"] = jackknifeJson(a.jackknife);
+  out["rho_line_lack_of_fit"] = {
+      {"meaning",
+       "residuals of the per-albedo a, b, c about their lines in rho: model error of the "
+       "linear-in-rho law, not an uncertainty of the coefficients"},
+      {"rms", cubicJson(fit.linear.lack_of_fit_rms)},
+      {"max_abs", cubicJson(fit.linear.lack_of_fit_max)}};
+  out["open_surface"] = openJson(a.open_surface);
+  out["constrain_open_alternative"] = {
+      {"constrain_open", !fit.settings.constrain_open},
+      {"linear", coeffsJson(a.constraint.linear)},
+      {"rmse", a.constraint.rmse},
+      {"rmse_cost_of_constraint", fit.settings.constrain_open
+                                      ? a.refit_errors.rmse - a.constraint.rmse
+                                      : a.constraint.rmse - a.refit_errors.rmse},
+      {"max_curve_difference_vs_refit", curveJson(a.constraint.vs_default)},
+      {"open_surface", openJson(openSurface(a.constraint.linear))}};
+  out["weighting_alternatives"] = alternativesJson(a);
+  json weights = json::array();
+  for (const SceneWeight& w : a.scene_weights) {
+    weights.push_back({{"scene", w.scene}, {"points", w.points}, {"weight_share", w.share}});
+  }
+  out["scene_weights"] = weights;
+  out["floor"] = floorJson(a);
+  out["errors"] = {{"refit", errorJson(a.refit_errors)}, {"shipped", errorJson(a.shipped_errors)}};
+  out["shipped"] = {{"coeffs", coeffsJson(shipped)},
+                    {"max_curve_difference",
+                     {{"value", a.shipped_difference.value},
+                      {"A", a.shipped_difference.A},
+                      {"rho", a.shipped_difference.rho},
+                      {"refit_minus_shipped", a.shipped_difference.signed_value}}},
+                    {"against_band", scoreJson(a.shipped_score)}};
+  out["eiv_bias"] = eivJson(fit);
+  json scenes = json::array();
+  for (const SweepScene& s : a.data.scenes) scenes.push_back(s.name);
+  out["sweep"] = {{"dir", relativePath(a.data.dir, fs::absolute(json_path).parent_path())},
+                  {"spp", a.data.spp},
+                  {"bounces", a.data.bounces},
+                  {"scenes", scenes},
+                  {"points", a.data.points()}};
+  out["version"] = GTBAKE_VERSION;
+  return out;
+}
+
+}  // namespace gtbake

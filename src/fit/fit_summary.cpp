@@ -1,0 +1,167 @@
+// The printed summaries of `fit` and `validate` (stdout; progress goes to stderr).
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "fit/fit_outputs.h"
+
+namespace gtbake {
+
+namespace {
+
+std::string sceneList(const SweepData& data) {
+  std::string out;
+  for (const SweepScene& s : data.scenes) out += (out.empty() ? "" : ", ") + s.name;
+  return out;
+}
+
+void printHeader(const char* command, const FitAnalysis& a) {
+  const FitSettings& s = a.fit.settings;
+  std::printf("%s: %zu scenes (%s), %zu points, spp %d, %d bounces\n", command,
+              a.data.scenes.size(), sceneList(a.data).c_str(), a.data.points(), a.data.spp,
+              a.data.bounces);
+  std::printf("  weighting %s, open surface %s, EIV correction %s\n",
+              weightingName(s.weighting).c_str(), s.constrain_open ? "constrained" : "free",
+              s.eiv_correction ? "on" : "off");
+}
+
+void printBand(const FitAnalysis& a, const char* name, const BandScore& score) {
+  const SceneJackknife& jk = a.jackknife;
+  if (jk.available) {
+    std::printf(
+        "\ncurve band (scene-jackknife SE of G, A in (0,1], rho in [0.1,0.9]): max %.4f at A = "
+        "%.3f, rho = %.2f\n",
+        jk.band_max.value, jk.band_max.A, jk.band_max.rho);
+  } else {
+    std::printf("\n%s\n", jk.message.c_str());
+  }
+  std::printf("  Monte Carlo SE of G (another seed): max %.5f at A = %.3f, rho = %.2f\n",
+              jk.mc_band_max.value, jk.mc_band_max.A, jk.mc_band_max.rho);
+  std::printf("%s constants: %s\n", name, score.verdict.c_str());
+}
+
+void printCoefficients(const FitAnalysis& a, const MultiBounceCoeffs& other, const char* name) {
+  const LinearFit& lin = a.fit.linear;
+  const SceneJackknife& jk = a.jackknife;
+  std::printf("\n%-4s %9s %9s %9s %9s %12s %10s %8s\n", "coef", "refit", "SE scene", "SE MC", name,
+              "diff/SEscene", "EIV bias", "left/SE");
+  for (int i = 0; i < 6; ++i) {
+    const double left =
+        remainingBias(lin.eiv_bias[i], lin.eiv_bias_two_point[i], a.fit.settings.eiv_correction);
+    char ratio[16] = "-";
+    if (jk.available)
+      std::snprintf(ratio, sizeof(ratio), "%.1f", (other[i] - lin.coeffs[i]) / jk.se[i]);
+    std::printf("%-4s %9.4f %9.4f %9.5f %9.4f %12s %+10.5f %8.3f\n", kCoeffNames[i], lin.coeffs[i],
+                jk.se[i], lin.se[i], other[i], ratio, lin.eiv_bias[i], left / lin.se[i]);
+  }
+  std::printf(
+      "SE scene: delete-one-scene jackknife (what the choice of scenes moves); SE MC: Monte "
+      "Carlo (what another seed moves); EIV bias: measured bias of the uncorrected fit from noise "
+      "in A; left: what remains in the reported value, in SE MC\n");
+  if (jk.available) {
+    std::printf("\nscene-jackknife correlation %6s %6s %6s %6s %6s %6s\n", kCoeffNames[0],
+                kCoeffNames[1], kCoeffNames[2], kCoeffNames[3], kCoeffNames[4], kCoeffNames[5]);
+    for (int r = 0; r < 6; ++r) {
+      std::printf("  %-25s", kCoeffNames[r]);
+      for (int c = 0; c < 6; ++c) std::printf(" %+6.3f", jk.correlation[6 * r + c]);
+      std::printf("\n");
+    }
+  }
+}
+
+void printAlternatives(const FitAnalysis& a) {
+  const OpenSurface& o = a.open_surface;
+  std::printf(
+      "\nG(1, rho) of the refit = %.5f %+.5f rho (an open surface gives 1; max |G - 1| "
+      "%.5f)\n",
+      o.intercept, o.slope, o.max_deviation);
+  const double cost = a.fit.settings.constrain_open ? a.refit_errors.rmse - a.constraint.rmse
+                                                    : a.constraint.rmse - a.refit_errors.rmse;
+  std::printf(
+      "  with a - b + c = 1 (--constrain-open) the RMSE changes by %+.2e; the curves "
+      "differ by %.4f at most\n",
+      cost, a.constraint.vs_default.value);
+  std::printf("\n%-8s %-34s %9s %9s %9s\n", "weights", "max |dG| vs pixel weighting", "a1", "b1",
+              "RMSE");
+  for (const Alternative& alt : a.weightings) {
+    std::printf("%-8s %.4f at A = %.3f, rho = %.2f%9s %9.4f %9.4f %9.5f\n", alt.name.c_str(),
+                alt.vs_default.value, alt.vs_default.A, alt.vs_default.rho, "", alt.linear[0],
+                alt.linear[2], alt.rmse);
+  }
+}
+
+void printErrorTables(const FitAnalysis& a, const ErrorTable& left, const ErrorTable& right,
+                      const char* left_name, const char* right_name) {
+  std::printf("\n%-12s  %10s %10s   %10s %10s   %10s %8s %7s\n", "errors of G", left_name, "",
+              right_name, "", "floor", "points", "weight");
+  std::printf("%-12s  %10s %10s   %10s %10s   %10s\n", "", "rmse", "max|e|", "rmse", "max|e|",
+              "rmse");
+  for (std::size_t j = 0; j < left.per_albedo.size(); ++j) {
+    std::printf("rho %-8s  %10.5f %10.5f   %10.5f %10.5f   %10.5f\n",
+                left.per_albedo[j].label.c_str(), left.per_albedo[j].rmse,
+                left.per_albedo[j].max_abs, right.per_albedo[j].rmse, right.per_albedo[j].max_abs,
+                a.floor.per_albedo[j].floor);
+  }
+  for (std::size_t s = 0; s < left.per_scene.size(); ++s) {
+    std::printf("%-12s  %10.5f %10.5f   %10.5f %10.5f   %10.5f %8zu %6.1f%%\n",
+                left.per_scene[s].label.c_str(), left.per_scene[s].rmse, left.per_scene[s].max_abs,
+                right.per_scene[s].rmse, right.per_scene[s].max_abs, a.floor.per_scene[s].floor,
+                a.scene_weights[s].points, 100.0 * a.scene_weights[s].share);
+  }
+  std::printf("%-12s  %10.5f %10.5f   %10.5f %10.5f   %10.5f\n", "all", left.rmse, left.max_abs,
+              right.rmse, right.max_abs, a.floor.rmse);
+  std::printf(
+      "floor: RMSE of the best function of (A, rho) alone (conditional mean in %d A bins); "
+      "weight: the scene's share of the fit's weight\n",
+      kFloorBins);
+}
+
+void printLeaveOneOut(const FitAnalysis& a) {
+  if (a.jackknife.leave_one_out.empty()) return;
+  std::printf("\nleave one scene out   %8s %8s %8s   %-22s %-22s\n", "a1", "b1", "c1",
+              "max|dG| vs refit", "max|dG| vs shipped");
+  for (const LeaveOneOut& r : a.jackknife.leave_one_out) {
+    std::printf("  %-19s %8.4f %8.4f %8.4f   %.4f (A %.2f, rho %.1f)   %.4f (A %.2f, rho %.1f)\n",
+                r.left_out.c_str(), r.linear[0], r.linear[2], r.linear[4], r.vs_refit.value,
+                r.vs_refit.A, r.vs_refit.rho, r.vs_shipped.value, r.vs_shipped.A, r.vs_shipped.rho);
+  }
+}
+
+void printPerAlbedo(const MultiBounceFit& fit) {
+  std::printf("\n%-5s %17s %17s %17s %9s %9s\n", "rho", "a +- SE MC", "b +- SE MC", "c +- SE MC",
+              "rmse", "max|e|");
+  for (const AlbedoFit& f : fit.per_albedo) {
+    std::printf("%-5.2f %9.4f+-%6.4f %9.4f+-%6.4f %9.4f+-%6.4f %9.5f %9.5f\n", f.rho, f.theta[0],
+                f.se[0], f.theta[1], f.se[1], f.theta[2], f.se[2], f.rmse, f.max_abs);
+  }
+  const Cubic& rms = fit.linear.lack_of_fit_rms;
+  std::printf(
+      "lack of fit of the lines in rho (model error, not uncertainty): rms a %.4f, b %.4f, "
+      "c %.4f\n",
+      rms[0], rms[1], rms[2]);
+}
+
+}  // namespace
+
+void printFitSummary(const FitAnalysis& a, const MultiBounceCoeffs& shipped) {
+  printHeader("fit", a);
+  printBand(a, "shipped", a.shipped_score);
+  std::printf("  max |G_refit - G_shipped| = %.5f at A = %.3f, rho = %.3f\n",
+              a.shipped_difference.value, a.shipped_difference.A, a.shipped_difference.rho);
+  printCoefficients(a, shipped, "shipped");
+  printAlternatives(a);
+  printErrorTables(a, a.refit_errors, a.shipped_errors, "refit", "shipped");
+  printLeaveOneOut(a);
+  printPerAlbedo(a.fit);
+}
+
+void printValidateSummary(const FitAnalysis& a, const MultiBounceCoeffs& given) {
+  printHeader("validate", a);
+  printBand(a, "given", a.shipped_score);
+  std::printf("  max |G_given - G_refit| = %.5f at A = %.3f, rho = %.3f\n",
+              a.shipped_difference.value, a.shipped_difference.A, a.shipped_difference.rho);
+  printCoefficients(a, given, "given");
+  printErrorTables(a, a.shipped_errors, a.refit_errors, "given", "refit");
+}
+
+}  // namespace gtbake

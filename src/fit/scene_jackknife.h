@@ -1,0 +1,89 @@
+// Scene-level uncertainty of the fit: a delete-one-scene jackknife (docs/fit.md §5).
+//
+// The Monte Carlo SE answers "what would another seed move"; the pooled scenes are the data set's
+// definition and move the constants far more. Treating the S scenes as independent draws from the
+// population of content the constants are meant for, the jackknife refits with each scene left
+// out, θ_(s), and estimates
+//   Cov(θ̂) ≈ (S − 1)/S · Σ_s (θ_(s) − θ̄)(θ_(s) − θ̄)ᵀ,   θ̄ = mean_s θ_(s),
+// which for a smooth function of per-scene sums (the fit is one) equals the cluster-robust
+// (scene-clustered sandwich) covariance to first order and is never smaller than it in
+// expectation (Efron–Stein). Each replica is the total statistics minus one scene's
+// (normal_equations.h), so it costs ~40 small Ceres solves, not a pass over the points.
+//
+// G is linear in the six constants, G(A, ρ) = g(A, ρ)ᵀk, so the curve band is
+//   SE_G(A, ρ) = sqrt(g(A, ρ)ᵀ Cov g(A, ρ)),
+// evaluated on a grid of A ∈ (0, 1], ρ ∈ [0.1, 0.9]. Any constants k' are scored against it by
+// the largest |G(k') − G(refit)| / SE_G over the grid, against the two-sided 95 % quantile of
+// Student's t with S − 1 degrees of freedom (the jackknife variance has S − 1).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "fit/fit_errors.h"
+#include "fit/multibounce_coeffs.h"
+#include "fit/multibounce_fit.h"
+#include "fit/sweep_data.h"
+
+namespace gtbake {
+
+// Fewer scenes than this make a scene-level uncertainty meaningless (scenes; with 2 the
+// "variance" has one degree of freedom and the t quantile is 12.7).
+inline constexpr std::size_t kMinJackknifeScenes = 3;
+
+struct LeaveOneOut {
+  std::string left_out;        // the scene not pooled
+  MultiBounceCoeffs linear{};  // the refit without it
+  CurveDifference vs_refit;    // max |G_without − G_all| over A ∈ [0,1], ρ ∈ [0.1, 0.9]
+  CurveDifference vs_shipped;  // max |G_without − G_shipped|
+};
+
+// A point of the (A, ρ) grid and a value there.
+struct GridPoint {
+  double value = 0.0;
+  double A = 0.0;
+  double rho = 0.0;
+};
+
+// Constants scored against the band.
+struct BandScore {
+  GridPoint max_ratio;      // largest |G_k − G_refit| / SE_G and where
+  double difference = 0.0;  // G_k − G_refit there
+  double band = 0.0;        // SE_G there
+  double threshold = 0.0;   // t quantile, S − 1 degrees of freedom
+  bool consistent = false;  // max_ratio ≤ threshold
+  std::string verdict;      // one line
+};
+
+struct SceneJackknife {
+  bool available = false;
+  std::string message;  // why not, when not available
+  std::size_t scenes = 0;
+  std::vector<LeaveOneOut> leave_one_out;
+  MultiBounceCoeffs se{};
+  std::array<double, 36> covariance{};  // row-major 6 × 6
+  std::array<double, 36> correlation{};
+  GridPoint band_max;      // max SE_G over the grid
+  GridPoint mc_band_max;   // the same for the Monte Carlo covariance
+  double threshold = 0.0;  // t_{0.975, S−1}
+};
+
+// Two-sided 95 % quantile of Student's t with `dof` degrees of freedom (table to 30, then the
+// normal's 1.96; dof ≥ 1).
+double studentT975(std::size_t dof);
+
+// Leave-one-out refits (always, with ≥ 2 scenes) and, with ≥ kMinJackknifeScenes scenes, the
+// jackknife covariance and band of `fit`.
+SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
+                              const MultiBounceCoeffs& shipped);
+
+// SE_G at (A, ρ) for a 6 × 6 covariance.
+double curveBand(const std::array<double, 36>& covariance, double A, double rho);
+
+// Scores `k` against the band of `jackknife` around `refit`. Without a jackknife the verdict says
+// so and `consistent` is false.
+BandScore scoreAgainstBand(const SceneJackknife& jackknife, const MultiBounceCoeffs& refit,
+                           const MultiBounceCoeffs& k);
+
+}  // namespace gtbake

@@ -1,0 +1,145 @@
+// The scene jackknife against synthetic clusters with a known between-scene spread, its band
+// against a direct computation, the t quantiles against the t distribution, and the verdict.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "fit/multibounce_fit.h"
+#include "fit/scene_jackknife.h"
+#include "synthetic_sweep.h"
+
+namespace gtbake {
+namespace {
+
+constexpr std::size_t kScenes = 20;
+constexpr std::size_t kPointsPerScene = 1000;
+constexpr int kRealizations = 8;
+// The direction in which scenes differ: c(ρ) += δ_s (1 + ρ), i.e. G += δ_s (1 + ρ) A.
+constexpr MultiBounceCoeffs kDirection = {0, 0, 0, 0, 1, 1};
+
+// kScenes scenes whose constants are kPaperCoeffs + δ_s kDirection, δ_s ~ N(0, tau²).
+SweepData clusters(double tau, double sigma_A, double sigma_G, std::uint64_t seed,
+                   std::vector<double>* deltas) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, tau);
+  std::vector<test::SyntheticScene> scenes;
+  for (std::size_t s = 0; s < kScenes; ++s) {
+    const double delta = tau > 0 ? normal(rng) : 0.0;
+    if (deltas) deltas->push_back(delta);
+    MultiBounceCoeffs k = kPaperCoeffs;
+    for (int i = 0; i < 6; ++i) k[i] += delta * kDirection[i];
+    scenes.push_back({"s" + std::to_string(s), k, kPointsPerScene});
+  }
+  return test::pooledSweep(scenes, sigma_A, sigma_G, 0.3, seed * 1000);
+}
+
+// Between-scene spread tau, tiny Monte Carlo noise. The pooled fit is (nearly) the mean of the
+// scenes' constants, so its SE is tau/√S along kDirection: the jackknife's mean variance over
+// realizations recovers tau²/S within its sampling error (relative SD √(2/(S − 1)) per
+// realization, /√R over R), and in each realization it equals the sample variance of the δ_s / S
+// (the jackknife of a mean is exact) up to the scenes' unequal Gram matrices (~3 %).
+TEST(SceneJackknife, RecoversKnownBetweenSceneSpread) {
+  constexpr double kTau = 0.05;
+  double mean_ratio = 0.0;
+  for (int r = 0; r < kRealizations; ++r) {
+    std::vector<double> deltas;
+    const SweepData data = clusters(kTau, 0.0, 1e-4, 40 + r, &deltas);
+    const MultiBounceFit fit = fitMultiBounce(data);
+    const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs);
+    ASSERT_TRUE(jk.available);
+    double mean = 0.0, var = 0.0;
+    for (double d : deltas) mean += d / kScenes;
+    for (double d : deltas) var += (d - mean) * (d - mean) / (kScenes - 1);
+    for (int i : {4, 5}) {
+      EXPECT_NEAR(jk.se[i] / std::sqrt(var / kScenes), 1.0, 0.1) << "realization " << r << " " << i;
+      mean_ratio += jk.se[i] * jk.se[i] / (kTau * kTau / kScenes) / (2 * kRealizations);
+    }
+  }
+  EXPECT_NEAR(mean_ratio, 1.0, 3.0 * std::sqrt(2.0 / ((kScenes - 1) * kRealizations)));
+}
+
+// No between-scene spread: the scenes are exchangeable draws of Monte Carlo noise, and the
+// jackknife variance estimates the Monte Carlo variance, within the same sampling error.
+TEST(SceneJackknife, CollapsesToMonteCarloWithoutSpread) {
+  double mean_ratio[6] = {};
+  for (int r = 0; r < kRealizations; ++r) {
+    const SweepData data = clusters(0.0, 0.01, 0.02, 70 + r, nullptr);
+    const MultiBounceFit fit = fitMultiBounce(data);
+    const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs);
+    for (int i = 0; i < 6; ++i) {
+      mean_ratio[i] += jk.se[i] * jk.se[i] / (fit.linear.se[i] * fit.linear.se[i]) / kRealizations;
+    }
+  }
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(mean_ratio[i], 1.0, 3.0 * std::sqrt(2.0 / ((kScenes - 1) * kRealizations))) << i;
+  }
+}
+
+// The band is the jackknife SD of G itself: (S − 1)/S Σ (G_(s) − Ḡ)² at each (A, ρ), computed
+// here from the leave-one-out constants directly.
+TEST(SceneJackknife, BandIsTheJackknifeSpreadOfTheCurve) {
+  const SweepData data = clusters(0.05, 0.0, 0.01, 3, nullptr);
+  const MultiBounceFit fit = fitMultiBounce(data);
+  const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs);
+  for (double A : {0.1, 0.37, 0.8, 1.0}) {
+    for (double rho : {0.1, 0.55, 0.9}) {
+      double mean = 0.0, sum2 = 0.0;
+      for (const LeaveOneOut& r : jk.leave_one_out) mean += evalMultiBounce(r.linear, A, rho);
+      mean /= kScenes;
+      for (const LeaveOneOut& r : jk.leave_one_out) {
+        sum2 += std::pow(evalMultiBounce(r.linear, A, rho) - mean, 2);
+      }
+      const double direct = std::sqrt(sum2 * (kScenes - 1) / kScenes);
+      EXPECT_NEAR(curveBand(jk.covariance, A, rho), direct, 1e-9 * direct) << A << " " << rho;
+    }
+  }
+  EXPECT_GE(jk.band_max.value, curveBand(jk.covariance, 1.0, 0.9));
+}
+
+// Constants equal to the refit are consistent; constants moved by 10 band widths are not, and the
+// verdict says where. Fewer than three scenes: no jackknife, and a message that says why.
+TEST(SceneJackknife, ScoresConstantsAgainstTheBand) {
+  const SweepData data = clusters(0.05, 0.0, 0.01, 4, nullptr);
+  const MultiBounceFit fit = fitMultiBounce(data);
+  const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs);
+  const BandScore same = scoreAgainstBand(jk, fit.linear.coeffs, fit.linear.coeffs);
+  EXPECT_TRUE(same.consistent);
+  EXPECT_NE(same.verdict.find("consistent"), std::string::npos);
+  MultiBounceCoeffs moved = fit.linear.coeffs;
+  moved[5] += 10.0 * jk.threshold * jk.se[5];  // c0: G moves by that times A
+  const BandScore far = scoreAgainstBand(jk, fit.linear.coeffs, moved);
+  EXPECT_FALSE(far.consistent);
+  EXPECT_GT(far.max_ratio.value, 5.0 * jk.threshold);
+  EXPECT_NE(far.verdict.find("outside"), std::string::npos);
+
+  SweepData two;
+  test::appendScene(data, 0, two);
+  test::appendScene(data, 1, two);
+  const MultiBounceFit fit2 = fitMultiBounce(two);
+  const SceneJackknife jk2 = sceneJackknife(two, fit2, kPaperCoeffs);
+  EXPECT_FALSE(jk2.available);
+  EXPECT_EQ(jk2.leave_one_out.size(), 2u);
+  EXPECT_NE(jk2.message.find("at least 3 scenes"), std::string::npos) << jk2.message;
+  EXPECT_FALSE(scoreAgainstBand(jk2, fit2.linear.coeffs, kPaperCoeffs).consistent);
+}
+
+// studentT975 against the t distribution itself: the CDF (Simpson's rule on the density) at the
+// tabulated quantile is 0.975 to the table's three decimals.
+TEST(SceneJackknife, StudentQuantilesMatchTheDistribution) {
+  for (std::size_t dof : {1u, 2u, 6u, 12u, 30u}) {
+    const double nu = static_cast<double>(dof);
+    const double norm = std::exp(std::lgamma((nu + 1) / 2) - std::lgamma(nu / 2)) /
+                        std::sqrt(nu * 3.14159265358979323846);
+    const auto pdf = [&](double t) { return norm * std::pow(1 + t * t / nu, -(nu + 1) / 2); };
+    const double q = studentT975(dof);
+    constexpr int kSteps = 20000;
+    double integral = pdf(0) + pdf(q);
+    for (int k = 1; k < kSteps; ++k) integral += (k % 2 ? 4 : 2) * pdf(q * k / kSteps);
+    integral *= q / kSteps / 3;
+    EXPECT_NEAR(0.5 + integral, 0.975, 0.0005 * pdf(q) + 1e-6) << dof;
+  }
+}
+
+}  // namespace
+}  // namespace gtbake
