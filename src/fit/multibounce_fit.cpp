@@ -12,6 +12,10 @@ namespace gtbake {
 
 namespace {
 
+// Points per blocked rank update of the sandwich's meat (a multiple of the SIMD width; large
+// enough that the update runs as a matrix product).
+constexpr std::size_t kSandwichBatch = 512;
+
 CubicParameterization parameterization(const FitSettings& settings) {
   return settings.constrain_open ? openConstrainedCubic() : freeCubic();
 }
@@ -104,21 +108,33 @@ Eigen::MatrixXd monteCarloCovariance(const SweepData& data, const std::vector<do
   const int N = p.N;
   const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> T(
       p.T.data(), 3, N);
+  // Σ ψψᵀ as blocked rank updates of kSandwichBatch points at a time (fixed batches, so the sum's
+  // order does not depend on anything but n).
   Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(N * M, N * M);
-  Eigen::VectorXd psi(N * M);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double a = data.full.A[i];
-    const double dA = 0.5 * (data.half[0].A[i] - data.half[1].A[i]);
-    const Eigen::Vector3d x(a * a * a, -a * a, a);
-    const Eigen::Vector3d dx(3.0 * a * a, -2.0 * a, 1.0);
-    for (std::size_t j = 0; j < M; ++j) {
-      const Cubic& t = solves[j].theta[0];
-      const double r = data.full.G[j][i] - evalCubic(t, a);
-      const double slope = (3.0 * t[0] * a - 2.0 * t[1]) * a + t[2];
-      const double dG = 0.5 * (data.half[0].G[j][i] - data.half[1].G[j][i]);
-      psi.segment(N * j, N) = w[i] * (T.transpose() * (x * (dG - slope * dA) + dx * (r * dA)));
+  Eigen::MatrixXd psi(N * M, kSandwichBatch);
+  for (std::size_t begin = 0; begin < n; begin += kSandwichBatch) {
+    const std::size_t count = std::min<std::size_t>(kSandwichBatch, n - begin);
+    for (std::size_t b = 0; b < count; ++b) {
+      const std::size_t i = begin + b;
+      const double a = data.full.A[i];
+      const double dA = 0.5 * (data.half[0].A[i] - data.half[1].A[i]);
+      const double x[3] = {a * a * a, -a * a, a};
+      const double dx[3] = {3.0 * a * a, -2.0 * a, 1.0};
+      for (std::size_t j = 0; j < M; ++j) {
+        const Cubic& t = solves[j].theta[0];
+        const double r = data.full.G[j][i] - evalCubic(t, a);
+        const double slope = (3.0 * t[0] * a - 2.0 * t[1]) * a + t[2];
+        const double dG = 0.5 * (data.half[0].G[j][i] - data.half[1].G[j][i]);
+        const double along_x = w[i] * (dG - slope * dA);
+        const double along_dx = w[i] * r * dA;
+        for (int u = 0; u < N; ++u) {
+          double value = 0.0;
+          for (int q = 0; q < 3; ++q) value += p.T[q * N + u] * (x[q] * along_x + dx[q] * along_dx);
+          psi(N * j + u, static_cast<Eigen::Index>(b)) = value;
+        }
+      }
     }
-    meat.selfadjointView<Eigen::Lower>().rankUpdate(psi);
+    meat.selfadjointView<Eigen::Lower>().rankUpdate(psi.leftCols(count));
   }
   meat = meat.selfadjointView<Eigen::Lower>();
   Eigen::MatrixXd bread = Eigen::MatrixXd::Zero(3 * M, N * M);
@@ -241,8 +257,8 @@ MultiBounceFit fitMultiBounce(const SweepData& data, const FitSettings& settings
 
 CubicSolve fitCubic(const std::vector<double>& A, const std::vector<double>& G) {
   NormalEquations sums;
-  sums.moment.assign(1, {});
-  for (std::size_t i = 0; i < A.size(); ++i) sums.add(1.0, A[i], &G[i], 1);
+  const std::vector<double> unit(A.size(), 1.0);
+  accumulate(sums, unit.data(), A.data(), {G.data()}, A.size());
   const CubicParameterization p = freeCubic();
   const ReducedProblem reduced = reduceProblem(sums, 0, p);
   const LinearSolve solve = solveLinear(reduced.R, reduced.z, 3, true, "the cubic");

@@ -18,19 +18,39 @@ constexpr long double kPivotFloor = 1e-6L;
 
 }  // namespace
 
-void NormalEquations::add(double w, double A, const double* G, std::size_t albedos) {
-  const long double x[3] = {static_cast<long double>(A) * A * A, -static_cast<long double>(A) * A,
-                            static_cast<long double>(A)};
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) gram[3 * r + c] += w * x[r] * x[c];
+void accumulate(NormalEquations& sums, const double* w, const double* A,
+                const std::vector<const double*>& G, std::size_t count) {
+  const std::size_t M = G.size();
+  if (sums.moment.size() < M) sums.moment.resize(M);
+  std::vector<double> moment(3 * M);
+  for (std::size_t begin = 0; begin < count; begin += kSumBlock) {
+    const std::size_t end = std::min(count, begin + kSumBlock);
+    // x = (A³, −A², A): w·xxᵀ holds ±wA², ±wA³, wA⁴, ±wA⁵, wA⁶ only; w·x·G = G·(wA³, −wA², wA).
+    double p[7] = {};  // p[k] = Σ w A^k, k = 2..6
+    std::fill(moment.begin(), moment.end(), 0.0);
+    for (std::size_t i = begin; i < end; ++i) {
+      const double a = A[i];
+      const double q1 = w[i] * a, q2 = q1 * a, q3 = q2 * a, q4 = q3 * a;
+      p[2] += q2;
+      p[3] += q3;
+      p[4] += q4;
+      p[5] += q4 * a;
+      p[6] += q4 * a * a;
+      for (std::size_t j = 0; j < M; ++j) {
+        const double g = G[j][i];
+        moment[3 * j] += g * q3;
+        moment[3 * j + 1] -= g * q2;
+        moment[3 * j + 2] += g * q1;
+      }
+      sums.weight += w[i];
+    }
+    const long double gram[9] = {p[6], -p[5], p[4], -p[5], p[4], -p[3], p[4], -p[3], p[2]};
+    for (int k = 0; k < 9; ++k) sums.gram[k] += gram[k];
+    for (std::size_t j = 0; j < M; ++j) {
+      for (int r = 0; r < 3; ++r) sums.moment[j][r] += moment[3 * j + r];
+    }
   }
-  if (moment.size() < albedos) moment.resize(albedos);
-  for (std::size_t j = 0; j < albedos; ++j) {
-    const long double wg = w * static_cast<long double>(G[j]);
-    for (int r = 0; r < 3; ++r) moment[j][r] += wg * x[r];
-  }
-  weight += w;
-  ++points;
+  sums.points += count;
 }
 
 NormalEquations& NormalEquations::operator+=(const NormalEquations& other) {
@@ -104,17 +124,27 @@ std::vector<LevelStatistics> sceneStatistics(const SweepData& data,
   const std::size_t M = data.albedos.size();
   std::vector<LevelStatistics> out(data.scenes.size());
   tbb::parallel_for(std::size_t{0}, data.scenes.size(), [&](std::size_t s) {
-    std::vector<double> G(M);
-    for (int l = 0; l < kLevels; ++l) {
-      const double c = 0.5 * kLevelScale[l];
-      NormalEquations& sums = out[s][l];
-      sums.moment.assign(M, {});
-      for (std::size_t i = data.scenes[s].begin; i < data.scenes[s].end; ++i) {
-        const double A = data.full.A[i] + c * (data.half[0].A[i] - data.half[1].A[i]);
-        for (std::size_t j = 0; j < M; ++j) {
-          G[j] = data.full.G[j][i] + c * (data.half[0].G[j][i] - data.half[1].G[j][i]);
+    // One block of points at a time, every level from it while it is in cache.
+    std::vector<double> A(kSumBlock), G(M * kSumBlock);
+    std::vector<const double*> g(M);
+    for (std::size_t j = 0; j < M; ++j) g[j] = &G[j * kSumBlock];
+    for (int l = 0; l < kLevels; ++l) out[s][l].moment.assign(M, {});
+    for (std::size_t begin = data.scenes[s].begin; begin < data.scenes[s].end; begin += kSumBlock) {
+      const std::size_t count = std::min(kSumBlock, data.scenes[s].end - begin);
+      for (int l = 0; l < kLevels; ++l) {
+        const double c = 0.5 * kLevelScale[l];
+        for (std::size_t k = 0; k < count; ++k) {
+          const std::size_t i = begin + k;
+          A[k] = data.full.A[i] + c * (data.half[0].A[i] - data.half[1].A[i]);
         }
-        sums.add(weights[i], A, G.data(), M);
+        for (std::size_t j = 0; j < M; ++j) {
+          const double* full = data.full.G[j].data() + begin;
+          const double* h0 = data.half[0].G[j].data() + begin;
+          const double* h1 = data.half[1].G[j].data() + begin;
+          for (std::size_t k = 0; k < count; ++k)
+            G[j * kSumBlock + k] = full[k] + c * (h0[k] - h1[k]);
+        }
+        accumulate(out[s][l], weights.data() + begin, A.data(), g, count);
       }
     }
   });

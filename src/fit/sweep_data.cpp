@@ -1,7 +1,10 @@
 #include "fit/sweep_data.h"
 
+#include <tbb/parallel_for.h>
+
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <nlohmann/json.hpp>
 
 #include "common/atomic_file.h"
@@ -52,7 +55,17 @@ std::string albedoChannel(double rho) {
   return name;
 }
 
-SweepData loadSweep(const fs::path& dir) {
+namespace {
+
+// sweep.json, validated: the settings a fit needs and the scene entries.
+struct SweepJson {
+  int spp = 0;
+  int bounces = 0;
+  std::vector<double> albedos;
+  json scenes;
+};
+
+SweepJson readSweepJson(const fs::path& dir) {
   if (!fs::is_directory(dir)) throw Error("sweep directory " + dir.string() + " does not exist");
   const fs::path json_path = dir / "sweep.json";
   if (!fs::is_regular_file(json_path)) {
@@ -69,10 +82,9 @@ SweepData loadSweep(const fs::path& dir) {
     throw Error(where + ": missing 'settings' object");
   }
   const json& settings = doc["settings"];
-  SweepData data;
-  data.dir = dir;
-  data.spp = requirePositiveInt(settings, "spp", where + " settings");
-  data.bounces = requirePositiveInt(settings, "bounces", where + " settings");
+  SweepJson out;
+  out.spp = requirePositiveInt(settings, "spp", where + " settings");
+  out.bounces = requirePositiveInt(settings, "bounces", where + " settings");
   if (!settings.contains("albedos") || !settings["albedos"].is_array() ||
       settings["albedos"].size() < 2) {
     throw Error(where + ": settings 'albedos' must list at least two albedos");
@@ -81,106 +93,165 @@ SweepData loadSweep(const fs::path& dir) {
     if (!rho.is_number() || !(rho.get<double>() > 0.0 && rho.get<double>() <= 1.0)) {
       throw Error(where + ": every albedo must be a number in (0, 1]");
     }
-    data.albedos.push_back(rho.get<double>());
+    out.albedos.push_back(rho.get<double>());
   }
   if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty()) {
     throw Error(where + ": 'scenes' must be a non-empty array");
   }
+  out.scenes = doc["scenes"];
+  return out;
+}
 
-  const int K = data.bounces;
-  const std::size_t albedo_count = data.albedos.size();
-  for (PointSet* set : {&data.full, &data.half[0], &data.half[1]}) set->G.resize(albedo_count);
+// The channels of one scene's EXR: p[s][k] for s = full, H0, H1 (k = 0 is A), g[j] = G(ρ_j).
+struct SceneChannels {
+  std::vector<const std::vector<float>*> p[3];
+  std::vector<const std::vector<float>*> g;
+  const std::vector<float>* mask = nullptr;
+};
 
-  for (const json& entry : doc["scenes"]) {
-    SweepScene scene;
-    scene.name = requireString(entry, "name", where + " scene");
-    const std::string file_name = requireString(entry, "file", where + " scene " + scene.name);
-    const fs::path exr_path = dir / file_name;
-    if (!fs::is_regular_file(exr_path)) {
-      throw Error("scene '" + scene.name + "' is listed in " + where + " but " + exr_path.string() +
-                  " is missing");
+// Looks every channel up (a missing one is an error naming it) and rejects G### channels whose
+// albedo sweep.json does not list.
+SceneChannels requireChannels(const ExrImage& image, const std::string& file, const SweepJson& sj) {
+  SceneChannels c;
+  c.mask = &image.channel("mask", file);
+  const std::string prefix[3] = {"", "H0.", "H1."};
+  for (int s = 0; s < 3; ++s) {
+    c.p[s].push_back(&image.channel(prefix[s] + "A", file));
+    for (int k = 1; k <= sj.bounces; ++k) {
+      c.p[s].push_back(&image.channel(prefix[s] + "P" + std::to_string(k), file));
     }
-    const ExrImage image = readExr(exr_path);
-    const std::string file = exr_path.string();
-    const std::string scene_where = where + " scene " + scene.name;
-    if (entry.contains("width") && entry.contains("height") &&
-        (requirePositiveInt(entry, "width", scene_where) != image.width ||
-         requirePositiveInt(entry, "height", scene_where) != image.height)) {
-      throw Error(file + ": size " + std::to_string(image.width) + "x" +
-                  std::to_string(image.height) + " does not match sweep.json");
+  }
+  for (double rho : sj.albedos) {
+    const std::string name = albedoChannel(rho);
+    if (image.channels.count(name) == 0) {
+      throw Error(file + ": albedo " + std::to_string(rho) + " listed in sweep.json has no " +
+                  name + " channel");
     }
-    const std::vector<float>& mask = image.channel("mask", file);
-    // Channel sets: index 0 = full estimate, 1 and 2 = the halves; P[0] is A.
-    std::vector<const std::vector<float>*> p[3];
-    const std::string prefix[3] = {"", "H0.", "H1."};
+    c.g.push_back(&image.channel(name, file));
+  }
+  for (const auto& named_channel : image.channels) {
+    const std::string& name = named_channel.first;
+    const bool g_channel = name.size() == 4 && name[0] == 'G' &&
+                           name.find_first_not_of("0123456789", 1) == std::string::npos;
+    bool listed = false;
+    for (double rho : sj.albedos) listed = listed || albedoChannel(rho) == name;
+    if (g_channel && !listed) {
+      throw Error(file + ": channel " + name + " has no matching albedo in sweep.json");
+    }
+  }
+  return c;
+}
+
+// One scene's unmasked points, every value checked (finite, G### consistent with the P_k).
+struct ScenePoints {
+  std::string name;
+  PointSet full;
+  PointSet half[2];
+};
+
+void appendUnmaskedPoints(const SceneChannels& c, const ExrImage& image, const std::string& file,
+                          const std::vector<double>& albedos, ScenePoints& out) {
+  const std::size_t M = albedos.size();
+  for (PointSet* set : {&out.full, &out.half[0], &out.half[1]}) set->G.resize(M);
+  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
+  for (std::size_t i = 0; i < pixels; ++i) {
+    if (!((*c.mask)[i] > 0.5f)) continue;
     for (int s = 0; s < 3; ++s) {
-      p[s].push_back(&image.channel(prefix[s] + "A", file));
-      for (int k = 1; k <= K; ++k) {
-        p[s].push_back(&image.channel(prefix[s] + "P" + std::to_string(k), file));
+      for (const auto* channel : c.p[s]) {
+        if (!std::isfinite((*channel)[i])) {
+          throw Error(file + ": non-finite value in an unmasked pixel (" +
+                      std::to_string(i % image.width) + ", " + std::to_string(i / image.width) +
+                      ")");
+        }
       }
     }
-    std::vector<const std::vector<float>*> g;
-    for (double rho : data.albedos) {
-      const std::string name = albedoChannel(rho);
-      if (image.channels.count(name) == 0) {
-        throw Error(file + ": albedo " + std::to_string(rho) + " listed in sweep.json has no " +
-                    name + " channel");
+    out.full.A.push_back((*c.p[0][0])[i]);
+    for (int s = 0; s < 2; ++s) out.half[s].A.push_back((*c.p[s + 1][0])[i]);
+    for (std::size_t j = 0; j < M; ++j) {
+      const double stored = (*c.g[j])[i];
+      const double recomputed = multiBounceG(c.p[0], i, albedos[j]);
+      if (!std::isfinite(stored) || std::abs(stored - recomputed) > kAlbedoConsistencyTolerance) {
+        throw Error(file + ": channel " + albedoChannel(albedos[j]) +
+                    " is inconsistent with albedo " + std::to_string(albedos[j]) +
+                    " and the P_k channels");
       }
-      g.push_back(&image.channel(name, file));
+      out.full.G[j].push_back(stored);
+      for (int s = 0; s < 2; ++s)
+        out.half[s].G[j].push_back(multiBounceG(c.p[s + 1], i, albedos[j]));
     }
+  }
+}
 
-    for (const auto& named_channel : image.channels) {
-      const std::string& name = named_channel.first;
-      const bool g_channel = name.size() == 4 && name[0] == 'G' &&
-                             name.find_first_not_of("0123456789", 1) == std::string::npos;
-      bool listed = false;
-      for (double rho : data.albedos) listed = listed || albedoChannel(rho) == name;
-      if (g_channel && !listed) {
-        throw Error(file + ": channel " + name + " has no matching albedo in sweep.json");
-      }
-    }
+ScenePoints loadScene(const fs::path& dir, const json& entry, const SweepJson& sj) {
+  const std::string where = (dir / "sweep.json").string();
+  ScenePoints out;
+  out.name = requireString(entry, "name", where + " scene");
+  const std::string file_name = requireString(entry, "file", where + " scene " + out.name);
+  const fs::path exr_path = dir / file_name;
+  if (!fs::is_regular_file(exr_path)) {
+    throw Error("scene '" + out.name + "' is listed in " + where + " but " + exr_path.string() +
+                " is missing");
+  }
+  const ExrImage image = readExr(exr_path);
+  const std::string file = exr_path.string();
+  const std::string scene_where = where + " scene " + out.name;
+  if (entry.contains("width") && entry.contains("height") &&
+      (requirePositiveInt(entry, "width", scene_where) != image.width ||
+       requirePositiveInt(entry, "height", scene_where) != image.height)) {
+    throw Error(file + ": size " + std::to_string(image.width) + "x" +
+                std::to_string(image.height) + " does not match sweep.json");
+  }
+  appendUnmaskedPoints(requireChannels(image, file, sj), image, file, sj.albedos, out);
+  const std::size_t count = out.full.A.size();
+  if (entry.contains("unmasked_pixels") && entry["unmasked_pixels"].is_number_integer() &&
+      entry["unmasked_pixels"].get<long long>() != static_cast<long long>(count)) {
+    throw Error(file + ": mask has " + std::to_string(count) +
+                " unmasked pixels but sweep.json says " + entry["unmasked_pixels"].dump());
+  }
+  if (count < kMinScenePoints) {
+    throw Error("scene '" + out.name + "' has " + std::to_string(count) +
+                " unmasked pixels; at least " + std::to_string(kMinScenePoints) + " needed");
+  }
+  return out;
+}
 
-    scene.begin = data.full.A.size();
-    const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
-    for (std::size_t i = 0; i < pixels; ++i) {
-      if (!(mask[i] > 0.5f)) continue;
-      for (int s = 0; s < 3; ++s) {
-        for (const auto* channel : p[s]) {
-          if (!std::isfinite((*channel)[i])) {
-            throw Error(file + ": non-finite value in an unmasked pixel (" +
-                        std::to_string(i % image.width) + ", " + std::to_string(i / image.width) +
-                        ")");
-          }
-        }
-      }
-      data.full.A.push_back((*p[0][0])[i]);
-      for (int s = 0; s < 2; ++s) data.half[s].A.push_back((*p[s + 1][0])[i]);
-      for (std::size_t j = 0; j < albedo_count; ++j) {
-        const double stored = (*g[j])[i];
-        const double recomputed = multiBounceG(p[0], i, data.albedos[j]);
-        if (!std::isfinite(stored) || std::abs(stored - recomputed) > kAlbedoConsistencyTolerance) {
-          throw Error(file + ": channel " + albedoChannel(data.albedos[j]) +
-                      " is inconsistent with albedo " + std::to_string(data.albedos[j]) +
-                      " and the P_k channels");
-        }
-        data.full.G[j].push_back(stored);
-        for (int s = 0; s < 2; ++s) {
-          data.half[s].G[j].push_back(multiBounceG(p[s + 1], i, data.albedos[j]));
-        }
-      }
+void appendPoints(const PointSet& from, PointSet& to) {
+  to.A.insert(to.A.end(), from.A.begin(), from.A.end());
+  to.G.resize(from.G.size());
+  for (std::size_t j = 0; j < from.G.size(); ++j) {
+    to.G[j].insert(to.G[j].end(), from.G[j].begin(), from.G[j].end());
+  }
+}
+
+}  // namespace
+
+SweepData loadSweep(const fs::path& dir) {
+  const SweepJson sj = readSweepJson(dir);
+  // Scenes load in parallel; the first failure in scene order is reported, so the error does not
+  // depend on the thread count.
+  const std::size_t S = sj.scenes.size();
+  std::vector<ScenePoints> scenes(S);
+  std::vector<std::exception_ptr> errors(S);
+  tbb::parallel_for(std::size_t{0}, S, [&](std::size_t s) {
+    try {
+      scenes[s] = loadScene(dir, sj.scenes[s], sj);
+    } catch (...) {
+      errors[s] = std::current_exception();
     }
-    scene.end = data.full.A.size();
-    const std::size_t count = scene.end - scene.begin;
-    if (entry.contains("unmasked_pixels") && entry["unmasked_pixels"].is_number_integer() &&
-        entry["unmasked_pixels"].get<long long>() != static_cast<long long>(count)) {
-      throw Error(file + ": mask has " + std::to_string(count) +
-                  " unmasked pixels but sweep.json says " + entry["unmasked_pixels"].dump());
-    }
-    if (count < kMinScenePoints) {
-      throw Error("scene '" + scene.name + "' has " + std::to_string(count) +
-                  " unmasked pixels; at least " + std::to_string(kMinScenePoints) + " needed");
-    }
-    data.scenes.push_back(scene);
+  });
+  for (const std::exception_ptr& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+  SweepData data;
+  data.dir = dir;
+  data.spp = sj.spp;
+  data.bounces = sj.bounces;
+  data.albedos = sj.albedos;
+  for (const ScenePoints& scene : scenes) {
+    const std::size_t begin = data.full.A.size();
+    appendPoints(scene.full, data.full);
+    for (int h = 0; h < 2; ++h) appendPoints(scene.half[h], data.half[h]);
+    data.scenes.push_back({scene.name, begin, data.full.A.size()});
   }
   if (data.points() < kMinFitPoints) {
     throw Error(dir.string() + ": only " + std::to_string(data.points()) +
