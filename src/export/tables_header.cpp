@@ -134,12 +134,19 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
     << "//   raw (double) a1, a0, b1, b0, c1, c0:" << rawCoeffs(in.fit->linear)
     << "; shipped as the nearest floats\n"
     << "//   refit RMSE " << jsonAt(fj, {"errors", "refit", "rmse"}) << ", max |err| "
-    << jsonAt(fj, {"errors", "refit", "max_abs"}) << "; standard errors a1..c0:";
+    << jsonAt(fj, {"errors", "refit", "max_abs"}) << "; Monte Carlo standard errors a1..c0:";
   for (double se : in.fit->linear_se) o << " " << g9(se);
   o << "\n//   shipped constants vs refit: max |dG| "
     << jsonAt(fj, {"shipped", "max_curve_difference", "value"})
     << " at A = " << jsonAt(fj, {"shipped", "max_curve_difference", "A"})
     << ", rho = " << jsonAt(fj, {"shipped", "max_curve_difference", "rho"}) << "\n"
+    << "//   scene-level band (fit.json scene_jackknife): max SE of G "
+    << jsonAt(fj, {"scene_jackknife", "band_max", "value"})
+    << " at A = " << jsonAt(fj, {"scene_jackknife", "band_max", "A"})
+    << ", rho = " << jsonAt(fj, {"scene_jackknife", "band_max", "rho"}) << "; weighting "
+    << jsonAt(fj, {"settings", "weighting"}) << "; scenes " << jsonAt(fj, {"sweep", "scenes"})
+    << "\n//   shipped constants vs the band: "
+    << jsonAt(fj, {"shipped", "against_band", "verdict"}) << "\n"
     << "// gtso.json: version " << jsonAt(gj, {"version"}) << "; roughness "
     << jsonAt(gj, {"roughness_convention"}) << "; texel rule " << jsonAt(gj, {"texel_rule"})
     << "\n";
