@@ -109,6 +109,8 @@ int main(int argc, char** argv) {
   auto* all_cmd = app.add_subcommand("all", "scenes, sweep, fit, gtso and export with defaults");
   all_cmd->add_option("--out", all.out, "Output directory")->capture_default_str();
   all_cmd->add_option("--threads", all.threads, "Worker threads (0 = all cores)");
+  all_cmd->add_option("--scenes", all.scenes,
+                      "glTF files or directories of them (default: the built-in seven)");
 
   try {
     app.parse(argc, argv);
@@ -153,6 +155,7 @@ int main(int argc, char** argv) {
       // The output directory and thread count do not change a byte of the results, so the
       // provenance records the canonical command and luts/ reproduces from any --out.
       all.command_line = "gtbake all";
+      for (const auto& scene : all.scenes) all.command_line += " --scenes " + scene.string();
       all.progress = progress;
       runAll(all);
     }

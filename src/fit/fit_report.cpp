@@ -121,7 +121,7 @@ void bandFigures(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures
   for (std::size_t j = 0; j < M; ++j) {
     const double rho = a.data.albedos[j];
     SvgPlot panel(0, 1, -1.05 * span, 1.05 * span, "&#961; = " + fmt(rho, "%.2f"), "A",
-                  "G &minus; G<tspan font-size='9'>refit</tspan>");
+                  "G &#8722; G(refit)");
     std::vector<double> lo, hi, diff, zero(xs.size(), 0.0);
     for (double A : xs) {
       lo.push_back(-band(A, rho));

@@ -160,7 +160,19 @@ void printValidateSummary(const FitAnalysis& a, const MultiBounceCoeffs& given) 
   printBand(a, "given", a.shipped_score);
   std::printf("  max |G_given - G_refit| = %.5f at A = %.3f, rho = %.3f\n",
               a.shipped_difference.value, a.shipped_difference.A, a.shipped_difference.rho);
-  printCoefficients(a, given, "given");
+  // Layout kept for scripts (tests/cli parses the first five columns); the scene columns follow.
+  const LinearFit& lin = a.fit.linear;
+  const SceneJackknife& jk = a.jackknife;
+  std::printf("\n%-5s %10s %10s %9s %8s %9s %12s\n", "coef", "given", "refit", "SE", "diff/SE",
+              "SE scene", "diff/SEscene");
+  for (int i = 0; i < 6; ++i) {
+    const double diff = given[i] - lin.coeffs[i];
+    char scene[16] = "-";
+    if (jk.available) std::snprintf(scene, sizeof(scene), "%.1f", diff / jk.se[i]);
+    std::printf("%-5s %10.4f %10.4f %9.5f %8.1f %9.4f %12s\n", kCoeffNames[i], given[i],
+                lin.coeffs[i], lin.se[i], diff / lin.se[i], jk.se[i], scene);
+  }
+  std::printf("SE: Monte Carlo (what another seed moves); SE scene: delete-one-scene jackknife\n");
   printErrorTables(a, a.shipped_errors, a.refit_errors, "given", "refit");
 }
 
