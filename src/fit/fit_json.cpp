@@ -245,6 +245,11 @@ json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceC
                       {"rho", a.shipped_difference.rho},
                       {"refit_minus_shipped", a.shipped_difference.signed_value}}},
                     {"against_band", scoreJson(a.shipped_score)}};
+  if (a.jackknife.available) {
+    MultiBounceCoeffs z;
+    for (int i = 0; i < 6; ++i) z[i] = (shipped[i] - fit.linear.coeffs[i]) / a.jackknife.se[i];
+    out["shipped"]["minus_refit_over_scene_se"] = coeffsJson(z);
+  }
   out["eiv_bias"] = eivJson(fit);
   json scenes = json::array();
   for (const SweepScene& s : a.data.scenes) scenes.push_back(s.name);

@@ -8,6 +8,7 @@
 #include "common/error.h"
 #include "common/threads.h"
 #include "fit/multibounce_fit.h"
+#include "fit/scene_jackknife.h"
 #include "synthetic_sweep.h"
 
 namespace gtbake {
@@ -187,19 +188,26 @@ TEST(MultiBounceFit, DegenerateDataIsAnError) {
   EXPECT_THROW(fitCubic(A, G), Error);
 }
 
-// Same data, 1 or 2 threads: bit-identical coefficients and standard errors.
+// Same data, 1 or 2 threads: bit-identical coefficients, Monte Carlo and scene-jackknife SEs.
 TEST(MultiBounceFit, DeterministicAcrossThreadCounts) {
-  const SweepData data = knownCoefficientSweep(kPaperCoeffs, 5000, 0.02, 0.01, 0.5, 31);
+  const SweepData data = test::pooledSweep({{"s1", kPaperCoeffs, 2000},
+                                            {"s2", {3.0, -0.2, 6.0, -0.5, 3.2, 0.7}, 1500},
+                                            {"s3", kPaperCoeffs, 1800}},
+                                           0.02, 0.01, 0.5, 31);
   MultiBounceFit fits[2];
+  SceneJackknife jk[2];
   for (int t = 0; t < 2; ++t) {
     ThreadLimit limit(t + 1);
     fits[t] = fitMultiBounce(data);
+    jk[t] = sceneJackknife(data, fits[t], kPaperCoeffs);
   }
   for (int i = 0; i < 6; ++i) {
     EXPECT_EQ(fits[0].linear.coeffs[i], fits[1].linear.coeffs[i]);
     EXPECT_EQ(fits[0].linear.se[i], fits[1].linear.se[i]);
     EXPECT_EQ(fits[0].linear.eiv_bias[i], fits[1].linear.eiv_bias[i]);
+    EXPECT_EQ(jk[0].se[i], jk[1].se[i]);
   }
+  EXPECT_EQ(jk[0].band_max.value, jk[1].band_max.value);
 }
 
 }  // namespace
