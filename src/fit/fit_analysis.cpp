@@ -7,8 +7,6 @@ namespace gtbake {
 
 namespace {
 
-constexpr double kRhoMin = 0.1;  // the paper's albedo range (SPEC §1.3), unitless
-constexpr double kRhoMax = 0.9;
 
 // The per-scene statistics of `weighting`, reusing the fit's where they are the same sums: scene
 // weights are constant within a scene, so scene-weighted sums are pixel sums times a constant.

@@ -10,8 +10,6 @@ namespace gtbake {
 
 namespace {
 
-constexpr double kRhoMin = 0.1;  // the paper's albedo range (SPEC §1.3), unitless
-constexpr double kRhoMax = 0.9;
 // Grid of the curve-distance search (nodes; 1/200 in A and 1/200 of the ρ range).
 constexpr int kGridSteps = 200;
 // Local refinement: each round scans kRefineSteps² cells of a window around the best node and

@@ -84,8 +84,12 @@ void printAlternatives(const FitAnalysis& a) {
   std::printf("\n%-8s %-34s %9s %9s %9s\n", "weights", "max |dG| vs pixel weighting", "a1", "b1",
               "RMSE");
   for (const Alternative& alt : a.weightings) {
-    std::printf("%-8s %.4f at A = %.3f, rho = %.2f%9s %9.4f %9.4f %9.5f\n", alt.name.c_str(),
-                alt.vs_default.value, alt.vs_default.A, alt.vs_default.rho, "", alt.linear[0],
+    char moved[48] = "none (same curve)";
+    if (alt.vs_default.value > 0.0) {
+      std::snprintf(moved, sizeof(moved), "%.4f at A = %.3f, rho = %.2f", alt.vs_default.value,
+                    alt.vs_default.A, alt.vs_default.rho);
+    }
+    std::printf("%-8s %-34s %9.4f %9.4f %9.5f\n", alt.name.c_str(), moved, alt.linear[0],
                 alt.linear[2], alt.rmse);
   }
 }

@@ -15,6 +15,10 @@ using Cubic = std::array<double, 3>;              // (a, b, c) at one albedo
 
 inline constexpr MultiBounceCoeffs kPaperCoeffs = {2.0404,  -0.3324, 4.7951,
                                                    -0.6417, 2.7552,  0.6903};
+// The paper's albedo range (SPEC §1.3), over which curves are compared and the band is searched.
+inline constexpr double kRhoMin = 0.1;
+inline constexpr double kRhoMax = 0.9;
+
 inline constexpr std::array<const char*, 6> kCoeffNames = {"a1", "a0", "b1", "b0", "c1", "c0"};
 inline constexpr std::array<const char*, 3> kCubicNames = {"a", "b", "c"};
 

@@ -15,8 +15,6 @@ namespace {
 // [0.1, 0.9] (the paper's albedo range). Steps of 0.005 in A and 0.01 in ρ.
 constexpr int kBandASteps = 200;
 constexpr int kBandRhoSteps = 80;
-constexpr double kRhoMin = 0.1;
-constexpr double kRhoMax = 0.9;
 
 // Two-sided 95 % quantiles t_{0.975, ν} of Student's t for ν = 1..30 (standard tables).
 // clang-format off
