@@ -7,7 +7,6 @@ namespace gtbake {
 
 namespace {
 
-
 // The per-scene statistics of `weighting`, reusing the fit's where they are the same sums: scene
 // weights are constant within a scene, so scene-weighted sums are pixel sums times a constant.
 std::vector<LevelStatistics> statisticsFor(const SweepData& data, const MultiBounceFit& fit,

@@ -85,7 +85,7 @@ void bandFigures(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures
   const std::size_t M = a.data.albedos.size();
   const std::vector<double> xs = sampleA();
   const auto band = [&](double A, double rho) {
-    return jk.available ? jk.threshold * curveBand(jk.covariance, A, rho) : 0.0;
+    return jk.available ? jk.threshold * jackknifeBand(jk, A, rho) : 0.0;
   };
   SvgPlot plot(0, 1, 0, 1, "G(A): refit with band (solid), shipped (dashed)", "A", "G");
   plot.legendBottomRight(static_cast<int>(M));
@@ -114,7 +114,7 @@ void bandFigures(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures
   for (double rho : a.data.albedos) {
     for (double A : xs) {
       span =
-          std::max({span, jk.threshold * curveBand(jk.covariance, A, rho),
+          std::max({span, jk.threshold * jackknifeBand(jk, A, rho),
                     std::abs(evalMultiBounce(shipped, A, rho) - evalMultiBounce(refit, A, rho))});
     }
   }

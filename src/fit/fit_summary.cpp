@@ -78,7 +78,7 @@ void printAlternatives(const FitAnalysis& a) {
   const double cost = a.fit.settings.constrain_open ? a.refit_errors.rmse - a.constraint.rmse
                                                     : a.constraint.rmse - a.refit_errors.rmse;
   std::printf(
-      "  with a - b + c = 1 (--constrain-open) the RMSE changes by %+.2e; the curves "
+      "  a - b + c = 1 (--constrain-open) changes the unweighted RMSE by %+.2e; the curves "
       "differ by %.4f at most\n",
       cost, a.constraint.vs_default.value);
   std::printf("\n%-8s %-34s %9s %9s %9s\n", "weights", "max |dG| vs pixel weighting", "a1", "b1",

@@ -15,6 +15,10 @@ namespace {
 // [0.1, 0.9] (the paper's albedo range). Steps of 0.005 in A and 0.01 in ρ.
 constexpr int kBandASteps = 200;
 constexpr int kBandRhoSteps = 80;
+// Where the band vanishes to rounding (G(1, ρ) = 1 for every replica under --constrain-open, so
+// the replicas agree to ~1e-15), constants are not scored: a ratio to a rounding error says
+// nothing (units of G).
+constexpr double kBandFloor = 1e-9;
 
 // Two-sided 95 % quantiles t_{0.975, ν} of Student's t for ν = 1..30 (standard tables).
 // clang-format off
@@ -34,10 +38,11 @@ void forEachGridPoint(F&& f) {
   }
 }
 
-GridPoint bandMax(const std::array<double, 36>& covariance) {
+template <typename Band>
+GridPoint bandMax(Band&& band_at) {
   GridPoint best;
   forEachGridPoint([&](double A, double rho) {
-    const double band = curveBand(covariance, A, rho);
+    const double band = band_at(A, rho);
     if (band > best.value) best = {band, A, rho};
   });
   return best;
@@ -64,12 +69,25 @@ double curveBand(const std::array<double, 36>& covariance, double A, double rho)
   return std::sqrt(std::max(var, 0.0));
 }
 
+double jackknifeBand(const SceneJackknife& jk, double A, double rho) {
+  const double S = static_cast<double>(jk.leave_one_out.size());
+  double mean = 0.0;
+  for (const LeaveOneOut& r : jk.leave_one_out) mean += evalMultiBounce(r.linear, A, rho) / S;
+  double sum2 = 0.0;
+  for (const LeaveOneOut& r : jk.leave_one_out) {
+    const double d = evalMultiBounce(r.linear, A, rho) - mean;
+    sum2 += d * d;
+  }
+  return std::sqrt((S - 1.0) / S * sum2);
+}
+
 SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
                               const MultiBounceCoeffs& shipped) {
   SceneJackknife out;
   const std::size_t S = data.scenes.size();
   out.scenes = S;
-  out.mc_band_max = bandMax(fit.linear.mc_covariance);
+  out.mc_band_max =
+      bandMax([&](double A, double rho) { return curveBand(fit.linear.mc_covariance, A, rho); });
   if (S >= 2) {
     out.leave_one_out.resize(S);
     tbb::parallel_for(std::size_t{0}, S, [&](std::size_t s) {
@@ -106,7 +124,7 @@ SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
       out.correlation[6 * a + b] = out.covariance[6 * a + b] / (out.se[a] * out.se[b]);
     }
   }
-  out.band_max = bandMax(out.covariance);
+  out.band_max = bandMax([&](double A, double rho) { return jackknifeBand(out, A, rho); });
   out.threshold = studentT975(S - 1);
   return out;
 }
@@ -120,10 +138,10 @@ BandScore scoreAgainstBand(const SceneJackknife& jackknife, const MultiBounceCoe
   }
   score.threshold = jackknife.threshold;
   forEachGridPoint([&](double A, double rho) {
-    const double band = curveBand(jackknife.covariance, A, rho);
+    const double band = jackknifeBand(jackknife, A, rho);
     const double diff = evalMultiBounce(k, A, rho) - evalMultiBounce(refit, A, rho);
     const double ratio = std::abs(diff) / band;
-    if (band > 0.0 && ratio > score.max_ratio.value) {
+    if (band > kBandFloor && ratio > score.max_ratio.value) {
       score.max_ratio = {ratio, A, rho};
       score.difference = diff;
       score.band = band;

@@ -14,7 +14,8 @@
 //   SE_G(A, ρ) = sqrt(g(A, ρ)ᵀ Cov g(A, ρ)),
 // evaluated on a grid of A ∈ (0, 1], ρ ∈ [0.1, 0.9]. Any constants k' are scored against it by
 // the largest |G(k') − G(refit)| / SE_G over the grid, against the two-sided 95 % quantile of
-// Student's t with S − 1 degrees of freedom (the jackknife variance has S − 1).
+// Student's t with S − 1 degrees of freedom (the jackknife variance has S − 1). Grid points where
+// the band vanishes to rounding (A = 1 under the open-surface constraint) are not scored.
 #pragma once
 
 #include <array>
@@ -80,6 +81,11 @@ SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
 
 // SE_G at (A, ρ) for a 6 × 6 covariance.
 double curveBand(const std::array<double, 36>& covariance, double A, double rho);
+
+// The jackknife's SE_G at (A, ρ) from the replicas themselves, √((S − 1)/S Σ (G_(s) − Ḡ)²): the
+// same value as curveBand(covariance) without the quadratic form's cancellation where the band is
+// ~0 (the band, its maximum and the score use this one).
+double jackknifeBand(const SceneJackknife& jk, double A, double rho);
 
 // Scores `k` against the band of `jackknife` around `refit`. Without a jackknife the verdict says
 // so and `consistent` is false.

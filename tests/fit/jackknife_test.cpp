@@ -92,9 +92,10 @@ TEST(SceneJackknife, BandIsTheJackknifeSpreadOfTheCurve) {
       }
       const double direct = std::sqrt(sum2 * (kScenes - 1) / kScenes);
       EXPECT_NEAR(curveBand(jk.covariance, A, rho), direct, 1e-9 * direct) << A << " " << rho;
+      EXPECT_NEAR(jackknifeBand(jk, A, rho), direct, 1e-12 * direct) << A << " " << rho;
     }
   }
-  EXPECT_GE(jk.band_max.value, curveBand(jk.covariance, 1.0, 0.9));
+  EXPECT_GE(jk.band_max.value, jackknifeBand(jk, 1.0, 0.9));
 }
 
 // Constants equal to the refit are consistent; constants moved by 10 band widths are not, and the
@@ -112,6 +113,15 @@ TEST(SceneJackknife, ScoresConstantsAgainstTheBand) {
   EXPECT_FALSE(far.consistent);
   EXPECT_GT(far.max_ratio.value, 5.0 * jk.threshold);
   EXPECT_NE(far.verdict.find("outside"), std::string::npos);
+
+  // Under --constrain-open every replica has G(1, ρ) = 1: the band vanishes at A = 1 and the
+  // score ignores it instead of dividing by rounding.
+  FitSettings open;
+  open.constrain_open = true;
+  const MultiBounceFit open_fit = fitMultiBounce(data, open);
+  const SceneJackknife open_jk = sceneJackknife(data, open_fit, kPaperCoeffs);
+  EXPECT_LT(jackknifeBand(open_jk, 1.0, 0.5), 1e-12);
+  EXPECT_LT(scoreAgainstBand(open_jk, open_fit.linear.coeffs, kPaperCoeffs).max_ratio.value, 1e3);
 
   SweepData two;
   test::appendScene(data, 0, two);
