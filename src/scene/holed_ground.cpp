@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/math_constants.h"
+
 namespace gtbake {
 namespace {
 
@@ -20,14 +22,13 @@ std::vector<HoleRim> addHoledGround(MeshBuilder& mesh, int cells_x, int cells_z,
                                     int segments, const std::vector<GroundHole>& holes,
                                     double extent) {
   if (segments % 8 != 0) throw std::invalid_argument("addHoledGround: segments % 8 != 0");
-  const double pi = std::acos(-1.0);
   const int m = segments / 4;  // points per cell side
   const double half = 0.5 * cell;
-  const double step = 2.0 * pi / segments;
+  const double step = 2.0 * kPi / segments;
   // o_j = h tan(−π/4 + jΔ): where the ray at angle θ_j meets the side; exactly antisymmetric.
   std::vector<double> offsets(m + 1, 0.0);
   for (int j = 0; j < m / 2; ++j) {
-    offsets[j] = half * std::tan(-0.25 * pi + j * step);
+    offsets[j] = half * std::tan(-0.25 * kPi + j * step);
     offsets[m - j] = -offsets[j];
   }
   std::vector<double> xline(cells_x + 1);
@@ -82,7 +83,7 @@ std::vector<HoleRim> addHoledGround(MeshBuilder& mesh, int cells_x, int cells_z,
       HoleRim& rim = rims[hole];
       rim.centre = centre;
       for (int k = 0; k < segments; ++k) {
-        const double theta = -0.25 * pi + k * step;
+        const double theta = -0.25 * kPi + k * step;
         const Eigen::Vector3d offset =
             g.circle ? Eigen::Vector3d(g.half_x * std::cos(theta), 0.0, g.half_x * std::sin(theta))
                      : Eigen::Vector3d(local[k].x() * g.half_x / half, 0.0,
@@ -134,8 +135,7 @@ std::vector<HoleRim> addHoledGround(MeshBuilder& mesh, int cells_x, int cells_z,
 }
 
 void addBowl(MeshBuilder& mesh, const HoleRim& rim, double R, double h, int segments) {
-  const double pi = std::acos(-1.0);
-  const double step = 2.0 * pi / segments;
+  const double step = 2.0 * kPi / segments;
   const Eigen::Vector3d centre = rim.centre + (R - h) * Eigen::Vector3d::UnitY();
   const double rim_polar = std::acos((R - h) / R);  // from the bottom pole up to the rim
   const int rings = std::max(2, static_cast<int>(std::ceil(rim_polar / step)));
@@ -147,7 +147,7 @@ void addBowl(MeshBuilder& mesh, const HoleRim& rim, double R, double h, int segm
     if (r < rings) {
       const double polar = rim_polar * r / rings;
       for (int k = 0; k < segments; ++k) {
-        const double theta = -0.25 * pi + k * step;
+        const double theta = -0.25 * kPi + k * step;
         ring[k] = mesh.vertex(centre + R * Eigen::Vector3d(std::sin(polar) * std::cos(theta),
                                                            -std::cos(polar),
                                                            std::sin(polar) * std::sin(theta)));
