@@ -107,12 +107,27 @@ std::string parseBody(const std::string& body, NumberMarker& marker) {
   return {};
 }
 
+// True if `pos` lies in Markdown code: a fenced block (``` lines) or an inline `code span`.
+// Docs show the marker syntax itself there, so those comments are examples, not markers.
+bool inCode(const std::string& text, std::size_t pos) {
+  const std::size_t newline = text.rfind('\n', pos);
+  const std::size_t line_begin = newline == std::string::npos ? 0 : newline + 1;
+  if (std::count(text.begin() + line_begin, text.begin() + pos, '`') % 2 == 1) return true;
+  bool fenced = false;
+  for (std::size_t line = 0; line < line_begin; line = text.find('\n', line) + 1) {
+    const std::size_t first = text.find_first_not_of(' ', line);
+    if (text.compare(first, 3, "```") == 0) fenced = !fenced;
+  }
+  return fenced;
+}
+
 }  // namespace
 
 ParsedDoc parseMarkers(const std::string& text) {
   ParsedDoc doc;
   for (std::size_t open = text.find(kOpen); open != std::string::npos;
        open = text.find(kOpen, open + 1)) {
+    if (inCode(text, open)) continue;
     NumberMarker marker;
     marker.line = lineAt(text, open);
     const std::size_t close = text.find(kClose, open);

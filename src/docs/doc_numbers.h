@@ -9,7 +9,8 @@
 // `%.1e`, `%.0f`: flags, width, precision, then f, F, e, E, g or G), and xSCALE an optional factor
 // applied first (`x100` for percentages). The number before the
 // comment must read exactly as printf(FORMAT, value * SCALE) prints it, except that a leading
-// U+2212 minus sign in the doc stands for printf's '-'.
+// U+2212 minus sign in the doc stands for printf's '-'. Comments inside Markdown code (fenced
+// blocks and inline `code spans`) are examples of the syntax and are skipped.
 //
 // The library is pure text in, text out; apps/gtbake-docs does the file handling.
 #pragma once

@@ -129,6 +129,20 @@ TEST(DocNumbers, MalformedMarkersAreRejectedWithTheirLine) {
   }
 }
 
+TEST(DocNumbers, ExamplesInCodeAreNotMarkers) {
+  const std::string text =
+      "Syntax `1.0<!--@ FILE POINTER FORMAT-->` in a span\n"
+      "```\n"
+      "2.0<!--@ fit.json /a %.1f-->\n"
+      "  ```\n"
+      "after the fence 1.0<!--@ fit.json /a %.1f--> and `x` 3.0<!--@ fit.json /a %.1f-->\n";
+  const CheckResult r = checkDocument(text, fakeLookup({{"fit.json /a", 1.0}}));
+  EXPECT_EQ(r.markers, 2);
+  ASSERT_EQ(r.issues.size(), 1u);
+  EXPECT_EQ(r.issues[0].line, 5);
+  EXPECT_NE(r.issues[0].message.find("reads 3.0"), std::string::npos) << r.issues[0].message;
+}
+
 TEST(DocNumbers, FormatNumberIsPrintf) {
   EXPECT_EQ(formatNumber("%.4f", 2.398975942683847), "2.3990");
   EXPECT_EQ(formatNumber("%.3g", 1.56e-4), "0.000156");
