@@ -48,18 +48,18 @@ TEST(GradedAxis, SymmetricSortedDoublingAndExact) {
 TEST(SceneTopology, SevenScenesAreWatertightSheets) {
   for (const auto& name : sceneTypeNames()) {
     const Scene scene = makeSceneType(name, 1);
-    const auto census = testing::edgeCensus(scene);
+    const auto census = test::edgeCensus(scene);
     EXPECT_EQ(census.non_manifold, 0u) << name;
     EXPECT_EQ(census.inconsistent, 0u) << name;
     EXPECT_GT(census.boundary, 0u) << name;
-    EXPECT_EQ(testing::strayBoundaryEdges(scene, name == "corner" ? onRoomTop : onOuterRim), 0u)
+    EXPECT_EQ(test::strayBoundaryEdges(scene, name == "corner" ? onRoomTop : onOuterRim), 0u)
         << name;
   }
 }
 
 TEST(SceneTopology, ClosedSolidsHaveNoBoundaryAndEulerTwo) {
   const auto check = [](const Scene& scene) {
-    const auto census = testing::edgeCensus(scene);
+    const auto census = test::edgeCensus(scene);
     EXPECT_EQ(census.boundary, 0u) << scene.name;
     EXPECT_EQ(census.non_manifold, 0u) << scene.name;
     EXPECT_EQ(census.inconsistent, 0u) << scene.name;
@@ -141,7 +141,7 @@ TEST(SphericalCavity, VerticesOnTheSphereAndFacetsFaceTheCentre) {
 
 TEST(SceneCamera, CentreRaysHitTheNamedPoints) {
   const auto centreHit = [](const Scene& s) -> Eigen::Vector3d {
-    const auto dist = testing::castRay(s, s.camera.position, -s.camera.basis.col(2));
+    const auto dist = test::castRay(s, s.camera.position, -s.camera.basis.col(2));
     EXPECT_TRUE(dist.has_value()) << s.name;
     if (!dist) return Eigen::Vector3d::Zero();
     return s.camera.position - *dist * s.camera.basis.col(2);
@@ -156,33 +156,32 @@ TEST(SceneCamera, CentreRaysHitTheNamedPoints) {
   EXPECT_GT(centreHit(makeSphereOnPlaneScene(0.5)).y(), 0.0);
 }
 
-// The cameras frame the features: on a 24 × 24 grid of pixel centres, few rays see the sky.
-TEST(SceneCamera, SevenScenesShowLittleSky) {
+// The cameras frame the features: on a 24 × 24 grid of pixel centres no ray sees the sky (the
+// default 192² sweep agrees: sweep.json counts every pixel unmasked in all seven scenes).
+TEST(SceneCamera, SevenScenesShowNoSky) {
   constexpr int kGrid = 24;
   for (const auto& name : sceneTypeNames()) {
     const Scene scene = makeSceneType(name, 1);
     int sky = 0;
     for (int j = 0; j < kGrid; ++j) {
       for (int i = 0; i < kGrid; ++i) {
-        if (!testing::castRay(scene, scene.camera.position,
-                              testing::pixelRay(scene.camera, i, j, kGrid, kGrid))) {
+        if (!test::castRay(scene, scene.camera.position,
+                           test::pixelRay(scene.camera, i, j, kGrid, kGrid))) {
           ++sky;
         }
       }
     }
-    const double fraction = static_cast<double>(sky) / (kGrid * kGrid);
-    std::printf("%-8s sky fraction %.3f\n", name.c_str(), fraction);
-    EXPECT_LT(fraction, 0.1) << name;
+    EXPECT_EQ(sky, 0) << name << ": " << sky << " of " << kGrid * kGrid << " rays see the sky";
     EXPECT_NEAR(scene.camera.basis.determinant(), 1.0, 1e-12) << name;
   }
 }
 
 TEST(SeededScenes, SameSeedSameSceneOtherSeedOtherScene) {
-  EXPECT_TRUE(testing::scenesIdentical(makeClutterScene(3), makeClutterScene(3)));
-  EXPECT_TRUE(testing::scenesIdentical(makeTerrainScene(3), makeTerrainScene(3)));
+  EXPECT_TRUE(test::scenesIdentical(makeClutterScene(3), makeClutterScene(3)));
+  EXPECT_TRUE(test::scenesIdentical(makeTerrainScene(3), makeTerrainScene(3)));
   EXPECT_NE(makeClutterScene(3).positions, makeClutterScene(4).positions);
   EXPECT_NE(makeTerrainScene(3).positions, makeTerrainScene(4).positions);
-  EXPECT_TRUE(testing::scenesIdentical(makeCavityScene(), makeSceneType("cavity", 99)));
+  EXPECT_TRUE(test::scenesIdentical(makeCavityScene(), makeSceneType("cavity", 99)));
   EXPECT_THROW(makeSceneType("nope", 1), Error);
 }
 
