@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+#include <string>
 
+#include "common/error.h"
 #include "common/math_constants.h"
 
 namespace gtbake {
@@ -173,7 +174,10 @@ void addGradedRings(MeshBuilder& mesh, const std::vector<Eigen::Vector3d>& bound
 std::vector<HoleRim> addHoledGround(MeshBuilder& mesh, int cells_x, int cells_z, double cell,
                                     int segments, const std::vector<GroundHole>& holes,
                                     double extent) {
-  if (segments % 8 != 0) throw std::invalid_argument("addHoledGround: segments % 8 != 0");
+  if (segments <= 0 || segments % 8 != 0) {
+    throw Error("holed ground: the curve segments must be a positive multiple of 8, got " +
+                std::to_string(segments));
+  }
   const CellGrid grid = makeCellGrid(cells_x, cells_z, cell, segments);
   std::vector<HoleRim> rims(holes.size());
   for (int iz = 0; iz < cells_z; ++iz) {
