@@ -118,7 +118,37 @@ json stripVolatile(const json& value) {
   return value;
 }
 
-// JSON numbers are written with full round-trip precision, so no last-digit allowance. `where`
+// Splits text into numbers and the text between them; equal when the text matches exactly and
+// every pair of numbers agrees within the file's tolerance and the last printed digit.
+bool sameTextWithinTolerance(const std::string& a, const std::string& b, const Tolerance& t,
+                             std::string& where) {
+  static const std::regex kNumber(R"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?f?)");
+  auto split = [](const std::string& text) {
+    std::vector<std::string> parts;
+    std::sregex_token_iterator it(text.begin(), text.end(), kNumber, {-1, 0});
+    for (; it != std::sregex_token_iterator(); ++it) parts.push_back(*it);
+    return parts;
+  };
+  const auto pa = split(a);
+  const auto pb = split(b);
+  if (pa.size() != pb.size()) return false;
+  for (size_t i = 0; i < pa.size(); ++i) {
+    if (pa[i] == pb[i]) continue;
+    // The parts alternate: text, number, text, ...; differing text is a real difference.
+    const bool number = i % 2 == 1;
+    if (!number ||
+        !numbersAgree(std::strtod(pa[i].c_str(), nullptr), std::strtod(pb[i].c_str(), nullptr),
+                      t.relative, std::max(lastDigitUnit(pa[i]), lastDigitUnit(pb[i])))) {
+      where = "'" + pa[i] + "' vs '" + pb[i] + "' (allowed: " + std::to_string(t.relative) +
+              " relative and one unit in the last digit; " + t.reason + ")";
+      return false;
+    }
+  }
+  return true;
+}
+
+// JSON numbers are written with full round-trip precision, so no last-digit allowance (strings
+// that quote rounded numbers get it). `where`
 // is "file:pointer" of `a` and `b` and names the first difference on return.
 bool sameJson(const json& a, const json& b, std::string& where) {
   if (a.is_number() && b.is_number()) {
@@ -150,36 +180,17 @@ bool sameJson(const json& a, const json& b, std::string& where) {
     }
     return true;
   }
-  return a == b;
-}
-
-// Splits text into numbers and the text between them; equal when the text matches exactly and
-// every pair of numbers agrees within the file's tolerance and the last printed digit.
-bool sameTextWithinTolerance(const std::string& a, const std::string& b, const Tolerance& t,
-                             std::string& where) {
-  static const std::regex kNumber(R"([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?f?)");
-  auto split = [](const std::string& text) {
-    std::vector<std::string> parts;
-    std::sregex_token_iterator it(text.begin(), text.end(), kNumber, {-1, 0});
-    for (; it != std::sregex_token_iterator(); ++it) parts.push_back(*it);
-    return parts;
-  };
-  const auto pa = split(a);
-  const auto pb = split(b);
-  if (pa.size() != pb.size()) return false;
-  for (size_t i = 0; i < pa.size(); ++i) {
-    if (pa[i] == pb[i]) continue;
-    // The parts alternate: text, number, text, ...; differing text is a real difference.
-    const bool number = i % 2 == 1;
-    if (!number ||
-        !numbersAgree(std::strtod(pa[i].c_str(), nullptr), std::strtod(pb[i].c_str(), nullptr),
-                      t.relative, std::max(lastDigitUnit(pa[i]), lastDigitUnit(pb[i])))) {
-      where = "'" + pa[i] + "' vs '" + pb[i] + "' (allowed: " + std::to_string(t.relative) +
-              " relative and one unit in the last digit; " + t.reason + ")";
-      return false;
+  // Strings may quote numbers (a verdict "2.09 <= 2.45"): compared as text under the key's rule.
+  if (a.is_string() && b.is_string()) {
+    std::string detail;
+    if (sameTextWithinTolerance(a.get<std::string>(), b.get<std::string>(), toleranceFor(where),
+                                detail)) {
+      return true;
     }
+    where += " (" + detail + ")";
+    return false;
   }
-  return true;
+  return a == b;
 }
 
 // Compares every compared file of `committed` with its regenerated copy in `fresh`.
@@ -250,6 +261,11 @@ TEST(Luts, TolerancesCatchRealChanges) {
   EXPECT_FALSE(sameTextWithinTolerance("<td>-115.3</td>", "<td>-115.1</td>", report, at));
   EXPECT_FALSE(sameTextWithinTolerance("<td>0.00113</td>", "<td>0.00226</td>", report, at));
   EXPECT_FALSE(sameTextWithinTolerance("SE 0.5", "se 0.5", report, at));
+  std::string verdict = "fit.json:/shipped/against_band/verdict";
+  EXPECT_TRUE(
+      sameJson(json("consistent: 2.09 <= 2.45"), json("consistent: 2.10 <= 2.45"), verdict));
+  verdict = "fit.json:/shipped/against_band/verdict";
+  EXPECT_FALSE(sameJson(json("consistent: 2.09"), json("inconsistent: 2.09"), verdict));
 }
 
 }  // namespace
