@@ -2,17 +2,19 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <regex>
 
 #include "common/error.h"
+#include "common/math_constants.h"
 #include "scene/mesh_builder.h"
 #include "scene/procedural_scenes.h"
 #include "scene_test_util.h"
 
 namespace gtbake {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 bool onOuterRim(const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
   const auto far = [](const Eigen::Vector3f& p) {
@@ -173,6 +175,22 @@ TEST(SceneCamera, SevenScenesShowNoSky) {
     }
     EXPECT_EQ(sky, 0) << name << ": " << sky << " of " << kGrid * kGrid << " rays see the sky";
     EXPECT_NEAR(scene.camera.basis.determinant(), 1.0, 1e-12) << name;
+  }
+}
+
+// docs/scenes.md's table of the seven scene types quotes each one's triangle count (seed 1): the
+// numbers there are the builders' (digits grouped by spaces, "9 216 (seed 1)").
+TEST(SceneDocs, TriangleCountsInTheTableAreTheBuilders) {
+  const std::string doc =
+      test::readBytes(std::filesystem::path(GTBAKE_SOURCE_DIR) / "docs" / "scenes.md");
+  ASSERT_FALSE(doc.empty());
+  for (const auto& name : sceneTypeNames()) {
+    const std::regex row("\\| " + name + " \\|[^|\\n]*\\| ([0-9 ]+?)( \\(seed 1\\))? \\|");
+    std::smatch match;
+    ASSERT_TRUE(std::regex_search(doc, match, row)) << name << " has no row in docs/scenes.md";
+    std::string digits = match[1];
+    digits.erase(std::remove(digits.begin(), digits.end(), ' '), digits.end());
+    EXPECT_EQ(std::stoul(digits), makeSceneType(name, 1).triangles.size()) << name;
   }
 }
 
