@@ -114,9 +114,9 @@ ExrImage decodeExr(const std::string& bytes, const std::string& name, const ExrE
     image.height = window.max.y + 1;
     if ((expect.width > 0 && image.width != expect.width) ||
         (expect.height > 0 && image.height != expect.height)) {
-      throw Error(name + ": EXR is " + std::to_string(image.width) + "x" +
-                  std::to_string(image.height) + " but " + expect.source + " says " +
-                  std::to_string(expect.width) + "x" + std::to_string(expect.height));
+      throw Error(name + ": size " + std::to_string(image.width) + "x" +
+                  std::to_string(image.height) + " does not match " + expect.source + " (" +
+                  std::to_string(expect.width) + "x" + std::to_string(expect.height) + ")");
     }
     std::size_t channel_count = 0;
     for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it) {

@@ -94,21 +94,24 @@ int jsonNestingDepth(std::string_view text, int stop_at) {
   return deepest;
 }
 
-nlohmann::json readJsonFile(const fs::path& path) {
-  const std::string text = readRegularFile(path);
+nlohmann::json parseJsonText(std::string_view text, const std::string& where) {
   const auto max_depth =
       static_cast<int>(std::min<std::uint64_t>(limitValue(kMaxJsonDepth), 1 << 20));
   if (jsonNestingDepth(text, max_depth) > max_depth) {
-    throw Error(path.string() + ": JSON nested deeper than " + std::to_string(max_depth) +
-                " levels (set " + kMaxJsonDepth.env + " to raise the limit)");
+    throw Error(where + ": JSON nested deeper than " + std::to_string(max_depth) + " levels (set " +
+                kMaxJsonDepth.env + " to raise the limit)");
   }
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     std::string what = e.what();
     what = what.substr(0, what.find('\n'));
-    throw Error(path.string() + ": malformed JSON (" + what + ")");
+    throw Error(where + ": malformed JSON (" + what + ")");
   }
+}
+
+nlohmann::json readJsonFile(const fs::path& path) {
+  return parseJsonText(readRegularFile(path), path.string());
 }
 
 std::int64_t jsonInteger(const nlohmann::json& object, const char* key, std::int64_t lo,

@@ -46,6 +46,10 @@ int jsonNestingDepth(std::string_view text, int stop_at);
 // throws a one-line gtbake::Error naming the file.
 nlohmann::json readJsonFile(const std::filesystem::path& path);
 
+// The same for JSON text already read (e.g. verified against an output-set manifest); `where`
+// names its file in errors.
+nlohmann::json parseJsonText(std::string_view text, const std::string& where);
+
 // An integer member in [lo, hi], without get<int>()'s silent truncation; one-line error
 // naming `where` and the key otherwise.
 std::int64_t jsonInteger(const nlohmann::json& object, const char* key, std::int64_t lo,

@@ -154,6 +154,52 @@ OutputManifest readOutputSet(const fs::path& dir, const std::string& command) {
   return manifest;
 }
 
+OutputManifest sealOutputSet(const fs::path& dir, const std::string& command,
+                             const std::vector<std::string>& names,
+                             nlohmann::ordered_json settings) {
+  const fs::path manifest_path = dir / manifestFileName(command);
+  OutputManifest manifest;
+  manifest.dir = dir;
+  manifest.command = command;
+  manifest.gtbake_version = GTBAKE_VERSION;
+  manifest.settings = settings;
+  nlohmann::ordered_json files = nlohmann::ordered_json::array();
+  for (const std::string& name : names) {
+    const std::string bytes =
+        readRegularFile(fileInsideDirectory(dir, name, manifest_path.string()));
+    const OutputFile file{name, bytes.size(), sha256Hex(bytes)};
+    manifest.files.push_back(file);
+    files.push_back({{"name", file.name}, {"size", file.size}, {"sha256", file.sha256}});
+  }
+  nlohmann::ordered_json doc;
+  doc["command"] = command;
+  doc["gtbake_version"] = GTBAKE_VERSION;
+  doc["settings"] = std::move(settings);
+  doc["files"] = std::move(files);
+  writeFileAtomically(manifest_path, doc.dump(2) + "\n");
+  return manifest;
+}
+
+OutputManifest resealOutputSet(const fs::path& dir, const std::string& command) {
+  const OutputManifest old = readOutputSet(dir, command);
+  std::vector<std::string> names;
+  for (const OutputFile& f : old.files) names.push_back(f.name);
+  return sealOutputSet(dir, command, names, old.settings);
+}
+
+std::vector<fs::path> outputSetPaths(const fs::path& dir, const std::string& command) {
+  std::vector<fs::path> paths;
+  std::error_code ec;
+  if (!fs::is_regular_file(dir / manifestFileName(command), ec)) return paths;
+  paths.push_back(dir / manifestFileName(command));
+  try {
+    for (const OutputFile& f : readOutputSet(dir, command).files) paths.push_back(dir / f.name);
+  } catch (const Error&) {
+    // A broken manifest is reported by the reader; the manifest itself is still an input.
+  }
+  return paths;
+}
+
 void verifyOutputSet(const OutputManifest& manifest) {
   for (const OutputFile& f : manifest.files) manifest.readVerified(f.name);
 }
@@ -167,6 +213,25 @@ bool sameOrInside(const fs::path& candidate, const fs::path& input) {
   if (a == b) return true;
   const fs::path relative = b.lexically_relative(a);
   return !relative.empty() && *relative.begin() != "..";
+}
+
+}  // namespace gtbake
+
+namespace gtbake {
+
+void checkOutputFile(const fs::path& out, const std::string& option,
+                     const std::vector<fs::path>& inputs) {
+  std::error_code ec;
+  if (fs::is_directory(out, ec) || out.filename().empty() || out.filename() == "." ||
+      out.filename() == "..") {
+    throw Error(option + " " + out.string() + " is a directory; name the file to write");
+  }
+  for (const fs::path& input : inputs) {
+    if (sameOrInside(out, input)) {
+      throw Error(option + " " + out.string() + " would overwrite the input " + input.string() +
+                  "; write it somewhere else");
+    }
+  }
 }
 
 }  // namespace gtbake

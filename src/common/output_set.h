@@ -81,11 +81,30 @@ class OutputSet {
 // the manifest is missing, malformed, from another command, or lists an unsafe name.
 OutputManifest readOutputSet(const std::filesystem::path& dir, const std::string& command);
 
+// Writes dir/<command>.manifest.json for files already in place (`names`, relative to dir), for
+// tools that assemble a set from files they have just written (shard merges, test fixtures).
+OutputManifest sealOutputSet(const std::filesystem::path& dir, const std::string& command,
+                             const std::vector<std::string>& names,
+                             nlohmann::ordered_json settings = nlohmann::ordered_json::object());
+// Re-hashes the files an existing manifest lists and rewrites it (tests that edit a set on
+// purpose to exercise a reader's own checks).
+OutputManifest resealOutputSet(const std::filesystem::path& dir, const std::string& command);
+
+// The paths of a set's files and of its manifest, if dir holds a manifest for `command` (else
+// an empty list): the inputs an output must never replace.
+std::vector<std::filesystem::path> outputSetPaths(const std::filesystem::path& dir,
+                                                  const std::string& command);
+
 // Every file of the set, read and verified; throws on the first mismatch.
 void verifyOutputSet(const OutputManifest& manifest);
 
 // True when `candidate` and `input` name the same file or `candidate` is a directory that holds
 // it (both resolved through symlinks where they exist): an output may never replace an input.
 bool sameOrInside(const std::filesystem::path& candidate, const std::filesystem::path& input);
+
+// Checks, before anything is written, that the output file `out` (named by `option` in errors)
+// is not a directory and is not one of the command's input files.
+void checkOutputFile(const std::filesystem::path& out, const std::string& option,
+                     const std::vector<std::filesystem::path>& inputs);
 
 }  // namespace gtbake
