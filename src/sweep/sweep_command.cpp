@@ -19,6 +19,7 @@
 #include "common/output_set.h"
 #include "common/threads.h"
 #include "gtbake_version.h"
+#include "scene/gltf_reader.h"
 #include "scene/scene.h"
 #include "sweep/escape_image.h"
 
@@ -115,7 +116,13 @@ SweepResult runSweep(const SweepOptions& options) {
   // Load every scene before writing anything: a bad scene fails the run with no output.
   std::vector<Scene> scenes;
   for (const fs::path& file : files) {
-    scenes.push_back(readGltfScene(file));
+    GltfReadInfo info;
+    scenes.push_back(readGltfScene(file, {options.camera, false}, &info));
+    if (info.perspective_cameras > 1) {
+      std::fprintf(stderr, "sweep: %s: camera %d '%s' of %d (choose with --camera NAME|INDEX)\n",
+                   file.string().c_str(), info.camera_instance, info.camera_name.c_str(),
+                   info.perspective_cameras);
+    }
     scenes.back().name = file.stem().string();
     if (scenes.back().triangles.empty())
       throw Error("scene " + file.string() + " has no triangles");
