@@ -3,6 +3,9 @@
 // and sweep.json/gtso.json entries are refused before any large allocation.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstring>
 #include <nlohmann/json.hpp>
 
@@ -338,6 +341,17 @@ TEST(ScenesWrite, InjectedFailureOnTheBufferIsAnErrorAndKeepsOldFiles) {
   EXPECT_ERROR(runScenes({dir.path(), 2, false}), "No space left");
   EXPECT_EQ(slurp(dir.path() / "wells.bin"), bin);
   EXPECT_EQ(slurp(dir.path() / "wells.gltf"), gltf);
+}
+
+TEST(ScenesWrite, StaleTemporariesOfAKilledRunAreRemoved) {
+  Scratch dir("scenes_stale");
+  const pid_t child = ::fork();
+  if (child == 0) std::_Exit(0);
+  ::waitpid(child, nullptr, 0);
+  const fs::path stale = dir.path() / ("cavity.gltf.tmp-" + std::to_string(child));
+  spit(stale, "{");
+  runScenes({dir.path(), 1, false});
+  EXPECT_FALSE(fs::exists(stale));
 }
 
 TEST(ScenesWrite, FullTmpfsIsAnError) {
