@@ -8,6 +8,7 @@ packages=(
   libgtest-dev libgmock-dev
   libsquish-dev libnvtt-dev glslang-tools
   chromium
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do

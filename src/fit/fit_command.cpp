@@ -6,6 +6,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/output_set.h"
 #include "common/progress.h"
 #include "fit/fit_outputs.h"
 #include "fit/fit_report.h"
@@ -29,6 +30,9 @@ FitSettings settingsOf(const FitOptions& o) {
 FitResult runFit(const FitOptions& options) {
   if (options.out.empty()) throw Error("fit: no output file given (--out FILE.json)");
   requireFiniteCoeffs(options.shipped, "shipped constants");
+  std::vector<fs::path> inputs = outputSetPaths(options.sweep, "sweep");
+  inputs.push_back(options.sweep / "sweep.json");
+  checkOutputFile(options.out, "--out", inputs);
   // Stages: the analysis, the report, fit.json.
   Progress bar("fit", kAnalysisStages + 2, options.progress);
   const FitAnalysis a = analyzeSweep(options.sweep, settingsOf(options), options.shipped, &bar);
@@ -38,7 +42,10 @@ FitResult runFit(const FitOptions& options) {
   const fs::path report_dir = options.report ? *options.report : out_dir / "report";
   writeFitReport(report_dir, a, options.shipped);
   bar.add(1);
-  writeFileAtomically(options.out, fitJson(options.out, a, options.shipped).dump(2) + "\n");
+  OutputSet output(out_dir, "fit");  // export requires and verifies fit.manifest.json
+  output.add(options.out.filename().string(),
+             fitJson(options.out, a, options.shipped).dump(2) + "\n");
+  output.commit();
   bar.add(1);
   bar.finish();
   printFitSummary(a, options.shipped);

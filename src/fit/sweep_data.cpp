@@ -2,14 +2,20 @@
 
 #include <tbb/parallel_for.h>
 
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/input_limits.h"
+#include "common/output_set.h"
+#include "common/provenance.h"
 
 namespace gtbake {
 
@@ -24,11 +30,7 @@ namespace {
 constexpr double kAlbedoConsistencyTolerance = 1e-4;
 
 int requirePositiveInt(const json& object, const char* key, const std::string& where) {
-  const auto it = object.find(key);
-  if (it == object.end() || !it->is_number_integer() || it->get<long long>() <= 0) {
-    throw Error(where + ": '" + key + "' must be a positive integer");
-  }
-  return it->get<int>();
+  return static_cast<int>(jsonInteger(object, key, 1, INT_MAX, where));
 }
 
 std::string requireString(const json& object, const char* key, const std::string& where) {
@@ -59,6 +61,8 @@ namespace {
 
 // sweep.json, validated: the settings a fit needs and the scene entries.
 struct SweepJson {
+  OutputManifest manifest;  // every file read must match it (output_set.h)
+  json settings;
   int spp = 0;
   int bounces = 0;
   std::vector<double> albedos;
@@ -66,23 +70,24 @@ struct SweepJson {
 };
 
 SweepJson readSweepJson(const fs::path& dir) {
+  if (fs::exists(dir) && !fs::is_directory(dir)) {
+    throw Error("--sweep " + dir.string() + " is a file; pass the directory `gtbake sweep` wrote");
+  }
   if (!fs::is_directory(dir)) throw Error("sweep directory " + dir.string() + " does not exist");
   const fs::path json_path = dir / "sweep.json";
   if (!fs::is_regular_file(json_path)) {
     throw Error(dir.string() + " is not a sweep directory (no sweep.json); run `gtbake sweep`");
   }
-  json doc;
-  try {
-    doc = json::parse(readFile(json_path));
-  } catch (const json::exception& e) {
-    throw Error(json_path.string() + ": malformed JSON (" + e.what() + ")");
-  }
+  // The sweep is one output set: every file read below must match its manifest.
+  SweepJson out;
+  out.manifest = readOutputSet(dir, "sweep");
+  const json doc = parseJsonText(out.manifest.readVerified("sweep.json"), json_path.string());
   const std::string where = json_path.string();
   if (!doc.is_object() || !doc.contains("settings") || !doc["settings"].is_object()) {
     throw Error(where + ": missing 'settings' object");
   }
   const json& settings = doc["settings"];
-  SweepJson out;
+  out.settings = settings;
   out.spp = requirePositiveInt(settings, "spp", where + " settings");
   out.bounces = requirePositiveInt(settings, "bounces", where + " settings");
   if (!settings.contains("albedos") || !settings["albedos"].is_array() ||
@@ -99,6 +104,15 @@ SweepJson readSweepJson(const fs::path& dir) {
     throw Error(where + ": 'scenes' must be a non-empty array");
   }
   out.scenes = doc["scenes"];
+  std::set<std::string> names, files;
+  for (const json& entry : out.scenes) {
+    const std::string name = requireString(entry, "name", where + " scene");
+    const std::string file_name = requireString(entry, "file", where + " scene " + name);
+    const fs::path exr_path = fileInsideDirectory(dir, file_name, where + " scene " + name);
+    if (!names.insert(name).second || !files.insert(exr_path.lexically_normal()).second) {
+      throw Error(where + ": scene '" + name + "' (" + file_name + ") is listed twice");
+    }
+  }
   return out;
 }
 
@@ -187,20 +201,24 @@ ScenePoints loadScene(const fs::path& dir, const json& entry, const SweepJson& s
   ScenePoints out;
   out.name = requireString(entry, "name", where + " scene");
   const std::string file_name = requireString(entry, "file", where + " scene " + out.name);
-  const fs::path exr_path = dir / file_name;
+  const fs::path exr_path = fileInsideDirectory(dir, file_name, where + " scene " + out.name);
   if (!fs::is_regular_file(exr_path)) {
     throw Error("scene '" + out.name + "' is listed in " + where + " but " + exr_path.string() +
                 " is missing");
   }
-  const ExrImage image = readExr(exr_path);
   const std::string file = exr_path.string();
   const std::string scene_where = where + " scene " + out.name;
-  if (entry.contains("width") && entry.contains("height") &&
-      (requirePositiveInt(entry, "width", scene_where) != image.width ||
-       requirePositiveInt(entry, "height", scene_where) != image.height)) {
-    throw Error(file + ": size " + std::to_string(image.width) + "x" +
-                std::to_string(image.height) + " does not match sweep.json");
+  const json& size = entry.contains("width") ? entry : sj.settings;
+  const ExrExpect expect{requirePositiveInt(size, "width", scene_where),
+                         requirePositiveInt(size, "height", scene_where), "sweep.json"};
+  const ExrImage image = decodeExr(sj.manifest.readVerified(file_name), file, expect);
+  std::map<std::string, std::string> provenance = {{"gtbake.spp", std::to_string(sj.spp)},
+                                                   {"gtbake.bounces", std::to_string(sj.bounces)}};
+  if (sj.settings.contains("seed")) provenance["gtbake.seed"] = sj.settings["seed"].dump();
+  if (entry.contains("gltf") && entry["gltf"].is_string()) {
+    provenance["gtbake.scene"] = entry["gltf"].get<std::string>();
   }
+  checkAttributes(image.attributes, provenance, file, "sweep.json");
   appendUnmaskedPoints(requireChannels(image, file, sj), image, file, sj.albedos, out);
   const std::size_t count = out.full.A.size();
   if (entry.contains("unmasked_pixels") && entry["unmasked_pixels"].is_number_integer() &&
