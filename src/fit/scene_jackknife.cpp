@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/error.h"
+
 namespace gtbake {
 
 namespace {
@@ -90,14 +92,29 @@ SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
       bandMax([&](double A, double rho) { return curveBand(fit.linear.mc_covariance, A, rho); });
   if (S >= 2) {
     out.leave_one_out.resize(S);
+    // A replica the remaining scenes cannot determine (e.g. one scene of a few distinct A left) is
+    // no error of the fit: the jackknife is then unavailable, and says which scene it was.
+    std::vector<char> undetermined(S, 0);
     tbb::parallel_for(std::size_t{0}, S, [&](std::size_t s) {
       std::vector<bool> include(S, true);
       include[s] = false;
-      const MultiBounceCoeffs k = coefficientsFromStatistics(sumScenes(fit.scene_stats, include),
-                                                             data.albedos, fit.settings);
-      out.leave_one_out[s] = {data.scenes[s].name, k, maxCurveDifference(k, fit.linear.coeffs),
-                              maxCurveDifference(k, shipped)};
+      try {
+        const MultiBounceCoeffs k = coefficientsFromStatistics(sumScenes(fit.scene_stats, include),
+                                                               data.albedos, fit.settings);
+        out.leave_one_out[s] = {data.scenes[s].name, k, maxCurveDifference(k, fit.linear.coeffs),
+                                maxCurveDifference(k, shipped)};
+      } catch (const Error&) {
+        undetermined[s] = 1;
+      }
     });
+    for (std::size_t s = 0; s < S; ++s) {
+      if (undetermined[s] == 0) continue;
+      out.leave_one_out.clear();
+      out.message = "the refit without scene '" + data.scenes[s].name +
+                    "' is not determined by the other scenes (rank-deficient), so there is no "
+                    "scene-level SE, band or verdict (only the Monte Carlo SE)";
+      return out;
+    }
   }
   if (S < kMinJackknifeScenes) {
     out.message = "scene-level uncertainty needs at least " + std::to_string(kMinJackknifeScenes) +

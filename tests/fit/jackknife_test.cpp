@@ -153,3 +153,27 @@ TEST(SceneJackknife, StudentQuantilesMatchTheDistribution) {
 
 }  // namespace
 }  // namespace gtbake
+
+namespace gtbake {
+namespace {
+
+// Leaving out the only scene that spans A leaves two scenes of one A value each, which cannot
+// determine a cubic: the jackknife is unavailable and names that scene; the fit itself stands.
+TEST(SceneJackknife, UndeterminedReplicaMakesTheJackknifeUnavailable) {
+  SweepData data = test::pooledSweep(
+      {{"spans", kPaperCoeffs, 3000}, {"flat1", kPaperCoeffs, 500}, {"flat2", kPaperCoeffs, 500}},
+      0.0, 0.01, 0.0, 12);
+  for (std::size_t s = 1; s < 3; ++s) {
+    for (std::size_t i = data.scenes[s].begin; i < data.scenes[s].end; ++i) {
+      const double A = s == 1 ? 0.5 : 0.3;
+      data.full.A[i] = data.half[0].A[i] = data.half[1].A[i] = A;
+    }
+  }
+  const MultiBounceFit fit = fitMultiBounce(data);
+  const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs);
+  EXPECT_FALSE(jk.available);
+  EXPECT_NE(jk.message.find("'spans'"), std::string::npos) << jk.message;
+}
+
+}  // namespace
+}  // namespace gtbake
