@@ -8,8 +8,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "cli_harness.h"
+#include "common/output_set.h"
 
 namespace gtbake::test {
 namespace {
@@ -35,8 +37,21 @@ TEST(Validate, DiffOverSeColumnIsTheGivenOffsetInStandardErrors) {
     const double se = fit["linear_se"][names[i]].get<double>();
     coeffs += (i ? "," : "") + printed("%.17g", refit + k[i] * se);
   }
+  // luts/ committed before output sets has no sweep.manifest.json: validate a sealed copy then.
+  const TempDir copy("validate-luts");
+  fs::path sweep = luts;
+  if (!fs::exists(luts / "sweep.manifest.json")) {
+    std::vector<std::string> names_in_set = {"sweep.json"};
+    const json sweep_json = json::parse(readBytes(luts / "sweep.json"));
+    for (const json& scene : sweep_json["scenes"]) {
+      names_in_set.push_back(scene["file"].get<std::string>());
+    }
+    for (const std::string& name : names_in_set) fs::copy_file(luts / name, copy.path() / name);
+    sealOutputSet(copy.path(), "sweep", names_in_set);
+    sweep = copy.path();
+  }
   const RunResult run =
-      runGtbake("validate --quiet --sweep " + luts.string() + " --coeffs " + coeffs);
+      runGtbake("validate --quiet --sweep " + sweep.string() + " --coeffs " + coeffs);
   ASSERT_EQ(run.exit_code, 0) << run.err;
 
   int rows = 0;
