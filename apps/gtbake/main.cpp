@@ -84,7 +84,14 @@ int main(int argc, char** argv) {
   auto* gtso_cmd = app.add_subcommand("gtso", "Bake the 3D and 4D GTSO tables and fit u");
   gtso_cmd->add_option("--out", gtso.out, "Output directory")->required();
   gtso_cmd->add_option("--size", gtso.size, "Texels per axis")->capture_default_str();
-  gtso_cmd->add_option("--samples", gtso.samples, "Lobe samples per line (0 = default)");
+  gtso_cmd->add_option("--lobe-cells", gtso.lobe_cells,
+                       "Lobe-grid phi cells N (psi gets 2N; 0 = default 96)");
+  gtso_cmd
+      ->add_option("--error-lobes", gtso.error_lobes,
+                   "Random lobes per seed of the end-to-end error (16 points each)")
+      ->capture_default_str();
+  gtso_cmd->add_option("--error-seeds", gtso.error_seeds, "Seeds of the end-to-end error")
+      ->capture_default_str();
   gtso_cmd->add_option("--threads", gtso.threads, "Worker threads (0 = all cores)");
   gtso_cmd->add_option("--reference-factor", gtso.reference_factor,
                        "Also bake a reference with this many times the cells per axis and record "
