@@ -8,6 +8,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libsquish-dev libnvtt-dev glslang-tools
   chromium
+  mesa-vulkan-drivers
+  libvulkan-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -16,7 +16,7 @@ struct Dialect {
   const char* float3;
   const char* float4;
   const char* constant;  // storage qualifier of a file-scope constant
-  const char* macros;    // GTSO_FLOAT3, GTSO_ATAN2, GTSO_TEXTURE, GTSO_SAMPLE
+  const char* macros;    // GTSO_VEC3, GTSO_ATAN2, GTSO_TEXTURE, GTSO_SAMPLE
 };
 
 constexpr Dialect kHlsl = {"hlsl",
@@ -24,7 +24,7 @@ constexpr Dialect kHlsl = {"hlsl",
                            "float3",
                            "float4",
                            "static const",
-                           "#define GTSO_FLOAT3(x, y, z) float3(x, y, z)\n"
+                           "#define GTSO_VEC3 float3\n"
                            "#define GTSO_ATAN2(y, x) atan2(y, x)\n"
                            "#define GTSO_TEXTURE Texture3D<float> tex, SamplerState linearClamp\n"
                            "#define GTSO_SAMPLE(c) tex.SampleLevel(linearClamp, c, 0.0)\n"};
@@ -33,7 +33,7 @@ constexpr Dialect kGlsl = {"glsl",
                            "vec3",
                            "vec4",
                            "const",
-                           "#define GTSO_FLOAT3(x, y, z) vec3(x, y, z)\n"
+                           "#define GTSO_VEC3 vec3\n"
                            "#define GTSO_ATAN2(y, x) atan(y, x)\n"
                            "#define GTSO_TEXTURE sampler3D tex\n"
                            "#define GTSO_SAMPLE(c) textureLod(tex, c, 0.0).r\n"};

@@ -44,6 +44,7 @@ constexpr TexelFormat kFormats[] = {TexelFormat::kFloat32, TexelFormat::kBc4, Te
 // SPEC §3 / issue 12 bars for what the runtime reads: uniform max, stress max (3D, 4D).
 constexpr double kUniformBar[2] = {0.03, 0.06};
 constexpr double kStressBar[2] = {0.05, 0.10};
+constexpr double kRecommendRatio = 1.5;  // a format's error vs float32's for the recommendation
 
 double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -158,10 +159,10 @@ EndToEnd measureEndToEnd(const Table& s3, const Table& s4, const GtsoOptions& o,
       progress.add(1);
     }
     Json formats;
-    std::string recommended;
-    const double floatRms = seedSummary(uniform[0], kFirstReportSeed)["rms"].get<double>();
-    // Recommendation: the smallest format within the runtime bars whose uniform RMS stays within
-    // 2x that of the float table (else the interpolation no longer dominates); float32 otherwise.
+    // Recommendation: the smallest format whose quantisation does not dominate: uniform max,
+    // uniform RMS and stress max each within 1.5x those of the float32 table.
+    const Json floatUniform = seedSummary(uniform[0], kFirstReportSeed);
+    const Json floatStress = seedSummary(stress[0], kFirstReportSeed);
     std::size_t best = 0;
     for (std::size_t f = 0; f < encoded.size(); ++f) {
       const Json us = seedSummary(uniform[f], kFirstReportSeed);
@@ -171,19 +172,20 @@ EndToEnd measureEndToEnd(const Table& s3, const Table& s4, const GtsoOptions& o,
                                                       {"texel_rms_error", encoded[f].texel_rms},
                                                       {"uniform", us},
                                                       {"stress", ss}};
-      const bool ok = us["max"].get<double>() <= kUniformBar[t] &&
-                      ss["max"].get<double>() <= kStressBar[t] &&
-                      us["rms"].get<double>() <= 2.0 * floatRms;
+      auto within = [](const Json& a, const Json& b, const char* k) {
+        return a[k].get<double>() <= kRecommendRatio * b[k].get<double>();
+      };
+      const bool ok = within(us, floatUniform, "max") && within(us, floatUniform, "rms") &&
+                      within(ss, floatStress, "max");
       if (ok && encoded[f].bytes.size() < encoded[best].bytes.size()) best = f;
     }
-    recommended = gtso::formatName(encoded[best].format);
     j[key] = {{"formats", formats},
-              {"recommended", recommended},
+              {"recommended", gtso::formatName(encoded[best].format)},
               {"bars", {{"uniform_max", kUniformBar[t]}, {"stress_max", kStressBar[t]}}}};
   }
   j["recommendation_rule"] =
-      "smallest format with uniform max and stress max within the bars and uniform RMS <= 2x the "
-      "float32 table's";
+      "smallest format whose uniform max, uniform RMS and stress max are each within 1.5x those of "
+      "the float32 table (quantisation does not dominate the interpolation error)";
   progress.finish();
   out.json = j;
   return out;

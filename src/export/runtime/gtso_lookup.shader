@@ -4,7 +4,7 @@
 // constants below and writes the result as gtbake_tables.hlsl / .glsl; tests/shader compiles both
 // to SPIR-V and executes them against the C++ header.
 //
-// Needs before it: GTSO_FLOAT3(x, y, z), GTSO_ATAN2(y, x), GTSO_TEXTURE (parameter declaration of
+// Needs before it: GTSO_VEC3, GTSO_ATAN2(y, x), GTSO_TEXTURE (parameter declaration of
 // one volume texture), GTSO_SAMPLE(coord) (its filtered value at coord), and the constants
 // kGtsoPiF, kGtsoSigmaScaleF, kGtsoSigmaFloorF, kGtsoThetaLinearF (the axis constants of
 // gtso_lookup.h, written by export from the same C++ constants), kGtso3DSize (float3),
@@ -45,12 +45,12 @@ float gtsoSigma(float rp) { return kGtsoSigmaScaleF * rp * rp + kGtsoSigmaFloorF
 float gtsoTexelRemap(float t, float n) { return (t * (n - 1.0) + 0.5) / n; }
 
 // 3D table coordinates: x = A (step-warped around alpha_v = theta_o), y = theta_o, z = r_p.
-GTSO_FLOAT3 gtso3DTexCoord(float A, float cosBeta, float rp) {
+GTSO_VEC3 gtso3DTexCoord(float A, float cosBeta, float rp) {
   float thetaO = acos(clamp(cosBeta, 0.0, 1.0));
   float r = clamp(rp, 0.0, 1.0);
   float tS = floor((kGtso3DSize.x - 1.0) * 0.5) / (kGtso3DSize.x - 1.0);
   float tA = gtsoStepWarp(gtsoAlphaV(A), thetaO, gtsoSigma(r), tS);
-  return GTSO_FLOAT3(gtsoTexelRemap(tA, kGtso3DSize.x),
+  return GTSO_VEC3(gtsoTexelRemap(tA, kGtso3DSize.x),
                      gtsoTexelRemap(gtsoThetaWarp(thetaO), kGtso3DSize.y),
                      gtsoTexelRemap(sqrt(r), kGtso3DSize.z));
 }
@@ -74,8 +74,8 @@ float gtso4DSample(GTSO_TEXTURE, float A, float cosBeta, float rp, float cosThet
   float s0 = min(floor(sw), kGtso4DSize.w - 2.0);
   float zin = sqrt(r) * (kGtso4DSize.z - 1.0) + 0.5;
   float depth = kGtso4DSize.z * kGtso4DSize.w;
-  float f0 = GTSO_SAMPLE(GTSO_FLOAT3(u, v, (s0 * kGtso4DSize.z + zin) / depth));
-  float f1 = GTSO_SAMPLE(GTSO_FLOAT3(u, v, ((s0 + 1.0) * kGtso4DSize.z + zin) / depth));
+  float f0 = GTSO_SAMPLE(GTSO_VEC3(u, v, (s0 * kGtso4DSize.z + zin) / depth));
+  float f1 = GTSO_SAMPLE(GTSO_VEC3(u, v, ((s0 + 1.0) * kGtso4DSize.z + zin) / depth));
   return f0 + (f1 - f0) * (sw - s0);
 }
 
