@@ -225,7 +225,7 @@ struct GtsoVolume {
 
 // BC4_UNORM decode of texel (4*row + col) of one block as a little-endian uint64, D3D float
 // arithmetic (the definition of the format gtbake encodes against).
-inline float gtsoBc4DecodeTexel(std::uint64_t block, int texel) {
+constexpr float gtsoBc4DecodeTexel(std::uint64_t block, int texel) {
   const int r0 = static_cast<int>(block & 0xFF);
   const int r1 = static_cast<int>((block >> 8) & 0xFF);
   const int code = static_cast<int>((block >> (16 + 3 * texel)) & 7);
@@ -260,7 +260,7 @@ inline float gtsoFetchTexel(const GtsoVolume& v, int x, int y, int z) {
 }
 
 // Half-texel remap: t = 0 and t = 1 land on the centres of the first and last texels.
-inline float gtsoTexelRemap(float t, int n) {
+constexpr float gtsoTexelRemap(float t, int n) {
   return (t * static_cast<float>(n - 1) + 0.5f) / static_cast<float>(n);
 }
 
