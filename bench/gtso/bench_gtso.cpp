@@ -6,7 +6,7 @@
 // max / RMS difference, the number of texels over the bar, and both bake times. Writes error maps
 // (max over the other axes, viridis, 0..bar) into --out if given.
 //
-// usage: bench_gtso [--cells N] [--factor F] [--threads T] [--size N] [--out DIR]
+// usage: bench_gtso [--cells N] [--factor F] [--threads T] [--size N] [--dims 3|4] [--out DIR]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -28,7 +28,7 @@ namespace {
 constexpr double kBar = 2.5e-4;  // SPEC §3
 
 struct Options {
-  int cells = kDefaultLobeCells, factor = 4, threads = 2, size = 32;
+  int cells = kDefaultLobeCells, factor = 4, threads = 2, size = 32, dims = 0;  // 0: both
   std::string out;
 };
 
@@ -70,6 +70,8 @@ int main(int argc, char** argv) {
       o.threads = std::atoi(v.c_str());
     else if (k == "--size")
       o.size = std::atoi(v.c_str());
+    else if (k == "--dims")
+      o.dims = std::atoi(v.c_str());
     else if (k == "--out")
       o.out = v;
     else {
@@ -84,6 +86,7 @@ int main(int argc, char** argv) {
               "rms_err", "over_bar", "texels");
   double bakeTotal = 0.0;
   for (int dims : {3, 4}) {
+    if (o.dims != 0 && dims != o.dims) continue;
     double tb = 0.0, tr = 0.0;
     const Table t = bake(dims, o, o.cells, tb);
     const Table r = bake(dims, o, o.cells * o.factor, tr);
