@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/math_constants.h"
 #include "common/progress.h"
 #include "common/rng.h"
 #include "export/bc4_encoder.h"
@@ -16,7 +17,6 @@
 namespace gtbake::gtso {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kHalfPi = kPi / 2.0;
 
 // Stress set: half-width of the band around the mirror step, 3 lobe widths of ~2 alpha each,
