@@ -10,6 +10,7 @@ packages=(
   chromium
   mesa-vulkan-drivers
   libvulkan-dev
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -4,7 +4,9 @@
 // Each subcommand is one add<Name>Command function: it registers the subcommand and its options
 // and returns the step that runs it once the command line has parsed. To add a subcommand, write
 // its function and list it in registerSubcommands.
+#include <glog/logging.h>
 #include <CLI/CLI.hpp>
+
 #include <cstdio>
 #include <exception>
 #include <functional>
@@ -62,8 +64,10 @@ Subcommand addScenesCommand(CLI::App& app) {
   auto options = std::make_shared<ScenesOptions>();
   auto* parser = app.add_subcommand("scenes", "Write the seven procedural scene types as glTF");
   parser->add_option("--out", options->out, "Output directory")->required();
-  parser->add_option("--seed", options->seed, "Seed of the clutter and terrain generators");
-  return {parser, [options](const RunContext& context) {
+  auto seed = std::make_shared<std::string>(std::to_string(options->seed));
+  parser->add_option("--seed", *seed, "Seed of the clutter and terrain generators");
+  return {parser, [options, seed](const RunContext& context) {
+            options->seed = parseSeed(*seed, "--seed");
             options->progress = context.progress;
             runScenes(*options);
           }};
@@ -81,9 +85,18 @@ Subcommand addSweepCommand(CLI::App& app) {
   parser->add_option("--bounces", options->bounces, "Interreflections K counted in G")
       ->capture_default_str();
   parser->add_option("--radius", options->radius, "Sky beyond this distance (default unbounded)");
-  parser->add_option("--seed", options->seed, "Random seed")->capture_default_str();
+  auto seed = std::make_shared<std::string>(std::to_string(options->seed));
+  parser->add_option("--seed", *seed, "Random seed")->capture_default_str();
+  parser->add_option("--camera", options->camera,
+                     "Camera of a glTF with several: its name or index (default: the first)");
   addThreadsOption(parser, options->threads);
-  return {parser, [options, resolution](const RunContext& context) {
+  return {parser, [options, resolution, seed](const RunContext& context) {
+            options->seed = parseSeed(*seed, "--seed");
+            if (options->bounces == 0) {
+              throw Error(
+                  "--bounces 0 gives a sweep that fit and validate cannot use (they need "
+                  "P1); use 1 to 16");
+            }
             std::tie(options->width, options->height) = parseResolution(*resolution);
             options->progress = context.progress;
             runSweep(*options);
@@ -97,10 +110,11 @@ Subcommand addFitCommand(CLI::App& app) {
   parser->add_option("--sweep", options->sweep, "Directory written by gtbake sweep")->required();
   parser->add_option("--out", options->out, "fit.json to write")->required();
   parser->add_option("--report", options->report, "HTML report directory (default: beside --out)");
-  parser->add_option("--shipped", *shipped,
-                     "Constants to compare against, a1,a0,b1,b0,c1,c0 (default: the paper's)");
-  return {parser, [options, shipped](const RunContext& context) {
-            if (!shipped->empty()) options->shipped = parseCoeffs(*shipped);
+  auto* shipped_option =
+      parser->add_option("--shipped", *shipped,
+                         "Constants to compare against, a1,a0,b1,b0,c1,c0 (default: the paper's)");
+  return {parser, [options, shipped, shipped_option](const RunContext& context) {
+            if (shipped_option->count() > 0) options->shipped = parseCoeffs(*shipped, "--shipped");
             options->progress = context.progress;
             runFit(*options);
           }};
@@ -112,9 +126,10 @@ Subcommand addValidateCommand(CLI::App& app) {
   auto* parser =
       app.add_subcommand("validate", "Score shipped Equation 10 constants against a sweep");
   parser->add_option("--sweep", options->sweep, "Directory written by gtbake sweep")->required();
-  parser->add_option("--coeffs", *coeffs, "a1,a0,b1,b0,c1,c0 (default: the paper's Equation 10)");
-  return {parser, [options, coeffs](const RunContext& context) {
-            if (!coeffs->empty()) options->coeffs = parseCoeffs(*coeffs);
+  auto* coeffs_option = parser->add_option("--coeffs", *coeffs,
+                                           "a1,a0,b1,b0,c1,c0 (default: the paper's Equation 10)");
+  return {parser, [options, coeffs, coeffs_option](const RunContext& context) {
+            if (coeffs_option->count() > 0) options->coeffs = parseCoeffs(*coeffs);
             options->progress = context.progress;
             runValidate(*options);
           }};
@@ -187,6 +202,20 @@ std::vector<Subcommand> registerSubcommands(CLI::App& app) {
 // Parses the command line. Returns the exit code if the shell should stop here (help, version,
 // or a parse error printed as one line), or nothing if a subcommand is to run.
 std::optional<int> parseCommandLine(CLI::App& app, int argc, char** argv) {
+  // An unknown word where the subcommand goes is named as such (CLI11 would say "A subcommand is
+  // required").
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.empty() || word[0] == '-') continue;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands({})) known = known || sub->get_name() == word;
+    if (!known) {
+      std::fprintf(stderr, "gtbake: error: unknown subcommand '%s' (see gtbake --help)\n",
+                   word.c_str());
+      return kExitUsage;
+    }
+    break;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -229,6 +258,10 @@ int main(int argc, char** argv) {
   bool quiet = false;
   app.add_flag("--quiet,-q", quiet, "No progress bars (results still go to stdout)");
   const std::vector<Subcommand> subcommands = registerSubcommands(app);
+  // Ceres logs through glog: keep its warnings off stderr so a failure stays one error line.
+  google::InitGoogleLogging(argv[0]);
+  FLAGS_minloglevel = google::GLOG_FATAL;
+  FLAGS_logtostderr = true;
   if (const std::optional<int> exit_code = parseCommandLine(app, argc, argv)) return *exit_code;
   return runSelectedSubcommand(subcommands, {!quiet, joinArguments(argc, argv)});
 }

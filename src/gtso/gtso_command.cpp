@@ -12,10 +12,13 @@
 #include <cstdio>
 #include <cstring>
 #include <optional>
+#include <set>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/input_limits.h"
+#include "common/output_set.h"
 #include "common/progress.h"
 #include "common/threads.h"
 #include "export/runtime/gtso_lookup.h"
@@ -267,7 +270,7 @@ std::string floatBytes(const std::vector<float>& v) {
 }
 
 // One x-y slice of a texture-order table as an upscaled viridis PNG (row 0 = largest y).
-void writeSlice(const std::filesystem::path& path, const std::vector<float>& v, int size,
+void writeSlice(OutputSet& output, const std::string& name, const std::vector<float>& v, int size,
                 std::size_t sliceOffset) {
   const int w = size * kPreviewScale;
   std::vector<float> img(static_cast<std::size_t>(w) * w);
@@ -276,17 +279,34 @@ void writeSlice(const std::filesystem::path& path, const std::vector<float>& v, 
       img[static_cast<std::size_t>(y) * w + x] =
           v[sliceOffset + static_cast<std::size_t>(size - 1 - y / kPreviewScale) * size +
             x / kPreviewScale];
-  writePng(path, w, w, 3, toViridis8(img, 0.f, 1.f));
+  output.add(name, encodePng(w, w, 3, toViridis8(img, 0.f, 1.f)));
+}
+
+// Bounds on a bake's cost (issue 9: --samples and --size were unbounded). The time estimate
+// scales the measured default bake
+// (size 32, 96 cells: 9.1 s on 2 cores, docs/gtso.md) by size^4 and cells^2, and the memory
+// estimate is three float copies of the 4D table.
+constexpr double kDefaultBakeSeconds = 9.1;
+inline constexpr Limit kMaxGtsoSeconds{"GTBAKE_MAX_GTSO_SECONDS", 3600, "estimated seconds"};
+inline constexpr Limit kMaxGtsoBytes{"GTBAKE_MAX_GTSO_BYTES", 8'000'000'000, "estimated bytes"};
+
+void checkGtsoCost(int size, int cells, int reference_factor) {
+  const double scale = std::pow(size / 32.0, 4) * std::pow(cells / 96.0, 2) *
+                       (1.0 + reference_factor * reference_factor);
+  const std::string what =
+      "gtso --size " + std::to_string(size) + " with " + std::to_string(cells) + " cells per lobe";
+  checkLimit(kMaxGtsoSeconds, static_cast<std::uint64_t>(kDefaultBakeSeconds * scale), what);
+  checkLimit(kMaxGtsoBytes, 12ull * size * size * size * size, what);
 }
 
 // Previews: S3 over (x, y) at a few z slices; S4 at a few (z, w).
-void writePreviews(const std::filesystem::path& out, const std::vector<float>& f3,
-                   const std::vector<float>& f4, int n) {
+void writePreviews(OutputSet& output, const std::vector<float>& f3, const std::vector<float>& f4,
+                   int n) {
   const std::size_t plane = static_cast<std::size_t>(n) * n;
-  for (int z : {0, n / 4, n / 2, 3 * n / 4, n - 1}) {
-    writeSlice(out / ("gtso3d_z" + std::to_string(z) + ".png"), f3, n, z * plane);
-    for (int w : {0, n / 2, n - 1}) {
-      writeSlice(out / ("gtso4d_z" + std::to_string(z) + "_w" + std::to_string(w) + ".png"), f4, n,
+  for (int z : std::set<int>{0, n / 4, n / 2, 3 * n / 4, n - 1}) {  // distinct at small n
+    writeSlice(output, "gtso3d_z" + std::to_string(z) + ".png", f3, n, z * plane);
+    for (int w : std::set<int>{0, n / 2, n - 1}) {
+      writeSlice(output, "gtso4d_z" + std::to_string(z) + "_w" + std::to_string(w) + ".png", f4, n,
                  (static_cast<std::size_t>(w) * n + z) * plane);
     }
   }
@@ -314,7 +334,8 @@ Json tableJson(const Table& t, const std::string& file, int cells, int reference
 GtsoResult runGtso(const GtsoOptions& options) {
   validateOptions(options);
   const int cells = options.lobe_cells == 0 ? gtso::kDefaultLobeCells : options.lobe_cells;
-  ensureDirectory(options.out);
+  checkGtsoCost(options.size, cells, options.reference_factor);
+  OutputSet output(options.out, "gtso");  // committed whole at the end (output_set.h)
   const ThreadLimit limit(options.threads);
   const auto start = std::chrono::steady_clock::now();
   const int n = options.size;
@@ -342,7 +363,7 @@ GtsoResult runGtso(const GtsoOptions& options) {
   const double fitSeconds = seconds(t0);
 
   const std::vector<float> f3 = gtso::toFloats(s3), f4 = gtso::toFloats(s4);
-  writePreviews(options.out, f3, f4, n);
+  writePreviews(output, f3, f4, n);
 
   Json j;
   j["version"] = 2;
@@ -368,9 +389,15 @@ GtsoResult runGtso(const GtsoOptions& options) {
                   {"end_to_end_error_s", errorSeconds}, {"cone_fit_s", fitSeconds},
                   {"reference_s", refSeconds},          {"total_s", seconds(start)}};
 
-  writeFileAtomically(options.out / "gtso3d.f32", floatBytes(f3));
-  writeFileAtomically(options.out / "gtso4d.f32", floatBytes(f4));
-  writeFileAtomically(options.out / "gtso.json", j.dump(2) + "\n");
+  output.add("gtso3d.f32", floatBytes(f3));
+  output.add("gtso4d.f32", floatBytes(f4));
+  output.add("gtso.json", j.dump(2) + "\n");
+  output.setSettings({{"size", n},
+                      {"lobe_cells", cells},
+                      {"error_lobes", options.error_lobes},
+                      {"error_seeds", options.error_seeds},
+                      {"reference_factor", options.reference_factor}});
+  output.commit();
 
   std::printf("gtso: S3 and S4 (%d^3, %d^4) baked in %.1f s (%d threads, %d x %d cells per lobe)\n",
               n, n, bakeSeconds, limit.threads(), 2 * cells, cells);

@@ -16,8 +16,10 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/output_set.h"
 #include "common/threads.h"
 #include "gtbake_version.h"
+#include "scene/gltf_reader.h"
 #include "scene/scene.h"
 #include "sweep/escape_image.h"
 
@@ -55,7 +57,7 @@ void validateOptions(const SweepOptions& o) {
   if (o.out.empty()) throw Error("no output directory given: pass --out DIR");
 }
 
-// Each input is a .gltf/.glb file, or a directory whose *.gltf files are all taken, sorted.
+// Each input is a .gltf/.glb file, or a directory whose .gltf and .glb files are all taken, sorted.
 std::vector<fs::path> resolveSceneFiles(const std::vector<fs::path>& inputs) {
   std::vector<fs::path> files;
   for (const fs::path& input : inputs) {
@@ -63,12 +65,13 @@ std::vector<fs::path> resolveSceneFiles(const std::vector<fs::path>& inputs) {
     if (fs::is_directory(input, ec)) {
       std::vector<fs::path> found;
       for (const auto& entry : fs::directory_iterator(input, ec)) {
-        if (entry.is_regular_file() && entry.path().extension() == ".gltf") {
+        if (entry.is_regular_file() && isGltf(entry.path())) {
           found.push_back(entry.path());
         }
       }
       if (ec) throw Error("cannot list scene directory " + input.string() + ": " + ec.message());
-      if (found.empty()) throw Error("scene directory " + input.string() + " has no .gltf files");
+      if (found.empty())
+        throw Error("scene directory " + input.string() + " has no .gltf files (nor .glb)");
       std::sort(found.begin(), found.end());
       files.insert(files.end(), found.begin(), found.end());
     } else if (fs::is_regular_file(input, ec)) {
@@ -113,12 +116,19 @@ SweepResult runSweep(const SweepOptions& options) {
   // Load every scene before writing anything: a bad scene fails the run with no output.
   std::vector<Scene> scenes;
   for (const fs::path& file : files) {
-    scenes.push_back(readGltfScene(file));
+    GltfReadInfo info;
+    scenes.push_back(readGltfScene(file, {options.camera, false}, &info));
+    if (info.perspective_cameras > 1) {
+      std::fprintf(stderr, "sweep: %s: camera %d '%s' of %d (choose with --camera NAME|INDEX)\n",
+                   file.string().c_str(), info.camera_instance, info.camera_name.c_str(),
+                   info.perspective_cameras);
+    }
     scenes.back().name = file.stem().string();
     if (scenes.back().triangles.empty())
       throw Error("scene " + file.string() + " has no triangles");
   }
   ensureWritableDirectory(options.out);
+  OutputSet output(options.out, "sweep");  // committed whole at the end (output_set.h)
   const ThreadLimit threads(options.threads);
 
   WalkSettings settings;
@@ -147,12 +157,18 @@ SweepResult runSweep(const SweepOptions& options) {
         {"gtbake.radius", std::isinf(options.radius) ? "inf" : formatNumber(options.radius)},
         {"gtbake.scene", gltf},
         {"gtbake.stratified_first_bounce", options.stratify_first_bounce ? "1" : "0"}};
+    if (image.unmaskedPixels() == 0) {
+      throw Error(
+          "scene " + files[s].string() +
+          ": no pixel sees geometry (every camera ray escapes); aim the camera at the scene");
+    }
     const fs::path exr = options.out / (scene.name + ".exr");
-    writeExr(exr, options.width, options.height, channels, attributes);
+    output.add(exr.filename().string(),
+               encodeExr(options.width, options.height, channels, attributes));
     for (const ExrChannel& c : channels) {
       if (c.name == "A" || c.name == "G050") {
-        writePng(options.out / (scene.name + "_" + c.name + ".png"), options.width, options.height,
-                 1, toGray8(c.pixels, 0.0f, 1.0f));
+        output.add(scene.name + "_" + c.name + ".png",
+                   encodePng(options.width, options.height, 1, toGray8(c.pixels, 0.0f, 1.0f)));
       }
     }
     const double seconds =
@@ -206,7 +222,9 @@ SweepResult runSweep(const SweepOptions& options) {
   json["totals"] = {{"seconds", result.seconds},
                     {"rays", result.rays},
                     {"rays_per_second", rate(result.seconds, result.rays)}};
-  writeFileAtomically(options.out / "sweep.json", json.dump(2) + "\n");
+  output.setSettings(json["settings"]);
+  output.add("sweep.json", json.dump(2) + "\n");
+  output.commit();
   return result;
 }
 

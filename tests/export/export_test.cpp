@@ -13,6 +13,7 @@
 #include <tuple>
 
 #include "common/error.h"
+#include "common/output_set.h"
 #include "export/bc4_block.h"
 #include "export/bc4_encoder.h"
 #include "export/export_command.h"
@@ -224,6 +225,7 @@ TEST_F(ExportTest, RejectsMissingFit) {
 
 TEST_F(ExportTest, RejectsWrongTableSize) {
   std::ofstream(dir_ / "gtso" / "gtso4d.f32", std::ios::binary) << "short";
+  resealOutputSet(dir_ / "gtso", "gtso");  // past the manifest, to the reader's own check
   expectErrorAndNoOutput("gtso4d.f32");
 }
 
@@ -231,6 +233,7 @@ TEST_F(ExportTest, RejectsAxesTheRuntimeDoesNotRead) {
   std::string json = slurp(dir_ / "gtso" / "gtso.json");
   json.replace(json.find("\"beta_split\""), 12, "\"cos_beta\"");
   std::ofstream(dir_ / "gtso" / "gtso.json") << json;
+  resealOutputSet(dir_ / "gtso", "gtso");
   expectErrorAndNoOutput("the runtime lookup expects \"beta_split\"");
 }
 
@@ -238,6 +241,7 @@ TEST_F(ExportTest, RejectsOtherAxisConstants) {
   nlohmann::json j = nlohmann::json::parse(slurp(dir_ / "gtso" / "gtso.json"));
   j["axis_constants"]["sigma_scale"] = 0.75;
   std::ofstream(dir_ / "gtso" / "gtso.json") << j.dump();
+  resealOutputSet(dir_ / "gtso", "gtso");
   expectErrorAndNoOutput("axis_constants.sigma_scale");
 }
 
@@ -246,6 +250,7 @@ TEST_F(ExportTest, RejectsNanTexel) {
   t[17] = std::nanf("");
   std::ofstream(dir_ / "gtso" / "gtso3d.f32", std::ios::binary)
       .write(reinterpret_cast<const char*>(t.data()), t.size() * 4);
+  resealOutputSet(dir_ / "gtso", "gtso");
   expectErrorAndNoOutput("texel 17");
 }
 
@@ -253,6 +258,7 @@ TEST_F(ExportTest, RejectsMissingCoefficient) {
   std::string json = slurp(dir_ / "fit.json");
   json.replace(json.find("\"c0\""), 4, "\"cz\"");
   std::ofstream(dir_ / "fit.json") << json;
+  resealOutputSet(dir_, "fit");
   expectErrorAndNoOutput("c0");
 }
 
