@@ -82,7 +82,7 @@ ExportResult runExport(const ExportOptions& options) {
   files.emplace_back("gtbake_tables.h", makeTablesHeader(code));
   files.emplace_back("gtbake_tables.hlsl", makeShaderInclude(code, ShaderLanguage::kHlsl));
   files.emplace_back("gtbake_tables.glsl", makeShaderInclude(code, ShaderLanguage::kGlsl));
-  OutputSet output(options.out, "export");  // all 13 files are committed as one set
+  OutputSet output(options.out, "export");  // all 15 files are committed as one set
   for (const auto& [name, bytes] : files) output.add(name, bytes);
   output.setSettings({{"fit", relativePath(options.fit, options.out)},
                       {"gtso", relativePath(options.gtso, options.out)}});
