@@ -8,6 +8,8 @@ packages=(
   libgtest-dev libgmock-dev
   libsquish-dev libnvtt-dev glslang-tools
   chromium
+  mesa-vulkan-drivers
+  libvulkan-dev
   clang libclang-rt-14-dev
 )
 missing=()

@@ -150,7 +150,14 @@ Subcommand addGtsoCommand(CLI::App& app) {
   auto* parser = app.add_subcommand("gtso", "Bake the 3D and 4D GTSO tables and fit u");
   parser->add_option("--out", options->out, "Output directory")->required();
   parser->add_option("--size", options->size, "Texels per axis")->capture_default_str();
-  parser->add_option("--samples", options->samples, "Lobe samples per line (0 = default)");
+  parser->add_option("--lobe-cells", options->lobe_cells,
+                     "Lobe-grid phi cells N (psi gets 2N; 0 = default 96)");
+  parser
+      ->add_option("--error-lobes", options->error_lobes,
+                   "Random lobes per seed of the end-to-end error (16 points each)")
+      ->capture_default_str();
+  parser->add_option("--error-seeds", options->error_seeds, "Seeds of the end-to-end error")
+      ->capture_default_str();
   addThreadsOption(parser, options->threads);
   parser->add_option("--reference-factor", options->reference_factor,
                      "Also bake a reference with this many times the cells per axis and record "

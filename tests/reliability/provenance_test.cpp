@@ -244,7 +244,9 @@ struct ExportFixture {
     GtsoOptions g;
     g.out = gtso;
     g.size = 4;
-    g.samples = 2 * 8 * 8;
+    g.lobe_cells = 8;
+    g.error_lobes = 16;
+    g.error_seeds = 1;
     g.progress = false;
     g.threads = 1;
     runGtso(g);
@@ -275,7 +277,7 @@ TEST(ExportSet, FailedExportLeavesNoNewFileBesideOldOnes) {
   const fs::path out = f.root.path() / "export";
   runExport(f.options(out));
   const OutputManifest m = readOutputSet(out, "export");
-  EXPECT_EQ(m.files.size(), 7u);
+  EXPECT_EQ(m.files.size(), 15u);  // 2 tables x {BC4, R16, R8} x {DDS, KTX2} + header + 2 includes
   const std::string dds = slurp(out / "gtso3d.dds");
   // Change the inputs, then fail half-way through writing: nothing of the new set appears.
   json g = json::parse(slurp(f.gtso / "gtso.json"));
@@ -322,9 +324,9 @@ TEST(GtsoBounds, SamplesAndSizeAreBoundedBeforeWork) {
   GtsoOptions g;
   g.out = dir.path() / "g";
   g.progress = false;
-  g.samples = 2000000000;
-  EXPECT_ERROR(runGtso(g), "--samples must be in");
-  g.samples = 0;
+  g.lobe_cells = 2000000000;
+  EXPECT_ERROR(runGtso(g), "--lobe-cells must be");
+  g.lobe_cells = 0;
   g.size = 6;  // export's BC4 blocks need multiples of 4
   EXPECT_ERROR(runGtso(g), "multiple of 4");
   g.size = 256;
