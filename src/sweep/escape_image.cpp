@@ -25,42 +25,44 @@ std::uint64_t EscapeImage::unmaskedPixels() const {
 }
 
 EscapeImage traceEscapeImage(const EmbreeTracer& tracer, const PerspectiveCamera& camera, int width,
-                             int height, const WalkSettings& settings,
+                             int height, const PixelRect& rect, const WalkSettings& settings,
                              const std::string& progress_label, bool progress) {
   EscapeImage image;
-  image.width = width;
-  image.height = height;
+  image.width = rect.width();
+  image.height = rect.height();
   image.settings = settings;
-  const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+  const std::size_t pixels = rect.pixels();
   const std::size_t per_pixel = 2 * static_cast<std::size_t>(settings.bounces + 1);
   image.mask.assign(pixels, 0);
   image.counts.assign(pixels * per_pixel, 0);
 
-  const int tiles_x = (width + kTileSize - 1) / kTileSize;
-  const int tiles_y = (height + kTileSize - 1) / kTileSize;
+  const int tiles_x = (rect.width() + kTileSize - 1) / kTileSize;
+  const int tiles_y = (rect.height() + kTileSize - 1) / kTileSize;
   Progress bar(progress_label, pixels, progress);
   std::atomic<std::uint64_t> rays{0};
   const auto start = std::chrono::steady_clock::now();
   tbb::parallel_for(
       tbb::blocked_range<int>(0, tiles_x * tiles_y, 1), [&](const tbb::blocked_range<int>& range) {
         for (int tile = range.begin(); tile != range.end(); ++tile) {
-          const int x0 = (tile % tiles_x) * kTileSize;
-          const int y0 = (tile / tiles_x) * kTileSize;
-          const int x1 = std::min(x0 + kTileSize, width);
-          const int y1 = std::min(y0 + kTileSize, height);
+          const int x0 = rect.x0 + (tile % tiles_x) * kTileSize;
+          const int y0 = rect.y0 + (tile / tiles_x) * kTileSize;
+          const int x1 = std::min(x0 + kTileSize, rect.x1);
+          const int y1 = std::min(y0 + kTileSize, rect.y1);
           std::uint64_t tile_rays = 0;
           WalkScratch scratch;
           for (int j = y0; j < y1; ++j) {
             for (int i = x0; i < x1; ++i) {
-              const std::size_t p = static_cast<std::size_t>(j) * width + i;
+              const std::size_t p = static_cast<std::size_t>(j - rect.y0) * rect.width() +
+                                    static_cast<std::size_t>(i - rect.x0);
+              const std::uint64_t stream = static_cast<std::uint64_t>(j) * width + i;
               SurfaceHit hit;
               ++tile_rays;
               if (!tracer.intersect(cameraRay(camera, i, j, width, height), INFINITY, &hit)) {
                 continue;
               }
               image.mask[p] = 1;
-              tile_rays +=
-                  countEscapes(tracer, hit, settings, p, &image.counts[p * per_pixel], &scratch);
+              tile_rays += countEscapes(tracer, hit, settings, stream, &image.counts[p * per_pixel],
+                                        &scratch);
             }
           }
           rays += tile_rays;
