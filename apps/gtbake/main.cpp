@@ -14,6 +14,7 @@
 #include "pipeline/all_command.h"
 #include "pipeline/option_values.h"
 #include "scene/scenes_command.h"
+#include "sweep/merge_command.h"
 #include "sweep/sweep_command.h"
 
 namespace {
@@ -61,6 +62,17 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--radius", sweep.radius, "Sky beyond this distance (default unbounded)");
   sweep_cmd->add_option("--seed", sweep.seed, "Random seed")->capture_default_str();
   sweep_cmd->add_option("--threads", sweep.threads, "Worker threads (0 = all cores)");
+  std::string shard;
+  sweep_cmd->add_option("--shard", shard,
+                        "Trace only shard I of N (0 <= I < N) into --out, for gtbake merge");
+  sweep_cmd->add_flag("--resume", sweep.resume,
+                      "Continue an interrupted sweep from the tiles saved in --out");
+
+  MergeOptions merge;
+  auto* merge_cmd = app.add_subcommand("merge", "Combine the shard directories of a sharded sweep");
+  merge_cmd->add_option("--out", merge.out, "Output directory (as gtbake sweep --out)")->required();
+  merge_cmd->add_option("shards", merge.shards, "Shard directories (gtbake sweep --shard)")
+      ->required();
 
   FitOptions fit;
   std::string fit_shipped;
@@ -122,8 +134,12 @@ int main(int argc, char** argv) {
       runScenes(scenes);
     } else if (*sweep_cmd) {
       std::tie(sweep.width, sweep.height) = parseResolution(resolution);
+      if (!shard.empty()) std::tie(sweep.shard, sweep.shards) = parseShard(shard);
+      sweep.command_line = joinArguments(argc, argv);
       sweep.progress = progress;
       runSweep(sweep);
+    } else if (*merge_cmd) {
+      runMerge(merge);
     } else if (*fit_cmd) {
       if (!fit_shipped.empty()) fit.shipped = parseCoeffs(fit_shipped);
       fit.progress = progress;
@@ -146,6 +162,9 @@ int main(int argc, char** argv) {
       all.progress = progress;
       runAll(all);
     }
+  } catch (const gtbake::SweepInterrupted& e) {
+    std::fprintf(stderr, "gtbake: %s\n", firstLine(e.what()).c_str());
+    return 128 + e.signal();
   } catch (const gtbake::Error& e) {
     std::fprintf(stderr, "gtbake: error: %s\n", firstLine(e.what()).c_str());
     return kExitError;

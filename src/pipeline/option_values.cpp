@@ -6,12 +6,9 @@
 #include <vector>
 
 #include "common/error.h"
+#include "sweep/sweep_command.h"
 
 namespace gtbake {
-
-namespace {
-constexpr long kMaxResolution = 8192;  // pixels per side; beyond this a sweep would take hours
-}  // namespace
 
 std::pair<int, int> parseResolution(const std::string& text) {
   static const std::regex kPattern("([0-9]{1,6})x([0-9]{1,6})");
@@ -21,9 +18,9 @@ std::pair<int, int> parseResolution(const std::string& text) {
   }
   const long width = std::stol(match[1]);
   const long height = std::stol(match[2]);
-  if (width < 1 || height < 1 || width > kMaxResolution || height > kMaxResolution) {
-    throw Error("--res sides must be between 1 and " + std::to_string(kMaxResolution) + ", got '" +
-                text + "'");
+  if (width < 1 || height < 1 || width > kMaxSweepResolution || height > kMaxSweepResolution) {
+    throw Error("--res sides must be between 1 and " + std::to_string(kMaxSweepResolution) +
+                ", got '" + text + "'");
   }
   return {static_cast<int>(width), static_cast<int>(height)};
 }
