@@ -14,6 +14,7 @@
 #include "pipeline/all_command.h"
 #include "pipeline/option_values.h"
 #include "scene/scenes_command.h"
+#include "sweep/specular_occlusion.h"
 #include "sweep/sweep_command.h"
 
 namespace {
@@ -61,6 +62,13 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--radius", sweep.radius, "Sky beyond this distance (default unbounded)");
   sweep_cmd->add_option("--seed", sweep.seed, "Random seed")->capture_default_str();
   sweep_cmd->add_option("--threads", sweep.threads, "Worker threads (0 = all cores)");
+  std::string specular_roughness = specularRoughnessList(sweep.specular_roughness);
+  sweep_cmd
+      ->add_option("--specular-roughness", specular_roughness,
+                   "Perceptual roughness values of the S channels, or none")
+      ->capture_default_str();
+  sweep_cmd->add_option("--specular-spp", sweep.specular_spp, "VNDF samples per roughness (even)")
+      ->capture_default_str();
 
   FitOptions fit;
   std::string fit_shipped;
@@ -122,6 +130,7 @@ int main(int argc, char** argv) {
       runScenes(scenes);
     } else if (*sweep_cmd) {
       std::tie(sweep.width, sweep.height) = parseResolution(resolution);
+      sweep.specular_roughness = parseSpecularRoughness(specular_roughness);
       sweep.progress = progress;
       runSweep(sweep);
     } else if (*fit_cmd) {

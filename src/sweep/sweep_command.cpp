@@ -50,6 +50,7 @@ void validateOptions(const SweepOptions& o) {
                 std::to_string(o.bounces));
   }
   if (!(o.radius > 0.0)) throw Error("--radius must be a positive distance in metres");
+  validateSpecularOptions(o.specular_roughness, o.specular_spp);
   if (o.threads < 0) throw Error("--threads must be 0 (all cores) or a positive count");
   if (o.scenes.empty()) throw Error("no scenes given: pass --scenes DIR|FILE...");
   if (o.out.empty()) throw Error("no output directory given: pass --out DIR");
@@ -127,6 +128,8 @@ SweepResult runSweep(const SweepOptions& options) {
   settings.radius = std::isinf(options.radius) ? INFINITY : static_cast<float>(options.radius);
   settings.seed = options.seed;
   settings.stratify_first_bounce = options.stratify_first_bounce;
+  settings.specular_roughness = options.specular_roughness;
+  settings.specular_spp = options.specular_roughness.empty() ? 0 : options.specular_spp;
 
   SweepResult result;
   nlohmann::ordered_json scene_entries = nlohmann::ordered_json::array();
@@ -135,6 +138,7 @@ SweepResult runSweep(const SweepOptions& options) {
     const Scene& scene = scenes[s];
     const auto start = std::chrono::steady_clock::now();
     const EmbreeTracer tracer(scene);
+    settings.scene_key = sceneStreamKey(scene.name);
     const EscapeImage image = traceEscapeImage(tracer, scene.camera, options.width, options.height,
                                                settings, "sweep " + scene.name, options.progress);
     const std::vector<ExrChannel> channels = escapeChannels(image);
@@ -146,7 +150,9 @@ SweepResult runSweep(const SweepOptions& options) {
         {"gtbake.seed", std::to_string(options.seed)},
         {"gtbake.radius", std::isinf(options.radius) ? "inf" : formatNumber(options.radius)},
         {"gtbake.scene", gltf},
-        {"gtbake.stratified_first_bounce", options.stratify_first_bounce ? "1" : "0"}};
+        {"gtbake.stratified_first_bounce", options.stratify_first_bounce ? "1" : "0"},
+        {"gtbake.specular_roughness", specularRoughnessList(options.specular_roughness)},
+        {"gtbake.specular_spp", std::to_string(settings.specular_spp)}};
     const fs::path exr = options.out / (scene.name + ".exr");
     writeExr(exr, options.width, options.height, channels, attributes);
     for (const ExrChannel& c : channels) {
@@ -202,6 +208,8 @@ SweepResult runSweep(const SweepOptions& options) {
   settings_json["threads"] = threads.threads();
   settings_json["albedos"] = kSweepAlbedos;
   settings_json["stratified_first_bounce"] = options.stratify_first_bounce;
+  settings_json["specular_roughness"] = options.specular_roughness;
+  settings_json["specular_spp"] = settings.specular_spp;
   json["scenes"] = std::move(scene_entries);
   json["totals"] = {{"seconds", result.seconds},
                     {"rays", result.rays},
