@@ -39,15 +39,17 @@ EscapeImage makeEscapeImage(int width, int height, const WalkSettings& settings)
   return image;
 }
 
-std::uint64_t tracePixel(const EmbreeTracer& tracer, const PerspectiveCamera& camera, int i, int j,
-                         EscapeImage* image, PixelScratch* scratch) {
+std::uint64_t tracePixel(const EmbreeTracer& tracer, const PerspectiveCamera& camera, int width,
+                         int height, int i, int j, std::size_t slot, EscapeImage* image,
+                         PixelScratch* scratch) {
   const WalkSettings& settings = image->settings;
-  const std::size_t p = static_cast<std::size_t>(j) * image->width + i;
-  const Ray camera_ray = cameraRay(camera, i, j, image->width, image->height);
+  const std::size_t p = slot;
+  const Ray camera_ray = cameraRay(camera, i, j, width, height);
   SurfaceHit hit;
   if (!tracer.intersect(camera_ray, INFINITY, &hit)) return 1;
   image->mask[p] = 1;
-  const std::uint64_t stream = pixelStream(settings.scene_key, p);
+  const std::uint64_t stream =
+      pixelStream(settings.scene_key, static_cast<std::uint64_t>(j) * width + i);
   const std::size_t per_pixel = 2 * static_cast<std::size_t>(settings.bounces + 1);
   double bent[3] = {0.0, 0.0, 0.0};
   std::uint64_t rays = 1 + countEscapes(tracer, hit, settings, stream,
@@ -76,31 +78,34 @@ std::uint64_t tracePixel(const EmbreeTracer& tracer, const PerspectiveCamera& ca
 }
 
 EscapeImage traceEscapeImage(const EmbreeTracer& tracer, const PerspectiveCamera& camera, int width,
-                             int height, const WalkSettings& settings,
+                             int height, const PixelRect& rect, const WalkSettings& settings,
                              const std::string& progress_label, bool progress) {
-  EscapeImage image = makeEscapeImage(width, height, settings);
-  const int tiles_x = (width + kTileSize - 1) / kTileSize;
-  const int tiles_y = (height + kTileSize - 1) / kTileSize;
-  Progress bar(progress_label, image.mask.size(), progress);
+  EscapeImage image = makeEscapeImage(rect.width(), rect.height(), settings);
+  const int tiles_x = (rect.width() + kTileSize - 1) / kTileSize;
+  const int tiles_y = (rect.height() + kTileSize - 1) / kTileSize;
+  Progress bar(progress_label, rect.pixels(), progress);
   std::atomic<std::uint64_t> rays{0};
   const auto start = std::chrono::steady_clock::now();
-  tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 1),
-                    [&](const tbb::blocked_range<int>& range) {
-                      for (int tile = range.begin(); tile != range.end(); ++tile) {
-                        const int x0 = (tile % tiles_x) * kTileSize;
-                        const int y0 = (tile / tiles_x) * kTileSize;
-                        const int x1 = std::min(x0 + kTileSize, width);
-                        const int y1 = std::min(y0 + kTileSize, height);
-                        std::uint64_t tile_rays = 0;
-                        PixelScratch scratch;
-                        for (int j = y0; j < y1; ++j) {
-                          for (int i = x0; i < x1; ++i)
-                            tile_rays += tracePixel(tracer, camera, i, j, &image, &scratch);
-                        }
-                        rays += tile_rays;
-                        bar.add(static_cast<std::uint64_t>(x1 - x0) * (y1 - y0));
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, tiles_x * tiles_y, 1), [&](const tbb::blocked_range<int>& range) {
+        for (int tile = range.begin(); tile != range.end(); ++tile) {
+          const int x0 = rect.x0 + (tile % tiles_x) * kTileSize;
+          const int y0 = rect.y0 + (tile / tiles_x) * kTileSize;
+          const int x1 = std::min(x0 + kTileSize, rect.x1);
+          const int y1 = std::min(y0 + kTileSize, rect.y1);
+          std::uint64_t tile_rays = 0;
+          PixelScratch scratch;
+          for (int j = y0; j < y1; ++j) {
+            for (int i = x0; i < x1; ++i) {
+              const std::size_t slot = static_cast<std::size_t>(j - rect.y0) * rect.width() +
+                                       static_cast<std::size_t>(i - rect.x0);
+              tile_rays += tracePixel(tracer, camera, width, height, i, j, slot, &image, &scratch);
+            }
+          }
+          rays += tile_rays;
+          bar.add(static_cast<std::uint64_t>(x1 - x0) * (y1 - y0));
+        }
+      });
   bar.finish();
   image.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   image.rays = rays.load();

@@ -3,6 +3,7 @@
 // occlusion of traceSpecular, and the EXR channels derived from them (SPEC §1.1, §2).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -16,8 +17,21 @@ namespace gtbake {
 // The albedos of the paper's sweep (Section 5) and their channel names G010 … G090.
 inline constexpr double kSweepAlbedos[] = {0.1, 0.2, 0.3, 0.4, 0.5, 0.7, 0.9};
 
+// A half-open rectangle of pixels [x0, x1) × [y0, y1) of a width × height image.
+struct PixelRect {
+  int x0 = 0;
+  int y0 = 0;
+  int x1 = 0;
+  int y1 = 0;
+  int width() const { return x1 - x0; }
+  int height() const { return y1 - y0; }
+  std::size_t pixels() const {
+    return static_cast<std::size_t>(width()) * static_cast<std::size_t>(height());
+  }
+};
+
 struct EscapeImage {
-  int width = 0;
+  int width = 0;  // of the traced rectangle (the whole image unless a PixelRect was given)
   int height = 0;
   WalkSettings settings;
   std::vector<std::uint8_t> mask;     // 1 = the pixel's camera ray hit geometry
@@ -50,18 +64,28 @@ struct PixelScratch {
   std::vector<double> sums;
 };
 
-// Everything the sweep records for pixel (i, j) of `image` (whose arrays makeEscapeImage sized):
-// the camera ray, and on a hit the walks, the bent normal and the specular samples, all from the
-// random stream pixelStream(settings.scene_key, j·width + i). Returns the rays traced. A pixel's
-// values depend only on (seed, scene, pixel), so any tiling, thread count or shard gives the same
-// bytes.
-std::uint64_t tracePixel(const EmbreeTracer& tracer, const PerspectiveCamera& camera, int i, int j,
-                         EscapeImage* image, PixelScratch* scratch);
+// Everything the sweep records for pixel (i, j) of a width × height image, stored at `slot` of
+// `image` (whose arrays makeEscapeImage sized): the camera ray, and on a hit the walks, the bent
+// normal and the specular samples, all from the random stream pixelStream(settings.scene_key,
+// j·width + i). Returns the rays traced. A pixel's values depend only on (seed, scene, pixel), so
+// any rectangle, thread count or shard gives the same bits.
+std::uint64_t tracePixel(const EmbreeTracer& tracer, const PerspectiveCamera& camera, int width,
+                         int height, int i, int j, std::size_t slot, EscapeImage* image,
+                         PixelScratch* scratch);
 
-// Traces every pixel (TBB over 8×8 tiles) with tracePixel.
+// Traces the pixels of `rect` of a width × height image (TBB over 8×8 blocks, tracePixel); the
+// result holds rect's pixels row-major.
 EscapeImage traceEscapeImage(const EmbreeTracer& tracer, const PerspectiveCamera& camera, int width,
-                             int height, const WalkSettings& settings,
+                             int height, const PixelRect& rect, const WalkSettings& settings,
                              const std::string& progress_label, bool progress);
+
+// Every pixel of the image.
+inline EscapeImage traceEscapeImage(const EmbreeTracer& tracer, const PerspectiveCamera& camera,
+                                    int width, int height, const WalkSettings& settings,
+                                    const std::string& progress_label, bool progress) {
+  return traceEscapeImage(tracer, camera, width, height, PixelRect{0, 0, width, height}, settings,
+                          progress_label, progress);
+}
 
 // EXR channels: A, P1..PK, G010 … G090, mask, NX NY NZ, VX VY VZ, BNX BNY BNZ, S010 …, then
 // H0.A, H0.P1..PK, H1.A, H1.P1..PK, H0.S010 …, H1.S010 … (masked = 0).
