@@ -15,6 +15,7 @@
 #include "pipeline/option_values.h"
 #include "scene/scenes_command.h"
 #include "sweep/merge_command.h"
+#include "sweep/specular_occlusion.h"
 #include "sweep/sweep_command.h"
 
 namespace {
@@ -62,6 +63,13 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--radius", sweep.radius, "Sky beyond this distance (default unbounded)");
   sweep_cmd->add_option("--seed", sweep.seed, "Random seed")->capture_default_str();
   sweep_cmd->add_option("--threads", sweep.threads, "Worker threads (0 = all cores)");
+  std::string specular_roughness = specularRoughnessList(sweep.specular_roughness);
+  sweep_cmd
+      ->add_option("--specular-roughness", specular_roughness,
+                   "Perceptual roughness values of the S channels, or none")
+      ->capture_default_str();
+  sweep_cmd->add_option("--specular-spp", sweep.specular_spp, "VNDF samples per roughness (even)")
+      ->capture_default_str();
   std::string shard;
   sweep_cmd->add_option("--shard", shard,
                         "Trace only shard I of N (0 <= I < N) into --out, for gtbake merge");
@@ -134,6 +142,7 @@ int main(int argc, char** argv) {
       runScenes(scenes);
     } else if (*sweep_cmd) {
       std::tie(sweep.width, sweep.height) = parseResolution(resolution);
+      sweep.specular_roughness = parseSpecularRoughness(specular_roughness);
       if (!shard.empty()) std::tie(sweep.shard, sweep.shards) = parseShard(shard);
       sweep.command_line = joinArguments(argc, argv);
       sweep.progress = progress;

@@ -61,6 +61,7 @@ void validateOptions(const SweepOptions& o) {
                 std::to_string(o.bounces));
   }
   if (!(o.radius > 0.0)) throw Error("--radius must be a positive distance in metres");
+  validateSpecularOptions(o.specular_roughness, o.specular_spp);
   if (o.shards < 0 || o.shards > kMaxShards ||
       (o.shards > 0 && (o.shard < 0 || o.shard >= o.shards))) {
     throw Error("--shard must be I/N with 0 <= I < N <= " + std::to_string(kMaxShards) + ", got " +
@@ -134,6 +135,8 @@ WalkSettings walkSettings(const SweepOptions& o) {
   settings.radius = std::isinf(o.radius) ? INFINITY : static_cast<float>(o.radius);
   settings.seed = o.seed;
   settings.stratify_first_bounce = o.stratify_first_bounce;
+  settings.specular_roughness = o.specular_roughness;
+  settings.specular_spp = o.specular_roughness.empty() ? 0 : o.specular_spp;
   return settings;
 }
 
@@ -152,12 +155,17 @@ SweepIdentity describeSweep(const SweepOptions& o, const std::vector<fs::path>& 
   settings["seed"] = o.seed;
   settings["albedos"] = kSweepAlbedos;
   settings["stratified_first_bounce"] = o.stratify_first_bounce;
-  id.attributes = {{"gtbake.version", GTBAKE_VERSION},
-                   {"gtbake.spp", std::to_string(o.spp)},
-                   {"gtbake.bounces", std::to_string(o.bounces)},
-                   {"gtbake.seed", std::to_string(o.seed)},
-                   {"gtbake.radius", std::isinf(o.radius) ? "inf" : formatNumber(o.radius)},
-                   {"gtbake.stratified_first_bounce", o.stratify_first_bounce ? "1" : "0"}};
+  settings["specular_roughness"] = o.specular_roughness;
+  settings["specular_spp"] = o.specular_roughness.empty() ? 0 : o.specular_spp;
+  id.attributes = {
+      {"gtbake.version", GTBAKE_VERSION},
+      {"gtbake.spp", std::to_string(o.spp)},
+      {"gtbake.bounces", std::to_string(o.bounces)},
+      {"gtbake.seed", std::to_string(o.seed)},
+      {"gtbake.radius", std::isinf(o.radius) ? "inf" : formatNumber(o.radius)},
+      {"gtbake.stratified_first_bounce", o.stratify_first_bounce ? "1" : "0"},
+      {"gtbake.specular_roughness", specularRoughnessList(o.specular_roughness)},
+      {"gtbake.specular_spp", std::to_string(o.specular_roughness.empty() ? 0 : o.specular_spp)}};
   for (const fs::path& file : files) {
     id.scenes.push_back(file.stem().string());
     id.scene_sha256.push_back(sceneSha256(file));
@@ -270,7 +278,7 @@ TraceReport traceTiles(const SweepOptions& o, const std::vector<Scene>& scenes,
                        const std::vector<fs::path>& files, const SweepIdentity& id,
                        const TilePlan& plan, const std::vector<int>& mine, const fs::path& dir) {
   TraceReport report;
-  const WalkSettings settings = walkSettings(o);
+  WalkSettings settings = walkSettings(o);
   const std::string prefix =
       o.shards > 0 ? "shard " + std::to_string(o.shard) + "/" + std::to_string(o.shards) + " "
                    : "sweep ";
@@ -290,6 +298,7 @@ TraceReport traceTiles(const SweepOptions& o, const std::vector<Scene>& scenes,
     if (pending.empty() || stop.signal() != 0) continue;
     const auto build_start = std::chrono::steady_clock::now();
     const EmbreeTracer tracer(scenes[s]);
+    settings.scene_key = sceneStreamKey(scenes[s].name);
     const auto trace_start = std::chrono::steady_clock::now();
     report.runs[s].build_seconds = std::chrono::duration<double>(trace_start - build_start).count();
     std::uint64_t pixels = 0;

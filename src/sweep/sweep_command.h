@@ -35,6 +35,10 @@ struct SweepOptions {
   // First walk direction stratified within each half-sample estimate (docs/sweep.md); off gives
   // independent walks, e.g. to compare variances.
   bool stratify_first_bounce = true;
+  // True specular occlusion channels S + r_p×100 at these perceptual roughness values (α = r_p²;
+  // empty: none) with this many VNDF samples per value and pixel (even; docs/sweep.md §2).
+  std::vector<double> specular_roughness = {0.10, 0.25, 0.40, 0.60, 0.80};
+  int specular_spp = 64;
   // Shard `shard` of `shards` (0-based; shards = 0: not sharded). A shard traces only its tiles
   // (tile_plan.h) and writes them with <out>/shard.json for `gtbake merge` (docs/cluster.md).
   int shard = 0;

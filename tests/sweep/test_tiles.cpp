@@ -15,6 +15,9 @@ TEST(Tiles, RectangleEqualsTheSamePixelsOfTheWholeImage) {
   const EmbreeTracer tracer(scene);
   WalkSettings settings;
   settings.spp = 8;
+  settings.specular_roughness = {0.0, 0.4};
+  settings.specular_spp = 8;
+  settings.scene_key = sceneStreamKey("spheres");
   const int width = 23;
   const int height = 17;
   const EscapeImage whole =
