@@ -1,15 +1,21 @@
 // Outputs that are never left half-written.
 //
-// Every file gtbake writes goes first to "<name>.tmp-<pid>" in the same directory and is renamed
-// over the final name only once it is complete (rename(2) is atomic within one file system). A run
-// that fails or is interrupted leaves any earlier good file where it stood, and removes its own
-// temporary file on the way out (exceptions unwind through AtomicOutput's destructor).
+// Every file gtbake writes goes first to "<name>.tmp-<pid>" in the same directory, is written with
+// checked write(2) calls and fsync(2), and is renamed over the final name only once complete
+// (rename(2) is atomic within one file system). A run that fails leaves any earlier good file
+// where it stood and removes its temporary file on the way out (exceptions unwind through
+// AtomicOutput's destructor); SIGINT, SIGTERM and SIGHUP remove every temporary file of the
+// process before it dies. Whole sets of files are committed by OutputSet (output_set.h).
+//
+// Test hook: when the environment variable GTBAKE_TEST_FAIL_WRITE is set, a write whose final
+// file name contains its value fails half-way as a full disk would (ENOSPC).
 #pragma once
 
 #include <filesystem>
 #include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace gtbake {
 
@@ -28,11 +34,17 @@ class AtomicOutput {
  private:
   std::filesystem::path final_;
   std::filesystem::path temp_;
+  int slot_ = -1;
   bool committed_ = false;
 };
 
-// Writes `bytes` to `path` atomically. Throws gtbake::Error if the directory is not writable.
+// Writes `bytes` to `path` atomically. Throws gtbake::Error if any write fails (disk full, ...).
 void writeFileAtomically(const std::filesystem::path& path, std::string_view bytes);
+
+// Writes `bytes` to the new file `path` (created or truncated) with checked writes and fsync;
+// `name` is the final name reported in errors. Throws gtbake::Error.
+void writeBytesChecked(const std::filesystem::path& path, std::string_view bytes,
+                       const std::filesystem::path& name);
 
 // Calls `writer(tempPath)` and commits on success; for libraries that write by file name.
 void writeAtomically(const std::filesystem::path& path,
@@ -48,5 +60,16 @@ std::string relativePath(const std::filesystem::path& path, const std::filesyste
 
 // Reads a whole file; throws gtbake::Error naming the file if it is missing or unreadable.
 std::string readFile(const std::filesystem::path& path);
+
+// Registers a temporary file or directory the signal handler removes (SIGINT/SIGTERM/SIGHUP);
+// returns a slot for unregisterTemporary (-1 if the table is full: the path is then only
+// removed by the normal unwinding). Installs the handlers on first use.
+int registerTemporary(const std::filesystem::path& path);
+void unregisterTemporary(int slot);
+
+// Removes "*.tmp-<pid>" files and directories in `dir` left by a gtbake process that no longer
+// runs, printing one line per file on stderr; temporaries of a live process are left alone and
+// reported. Returns the removed paths.
+std::vector<std::filesystem::path> cleanStaleTemporaries(const std::filesystem::path& dir);
 
 }  // namespace gtbake

@@ -5,6 +5,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfStdIO.h>
 #include <ImfStringAttribute.h>
 #include <stb_image_write.h>
 
@@ -13,7 +14,9 @@
 #include <cmath>
 
 #include "common/atomic_file.h"
+#include "common/checked_math.h"
 #include "common/error.h"
+#include "common/input_limits.h"
 
 namespace gtbake {
 
@@ -26,58 +29,118 @@ const std::vector<float>& ExrImage::channel(const std::string& name,
   return it->second;
 }
 
-void writeExr(const fs::path& path, int width, int height, const std::vector<ExrChannel>& channels,
-              const std::map<std::string, std::string>& attributes) {
+namespace {
+
+// Sides beyond this are refused while OpenEXR reads the header, before it allocates anything
+// sized by the data window (pixels; the largest --res a sweep accepts).
+constexpr int kMaxExrSide = 8192;
+// More channels than this is not a gtbake EXR (a sweep writes about 40).
+constexpr std::size_t kMaxExrChannels = 1024;
+// Decoded float bytes per byte of file, at most: zlib's deflate cannot expand by more than
+// ~1032:1, doubled for half channels read as float, with a margin. A forged data window that
+// would need more memory than this ratio allows is refused before the pixels are allocated.
+constexpr std::uint64_t kMaxExrExpansion = 4096;
+
+void setExrLimits() {
+  static const bool once = [] {
+    Imf::Header::setMaxImageSize(kMaxExrSide, kMaxExrSide);
+    Imf::Header::setMaxTileSize(kMaxExrSide, kMaxExrSide);
+    return true;
+  }();
+  (void)once;
+}
+
+void appendToString(void* context, void* data, int size) {
+  static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                             static_cast<std::size_t>(size));
+}
+
+}  // namespace
+
+std::string encodeExr(int width, int height, const std::vector<ExrChannel>& channels,
+                      const std::map<std::string, std::string>& attributes) {
   const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
   for (const auto& c : channels) {
     if (c.pixels.size() != count) {
       throw Error("internal: EXR channel " + c.name + " has the wrong pixel count");
     }
   }
-  writeAtomically(path, [&](const fs::path& tmp) {
-    try {
-      Imf::Header header(width, height);
-      header.compression() = Imf::ZIP_COMPRESSION;
-      for (const auto& [key, value] : attributes) {
-        header.insert(key, Imf::StringAttribute(value));
-      }
-      Imf::FrameBuffer frame;
-      for (const auto& c : channels) {
-        header.channels().insert(c.name, Imf::Channel(Imf::FLOAT));
-        frame.insert(
-            c.name,
-            Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(c.pixels.data())),
-                       sizeof(float), sizeof(float) * static_cast<size_t>(width)));
-      }
-      Imf::OutputFile file(tmp.c_str(), header);
-      file.setFrameBuffer(frame);
-      file.writePixels(height);
-    } catch (const std::exception& e) {
-      throw Error("cannot write " + path.string() + ": " + e.what());
+  Imf::StdOSStream stream;
+  {
+    Imf::Header header(width, height);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    for (const auto& [key, value] : attributes) {
+      header.insert(key, Imf::StringAttribute(value));
     }
-  });
+    Imf::FrameBuffer frame;
+    for (const auto& c : channels) {
+      header.channels().insert(c.name, Imf::Channel(Imf::FLOAT));
+      frame.insert(c.name, Imf::Slice(Imf::FLOAT,
+                                      reinterpret_cast<char*>(const_cast<float*>(c.pixels.data())),
+                                      sizeof(float), sizeof(float) * static_cast<size_t>(width)));
+    }
+    Imf::OutputFile file(stream, header);
+    file.setFrameBuffer(frame);
+    file.writePixels(height);
+  }  // the destructor writes the line offset table
+  return stream.str();
 }
 
-ExrImage readExr(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw Error("no such file: " + path.string());
+void writeExr(const fs::path& path, int width, int height, const std::vector<ExrChannel>& channels,
+              const std::map<std::string, std::string>& attributes) {
+  std::string bytes;
+  try {
+    bytes = encodeExr(width, height, channels, attributes);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw Error("cannot write " + path.string() + ": " + e.what());
+  }
+  writeFileAtomically(path, bytes);
+}
+
+ExrImage decodeExr(const std::string& bytes, const std::string& name, const ExrExpect& expect) {
+  setExrLimits();
   ExrImage image;
   try {
-    Imf::InputFile file(path.c_str());
+    Imf::StdISStream stream;
+    stream.str(bytes);
+    Imf::InputFile file(stream);
     const Imath::Box2i window = file.header().dataWindow();
-    image.width = window.max.x - window.min.x + 1;
-    image.height = window.max.y - window.min.y + 1;
+    if (window.min.x != 0 || window.min.y != 0 || window.max.x < 0 || window.max.y < 0) {
+      throw Error(name + ": EXR data window must start at (0, 0)");
+    }
+    image.width = window.max.x + 1;
+    image.height = window.max.y + 1;
+    if ((expect.width > 0 && image.width != expect.width) ||
+        (expect.height > 0 && image.height != expect.height)) {
+      throw Error(name + ": size " + std::to_string(image.width) + "x" +
+                  std::to_string(image.height) + " does not match " + expect.source + " (" +
+                  std::to_string(expect.width) + "x" + std::to_string(expect.height) + ")");
+    }
+    std::size_t channel_count = 0;
+    for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it) {
+      ++channel_count;
+    }
+    if (channel_count > kMaxExrChannels) {
+      throw Error(name + ": " + std::to_string(channel_count) + " EXR channels (at most " +
+                  std::to_string(kMaxExrChannels) + ")");
+    }
     const size_t count = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
+    const std::uint64_t decoded = checkedMul(checkedMul(count, channel_count, name), 4, name);
+    if (decoded > checkedMul(bytes.size() + 1, kMaxExrExpansion, name)) {
+      throw Error(name + ": its data window (" + std::to_string(image.width) + "x" +
+                  std::to_string(image.height) + ", " + std::to_string(channel_count) +
+                  " channels) is far larger than a " + std::to_string(bytes.size()) +
+                  "-byte file can hold (truncated or forged header)");
+    }
     Imf::FrameBuffer frame;
     for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it) {
       auto& pixels = image.channels[it.name()];
       pixels.assign(count, 0.0f);
-      char* base = reinterpret_cast<char*>(pixels.data()) -
-                   (static_cast<ptrdiff_t>(window.min.x) +
-                    static_cast<ptrdiff_t>(window.min.y) * image.width) *
-                       static_cast<ptrdiff_t>(sizeof(float));
-      frame.insert(it.name(), Imf::Slice(Imf::FLOAT, base, sizeof(float),
-                                         sizeof(float) * static_cast<size_t>(image.width)));
+      frame.insert(it.name(),
+                   Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(pixels.data()), sizeof(float),
+                              sizeof(float) * static_cast<size_t>(image.width)));
     }
     for (auto it = file.header().begin(); it != file.header().end(); ++it) {
       if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute())) {
@@ -86,24 +149,36 @@ ExrImage readExr(const fs::path& path) {
     }
     file.setFrameBuffer(frame);
     file.readPixels(window.min.y, window.max.y);
+  } catch (const Error&) {
+    throw;
   } catch (const std::exception& e) {
-    throw Error("cannot read EXR " + path.string() + ": " + e.what());
+    std::string what = e.what();
+    throw Error("cannot read EXR " + name + ": " + what.substr(0, what.find('\n')));
   }
   return image;
 }
 
-void writePng(const fs::path& path, int width, int height, int components,
-              const std::vector<std::uint8_t>& pixels) {
+ExrImage readExr(const fs::path& path, const ExrExpect& expect) {
+  return decodeExr(readRegularFile(path), path.string(), expect);
+}
+
+std::string encodePng(int width, int height, int components,
+                      const std::vector<std::uint8_t>& pixels) {
   if (pixels.size() !=
       static_cast<size_t>(width) * static_cast<size_t>(height) * static_cast<size_t>(components)) {
-    throw Error("internal: PNG " + path.string() + " has the wrong pixel count");
+    throw Error("internal: PNG has the wrong pixel count");
   }
-  writeAtomically(path, [&](const fs::path& tmp) {
-    if (stbi_write_png(tmp.c_str(), width, height, components, pixels.data(), width * components) ==
-        0) {
-      throw Error("cannot write " + path.string());
-    }
-  });
+  std::string bytes;
+  if (stbi_write_png_to_func(appendToString, &bytes, width, height, components, pixels.data(),
+                             width * components) == 0) {
+    throw Error("internal: PNG encoding failed");
+  }
+  return bytes;
+}
+
+void writePng(const fs::path& path, int width, int height, int components,
+              const std::vector<std::uint8_t>& pixels) {
+  writeFileAtomically(path, encodePng(width, height, components, pixels));
 }
 
 std::vector<std::uint8_t> toGray8(const std::vector<float>& values, float lo, float hi) {

@@ -32,10 +32,28 @@ void writeExr(const std::filesystem::path& path, int width, int height,
               const std::vector<ExrChannel>& channels,
               const std::map<std::string, std::string>& attributes = {});
 
-// Reads every channel as float. Throws gtbake::Error with a one-line reason on any failure.
-ExrImage readExr(const std::filesystem::path& path);
+// What a reader knows about an EXR before decoding it (0 = not known); checked against the
+// header before any pixel memory is allocated.
+struct ExrExpect {
+  int width = 0;
+  int height = 0;
+  std::string source = "the provenance";  // where the expectation comes from, for the error
+};
 
-// 8-bit PNGs (1 = gray, 3 = RGB), row-major, row 0 at the top.
+// The EXR file's bytes (an in-memory encoding; writeExr writes them through the checked writer).
+std::string encodeExr(int width, int height, const std::vector<ExrChannel>& channels,
+                      const std::map<std::string, std::string>& attributes = {});
+
+// Reads every channel as float. Refuses, before allocating pixels: a data window not starting at
+// (0, 0), sides over 8192, a size other than `expect`, or a window far larger than the file's
+// bytes could encode. Throws gtbake::Error with a one-line reason on any failure.
+ExrImage decodeExr(const std::string& bytes, const std::string& name, const ExrExpect& expect = {});
+ExrImage readExr(const std::filesystem::path& path, const ExrExpect& expect = {});
+
+// 8-bit PNGs (1 = gray, 3 = RGB), row-major, row 0 at the top, encoded in memory and written
+// through the checked atomic writer (stb's own file writer does not report a failed write).
+std::string encodePng(int width, int height, int components,
+                      const std::vector<std::uint8_t>& pixels);
 void writePng(const std::filesystem::path& path, int width, int height, int components,
               const std::vector<std::uint8_t>& pixels);
 

@@ -8,6 +8,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/output_set.h"
 #include "common/progress.h"
 #include "common/threads.h"
 #include "export/bc4_encoder.h"
@@ -70,8 +71,11 @@ ExportResult runExport(const ExportOptions& options) {
       {"gtbake_tables.hlsl", makeShaderInclude(code, ShaderLanguage::kHlsl)},
       {"gtbake_tables.glsl", makeShaderInclude(code, ShaderLanguage::kGlsl)},
   };
-  ensureDirectory(options.out);
-  for (const auto& [name, bytes] : files) writeFileAtomically(options.out / name, bytes);
+  OutputSet output(options.out, "export");  // the seven files are committed as one set
+  for (const auto& [name, bytes] : files) output.add(name, bytes);
+  output.setSettings({{"fit", relativePath(options.fit, options.out)},
+                      {"gtso", relativePath(options.gtso, options.out)}});
+  output.commit();
 
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

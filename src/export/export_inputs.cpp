@@ -4,7 +4,10 @@
 #include <cstring>
 
 #include "common/atomic_file.h"
+#include "common/checked_math.h"
 #include "common/error.h"
+#include "common/input_limits.h"
+#include "common/output_set.h"
 
 namespace gtbake {
 namespace {
@@ -13,12 +16,15 @@ constexpr const char* kCoeffNames[6] = {"a1", "a0", "b1", "b0", "c1", "c0"};
 constexpr const char* kAxisNames[4] = {"x", "y", "z", "w"};
 constexpr int kMaxAxisTexels = 4096;  // far beyond any table gtbake bakes; rejects garbage dims
 
-nlohmann::json parseJson(const std::filesystem::path& path) {
-  const std::string text = readFile(path);
+// A JSON file of an output set, verified against the set's manifest before it is parsed.
+nlohmann::json parseJson(const OutputManifest& set, const std::string& name) {
+  const std::filesystem::path path = set.dir / name;
   try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(path.string() + ": not valid JSON (" + std::string(e.what()) + ")");
+    return parseJsonText(set.readVerified(name), path.string());
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    if (what.find("malformed JSON") == std::string::npos) throw;
+    throw Error(path.string() + ": not valid JSON (" + what + ")");
   }
 }
 
@@ -36,8 +42,9 @@ double finiteNumber(const nlohmann::json& j, const std::string& key, const std::
   return v.get<double>();
 }
 
-GtsoTable readTable(const std::filesystem::path& dir, const nlohmann::json& tables,
-                    const std::string& key, int rank) {
+GtsoTable readTable(const OutputManifest& set, const nlohmann::json& tables, const std::string& key,
+                    int rank) {
+  const std::filesystem::path& dir = set.dir;
   const std::string where = (dir / "gtso.json").string() + " tables." + key;
   const nlohmann::json& t = member(tables, key, (dir / "gtso.json").string() + " tables");
   GtsoTable table;
@@ -50,7 +57,8 @@ GtsoTable readTable(const std::filesystem::path& dir, const nlohmann::json& tabl
     throw Error(where + ": \"dims\" must list " + std::to_string(rank) + " sizes");
   }
   for (const auto& d : dims) {
-    if (!d.is_number_integer() || d.get<int>() < 2 || d.get<int>() > kMaxAxisTexels) {
+    if (!d.is_number_integer() || d.get<std::int64_t>() < 2 ||
+        d.get<std::int64_t>() > kMaxAxisTexels) {
       throw Error(where + ": every entry of \"dims\" must be an integer in [2, 4096]");
     }
     table.dims.push_back(d.get<int>());
@@ -93,8 +101,11 @@ GtsoTable readTable(const std::filesystem::path& dir, const nlohmann::json& tabl
   table.volume = {table.dims[0], table.dims[1],
                   rank == 4 ? table.dims[2] * table.dims[3] : table.dims[2]};
   const std::size_t count =
-      static_cast<std::size_t>(table.volume[0]) * table.volume[1] * table.volume[2];
-  const std::string bytes = readFile(dir / table.file);
+      checkedMul(checkedMul(static_cast<std::uint64_t>(table.volume[0]), table.volume[1], where),
+                 static_cast<std::uint64_t>(table.volume[2]), where);
+  checkLimit(kMaxInputBytes, checkedMul(count, sizeof(float), where), where);
+  fileInsideDirectory(dir, table.file, where);
+  const std::string bytes = set.readVerified(table.file);
   if (bytes.size() != count * sizeof(float)) {
     throw Error((dir / table.file).string() + ": " + std::to_string(bytes.size()) +
                 " bytes, expected " + std::to_string(count * sizeof(float)) +
@@ -135,11 +146,12 @@ GtsoInput readGtsoInput(const std::filesystem::path& dir) {
     throw Error("--gtso " + dir.string() + ": not a directory (run `gtbake gtso --out DIR`)");
   }
   GtsoInput in;
-  in.json = parseJson(dir / "gtso.json");
+  const OutputManifest set = readOutputSet(dir, "gtso");
+  in.json = parseJson(set, "gtso.json");
   const std::string where = (dir / "gtso.json").string();
   const nlohmann::json& tables = member(in.json, "tables", where);
-  in.table3d = readTable(dir, tables, "3d", 3);
-  in.table4d = readTable(dir, tables, "4d", 4);
+  in.table3d = readTable(set, tables, "3d", 3);
+  in.table4d = readTable(set, tables, "4d", 4);
   const nlohmann::json& cone = member(in.json, "cone", where);
   in.u = finiteNumber(cone, "u", where + " cone");
   in.u_se = finiteNumber(cone, "u_se", where + " cone");
@@ -149,7 +161,9 @@ GtsoInput readGtsoInput(const std::filesystem::path& dir) {
 
 FitInput readFitInput(const std::filesystem::path& file) {
   FitInput in;
-  in.json = parseJson(file);
+  if (!std::filesystem::is_regular_file(file)) throw Error("no such file: " + file.string());
+  const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
+  in.json = parseJson(readOutputSet(dir, "fit"), file.filename().string());
   const std::string where = file.string();
   const nlohmann::json& linear = member(in.json, "linear", where);
   const nlohmann::json& se = member(in.json, "linear_se", where);

@@ -10,6 +10,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/output_set.h"
 #include "common/progress.h"
 #include "fit/fit_errors.h"
 #include "fit/fit_report.h"
@@ -241,6 +242,9 @@ Scored loadAndScore(const fs::path& sweep, const MultiBounceCoeffs& other, bool 
 
 FitResult runFit(const FitOptions& options) {
   if (options.out.empty()) throw Error("fit: no output file given (--out FILE.json)");
+  std::vector<fs::path> inputs = outputSetPaths(options.sweep, "sweep");
+  inputs.push_back(options.sweep / "sweep.json");
+  checkOutputFile(options.out, "--out", inputs);
   const Scored s =
       loadAndScore(options.sweep, options.shipped, options.eiv_correction, options.progress);
   const fs::path out_dir =
@@ -253,7 +257,9 @@ FitResult runFit(const FitOptions& options) {
                               s.diff, &mix});
   const json doc = fitJson(options.out, s.data, s.fit, options.shipped, s.refit_errors,
                            s.other_errors, s.diff, mix);
-  writeFileAtomically(options.out, doc.dump(2) + "\n");
+  OutputSet output(out_dir, "fit");  // export requires and verifies fit.manifest.json
+  output.add(options.out.filename().string(), doc.dump(2) + "\n");
+  output.commit();
   printSummary(s.data, s.fit, options.shipped, s.refit_errors, s.other_errors, s.diff);
   printSceneMix(mix);
   std::printf("wrote %s and %s\n", options.out.string().c_str(),

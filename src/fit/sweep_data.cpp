@@ -1,12 +1,17 @@
 #include "fit/sweep_data.h"
 
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/input_limits.h"
+#include "common/output_set.h"
+#include "common/provenance.h"
 
 namespace gtbake {
 
@@ -21,11 +26,7 @@ namespace {
 constexpr double kAlbedoConsistencyTolerance = 1e-4;
 
 int requirePositiveInt(const json& object, const char* key, const std::string& where) {
-  const auto it = object.find(key);
-  if (it == object.end() || !it->is_number_integer() || it->get<long long>() <= 0) {
-    throw Error(where + ": '" + key + "' must be a positive integer");
-  }
-  return it->get<int>();
+  return static_cast<int>(jsonInteger(object, key, 1, INT_MAX, where));
 }
 
 std::string requireString(const json& object, const char* key, const std::string& where) {
@@ -58,12 +59,9 @@ SweepData loadSweep(const fs::path& dir) {
   if (!fs::is_regular_file(json_path)) {
     throw Error(dir.string() + " is not a sweep directory (no sweep.json); run `gtbake sweep`");
   }
-  json doc;
-  try {
-    doc = json::parse(readFile(json_path));
-  } catch (const json::exception& e) {
-    throw Error(json_path.string() + ": malformed JSON (" + e.what() + ")");
-  }
+  // The sweep is one output set: every file read below must match its manifest.
+  const OutputManifest manifest = readOutputSet(dir, "sweep");
+  const json doc = parseJsonText(manifest.readVerified("sweep.json"), json_path.string());
   const std::string where = json_path.string();
   if (!doc.is_object() || !doc.contains("settings") || !doc["settings"].is_object()) {
     throw Error(where + ": missing 'settings' object");
@@ -91,24 +89,32 @@ SweepData loadSweep(const fs::path& dir) {
   const std::size_t albedo_count = data.albedos.size();
   for (PointSet* set : {&data.full, &data.half[0], &data.half[1]}) set->G.resize(albedo_count);
 
+  std::set<std::string> names, files;
   for (const json& entry : doc["scenes"]) {
     SweepScene scene;
     scene.name = requireString(entry, "name", where + " scene");
     const std::string file_name = requireString(entry, "file", where + " scene " + scene.name);
-    const fs::path exr_path = dir / file_name;
+    const fs::path exr_path = fileInsideDirectory(dir, file_name, where + " scene " + scene.name);
+    if (!names.insert(scene.name).second || !files.insert(exr_path.lexically_normal()).second) {
+      throw Error(where + ": scene '" + scene.name + "' (" + file_name + ") is listed twice");
+    }
     if (!fs::is_regular_file(exr_path)) {
       throw Error("scene '" + scene.name + "' is listed in " + where + " but " + exr_path.string() +
                   " is missing");
     }
-    const ExrImage image = readExr(exr_path);
     const std::string file = exr_path.string();
     const std::string scene_where = where + " scene " + scene.name;
-    if (entry.contains("width") && entry.contains("height") &&
-        (requirePositiveInt(entry, "width", scene_where) != image.width ||
-         requirePositiveInt(entry, "height", scene_where) != image.height)) {
-      throw Error(file + ": size " + std::to_string(image.width) + "x" +
-                  std::to_string(image.height) + " does not match sweep.json");
+    const json& size = entry.contains("width") ? entry : settings;
+    const ExrExpect expect{requirePositiveInt(size, "width", scene_where),
+                           requirePositiveInt(size, "height", scene_where), "sweep.json"};
+    const ExrImage image = decodeExr(manifest.readVerified(file_name), file, expect);
+    std::map<std::string, std::string> provenance = {
+        {"gtbake.spp", std::to_string(data.spp)}, {"gtbake.bounces", std::to_string(data.bounces)}};
+    if (settings.contains("seed")) provenance["gtbake.seed"] = settings["seed"].dump();
+    if (entry.contains("gltf") && entry["gltf"].is_string()) {
+      provenance["gtbake.scene"] = entry["gltf"].get<std::string>();
     }
+    checkAttributes(image.attributes, provenance, file, "sweep.json");
     const std::vector<float>& mask = image.channel("mask", file);
     // Channel sets: index 0 = full estimate, 1 and 2 = the halves; P[0] is A.
     std::vector<const std::vector<float>*> p[3];

@@ -10,10 +10,13 @@
 #include <cstdio>
 #include <cstring>
 #include <optional>
+#include <set>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/input_limits.h"
+#include "common/output_set.h"
 #include "common/progress.h"
 #include "common/threads.h"
 #include "gtso/cone_fit.h"
@@ -131,7 +134,7 @@ std::string floatBytes(const std::vector<float>& v) {
 }
 
 // One x-y slice of a file-order table as an upscaled viridis PNG (row 0 = largest y).
-void writeSlice(const std::filesystem::path& path, const std::vector<float>& v, int size,
+void writeSlice(OutputSet& output, const std::string& name, const std::vector<float>& v, int size,
                 std::size_t sliceOffset, float lo, float hi) {
   const int w = size * kPreviewScale;
   std::vector<float> img(static_cast<std::size_t>(w) * w);
@@ -140,7 +143,25 @@ void writeSlice(const std::filesystem::path& path, const std::vector<float>& v, 
       img[static_cast<std::size_t>(y) * w + x] =
           v[sliceOffset + static_cast<std::size_t>(size - 1 - y / kPreviewScale) * size +
             x / kPreviewScale];
-  writePng(path, w, w, 3, toViridis8(img, lo, hi));
+  output.add(name, encodePng(w, w, 3, toViridis8(img, lo, hi)));
+}
+
+// Bounds on a bake's cost (issue 9: --samples and --size were unbounded). Samples per lobe
+// line beyond 2^20 only add rounding noise; the time estimate scales the measured default bake
+// (size 32, 96 cells: 9.1 s on 2 cores, docs/gtso.md) by size^4 and cells^2, and the memory
+// estimate is three float copies of the 4D table.
+constexpr int kMaxSamples = 1 << 20;
+constexpr double kDefaultBakeSeconds = 9.1;
+inline constexpr Limit kMaxGtsoSeconds{"GTBAKE_MAX_GTSO_SECONDS", 3600, "estimated seconds"};
+inline constexpr Limit kMaxGtsoBytes{"GTBAKE_MAX_GTSO_BYTES", 8'000'000'000, "estimated bytes"};
+
+void checkGtsoCost(int size, int cells, int reference_factor) {
+  const double scale = std::pow(size / 32.0, 4) * std::pow(cells / 96.0, 2) *
+                       (1.0 + reference_factor * reference_factor);
+  const std::string what =
+      "gtso --size " + std::to_string(size) + " with " + std::to_string(cells) + " cells per lobe";
+  checkLimit(kMaxGtsoSeconds, static_cast<std::uint64_t>(kDefaultBakeSeconds * scale), what);
+  checkLimit(kMaxGtsoBytes, 12ull * size * size * size * size, what);
 }
 
 Json coneFitJson(const gtso::ConeFit& f) {
@@ -159,8 +180,13 @@ Json coneErrorsJson(const gtso::ConeErrors& e) {
 
 GtsoResult runGtso(const GtsoOptions& options) {
   if (options.out.empty()) throw Error("gtso: --out DIR is required");
-  if (options.size < 2 || options.size > 256) throw Error("gtso: --size must be in [2, 256]");
-  if (options.samples < 0) throw Error("gtso: --samples must be >= 0 (0 = default)");
+  if (options.size < 4 || options.size > 256 || options.size % 4 != 0) {
+    throw Error("gtso: --size must be a multiple of 4 in [4, 256] (export stores BC4 blocks)");
+  }
+  if (options.samples < 0 || options.samples > kMaxSamples) {
+    throw Error("gtso: --samples must be in [0, " + std::to_string(kMaxSamples) +
+                "] (0 = default)");
+  }
   if (options.reference_factor < 0 || options.reference_factor > 8) {
     throw Error("gtso: --reference-factor must be in [0, 8]");
   }
@@ -168,7 +194,8 @@ GtsoResult runGtso(const GtsoOptions& options) {
       options.samples == 0
           ? gtso::kDefaultLobeCells
           : std::max(4, static_cast<int>(std::lround(std::sqrt(options.samples / 2.0))));
-  ensureDirectory(options.out);
+  checkGtsoCost(options.size, cells, options.reference_factor);
+  OutputSet output(options.out, "gtso");  // committed whole at the end (output_set.h)
   const ThreadLimit limit(options.threads);
   const auto start = std::chrono::steady_clock::now();
   const int n = options.size;
@@ -243,11 +270,11 @@ GtsoResult runGtso(const GtsoOptions& options) {
 
   // Previews: S3 over (x, y) at a few slices of the third axis; S4 at a few (z, w).
   const std::size_t plane = static_cast<std::size_t>(n) * n;
-  for (int z : {0, n / 4, n / 2, 3 * n / 4, n - 1}) {
-    writeSlice(options.out / ("gtso3d_z" + std::to_string(z) + ".png"), f3, n, z * plane, 0.f, 1.f);
-    for (int w : {0, n / 2, n - 1}) {
-      writeSlice(options.out / ("gtso4d_z" + std::to_string(z) + "_w" + std::to_string(w) + ".png"),
-                 f4, n, (static_cast<std::size_t>(w) * n + z) * plane, 0.f, 1.f);
+  for (int z : std::set<int>{0, n / 4, n / 2, 3 * n / 4, n - 1}) {  // distinct at small n
+    writeSlice(output, "gtso3d_z" + std::to_string(z) + ".png", f3, n, z * plane, 0.f, 1.f);
+    for (int w : std::set<int>{0, n / 2, n - 1}) {
+      writeSlice(output, "gtso4d_z" + std::to_string(z) + "_w" + std::to_string(w) + ".png", f4, n,
+                 (static_cast<std::size_t>(w) * n + z) * plane, 0.f, 1.f);
     }
   }
 
@@ -321,9 +348,14 @@ GtsoResult runGtso(const GtsoOptions& options) {
                   {"reference_s", refSeconds},
                   {"total_s", total}};
 
-  writeFileAtomically(options.out / "gtso3d.f32", floatBytes(f3));
-  writeFileAtomically(options.out / "gtso4d.f32", floatBytes(f4));
-  writeFileAtomically(options.out / "gtso.json", j.dump(2) + "\n");
+  output.add("gtso3d.f32", floatBytes(f3));
+  output.add("gtso4d.f32", floatBytes(f4));
+  output.add("gtso.json", j.dump(2) + "\n");
+  output.setSettings({{"size", n},
+                      {"samples", options.samples},
+                      {"cells", cells},
+                      {"reference_factor", options.reference_factor}});
+  output.commit();
 
   std::printf("gtso: S3 %s, S4 %s baked in %.1f s (%d threads, %d x %d cells per lobe)\n",
               s3.mapping.name().c_str(), s4.mapping.name().c_str(), bakeSeconds, limit.threads(),

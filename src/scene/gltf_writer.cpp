@@ -1,13 +1,14 @@
 // writeGltfScene: one mesh (float VEC3 positions, u32 indices) on an identity node, the camera on
 // a second node whose matrix holds its basis and position exactly, one double-sided white
 // material, all in <name>.gltf (JSON, keys sorted, so the bytes are a pure function of the
-// scene) and <name>.bin. tinygltf writes both into a private temporary directory beside the
-// output; they are then renamed into place, .bin first, so a reader never sees a .gltf whose
-// buffer is missing or stale.
+// scene) and <name>.bin. Both are encoded in memory (tinygltf serializes the JSON to a stream;
+// the buffer is ours) and written through the checked atomic writer, .bin first, so a failed
+// write (disk full) is an error and a reader never sees a .gltf whose buffer is missing or stale.
 #include <tiny_gltf.h>
-#include <unistd.h>
 
 #include <cstring>
+#include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
@@ -130,30 +131,22 @@ void writeGltfScene(const std::filesystem::path& path, const Scene& scene) {
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
   ensureDirectory(dir);
   const std::string stem = path.stem().string();
-  const fs::path bin_path = dir / (stem + ".bin");
-  const fs::path temp_dir = dir / ("." + stem + ".tmp-" + std::to_string(::getpid()));
-  std::error_code ec;
-  fs::remove_all(temp_dir, ec);
-  if (!fs::create_directory(temp_dir, ec)) {
-    throw Error(dir.string() + ": cannot create a temporary directory: " + ec.message());
+  tinygltf::Model model = buildModel(scene, stem + ".bin");
+  // The buffer leaves the model: tinygltf's stream writer would embed it as base64; the JSON
+  // entry pointing at the .bin is put back below.
+  const std::vector<unsigned char> bin = std::move(model.buffers.front().data);
+  model.buffers.clear();
+  std::ostringstream stream;
+  tinygltf::TinyGLTF writer;
+  if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/true,
+                                     /*writeBinary=*/false)) {
+    throw Error(path.string() + ": cannot encode the glTF");
   }
-  try {
-    const tinygltf::Model model = buildModel(scene, stem + ".bin");
-    tinygltf::TinyGLTF writer;
-    if (!writer.WriteGltfSceneToFile(&model, (temp_dir / path.filename()).string(),
-                                     /*embedImages=*/false, /*embedBuffers=*/false,
-                                     /*prettyPrint=*/true, /*writeBinary=*/false)) {
-      throw Error(path.string() + ": cannot write the glTF files");
-    }
-    fs::rename(temp_dir / (stem + ".bin"), bin_path, ec);
-    if (!ec) fs::rename(temp_dir / path.filename(), path, ec);
-    if (ec)
-      throw Error(path.string() + ": cannot move the written files into place: " + ec.message());
-  } catch (...) {
-    fs::remove_all(temp_dir, ec);
-    throw;
-  }
-  fs::remove_all(temp_dir, ec);
+  nlohmann::json doc = nlohmann::json::parse(stream.str());
+  doc["buffers"] = nlohmann::json::array({{{"byteLength", bin.size()}, {"uri", stem + ".bin"}}});
+  writeFileAtomically(dir / (stem + ".bin"),
+                      std::string_view(reinterpret_cast<const char*>(bin.data()), bin.size()));
+  writeFileAtomically(path, doc.dump(2) + "\n");
 }
 
 }  // namespace gtbake

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <string>
 
 #include "common/error.h"
@@ -13,11 +14,28 @@ namespace gtbake {
 
 namespace {
 
+// Embree's own message for the first error on a device, set by the device's error function
+// (rtcSetDeviceErrorFunction) and turned into a gtbake::Error by throwOnDeviceError.
+std::mutex g_embree_error_mutex;
+std::string g_embree_error;
+
+void recordEmbreeError(void*, RTCError code, const char* message) {
+  std::lock_guard<std::mutex> lock(g_embree_error_mutex);
+  if (g_embree_error.empty()) {
+    g_embree_error = std::string(message != nullptr ? message : "no message") + " (error code " +
+                     std::to_string(static_cast<int>(code)) + ")";
+  }
+}
+
 void throwOnDeviceError(RTCDevice device, const char* what) {
   const RTCError code = rtcGetDeviceError(device);
-  if (code != RTC_ERROR_NONE) {
-    throw Error(std::string("Embree failed to ") + what + " (error code " +
-                std::to_string(static_cast<int>(code)) + ")");
+  std::lock_guard<std::mutex> lock(g_embree_error_mutex);
+  if (code != RTC_ERROR_NONE || !g_embree_error.empty()) {
+    const std::string message = g_embree_error.empty()
+                                    ? "error code " + std::to_string(static_cast<int>(code))
+                                    : g_embree_error;
+    g_embree_error.clear();
+    throw Error(std::string("Embree failed to ") + what + ": " + message);
   }
 }
 
@@ -48,7 +66,11 @@ EmbreeTracer::EmbreeTracer(const Scene& scene) {
 
   const auto start = std::chrono::steady_clock::now();
   device_ = rtcNewDevice(nullptr);
-  if (device_ == nullptr) throw Error("Embree could not create a device");
+  if (device_ == nullptr) {
+    throw Error("Embree could not create a device (error code " +
+                std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+  }
+  rtcSetDeviceErrorFunction(device_, recordEmbreeError, nullptr);
   scene_ = rtcNewScene(device_);
   rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
@@ -61,6 +83,7 @@ EmbreeTracer::EmbreeTracer(const Scene& scene) {
   rtcCommitGeometry(geometry);
   rtcAttachGeometry(scene_, geometry);
   rtcReleaseGeometry(geometry);
+  throwOnDeviceError(device_, "set up the geometry");
   // One worker for the build: the BVH (and so tie-breaking) must not depend on --threads.
   tbb::task_arena single_thread(1);
   single_thread.execute([&] { rtcCommitScene(scene_); });

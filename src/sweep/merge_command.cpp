@@ -85,8 +85,8 @@ std::vector<int> checkCoverage(const std::vector<Shard>& shards, const TilePlan&
   for (std::size_t k = 0; k < shards.size(); ++k) {
     for (int t : shards[k].manifest.tiles) {
       if (t < 0 || t >= static_cast<int>(plan.tiles.size())) {
-        throw Error("corrupt shard manifest " + (shards[k].dir / "shard.json").string() +
-                    ": tile " + std::to_string(t) + " is not in the plan");
+        throw Error("corrupt shard " + shards[k].dir.string() + ": tile " + std::to_string(t) +
+                    " is not in the plan");
       }
       if (owner[t] >= 0) {
         overlapping.push_back(t);
@@ -120,7 +120,7 @@ SweepResult runMerge(const MergeOptions& options) {
   const TilePlan plan =
       planTiles(static_cast<int>(id.scenes.size()), id.width, id.height, first.shards);
   const std::vector<int> owner = checkCoverage(shards, plan);
-  for (const Shard& shard : shards) verifyShardFiles(shard.dir, shard.manifest);
+  for (const Shard& shard : shards) checkShardFiles(shard.dir, shard.manifest, plan);
 
   std::vector<SceneRun> runs(id.scenes.size());
   int threads = 0;
@@ -134,7 +134,6 @@ SweepResult runMerge(const MergeOptions& options) {
   for (std::size_t s = 0; s < runs.size(); ++s) {
     runs[s].gltf = (shards.front().dir / first.runs[s].gltf).lexically_normal();
   }
-  ensureDirectory(options.out);
   std::printf("merge: %zu shards of %d (", shards.size(), first.shards);
   for (std::size_t k = 0; k < shards.size(); ++k) {
     std::printf("%s%d: %s, %zu tiles", k ? "; " : "", shards[k].manifest.shard,
@@ -142,11 +141,20 @@ SweepResult runMerge(const MergeOptions& options) {
   }
   std::printf("), %zu tiles of %zu scenes -> %s\n", plan.tiles.size(), id.scenes.size(),
               options.out.c_str());
-  return writeSweepOutputs(options.out, id, plan, runs, threads, [&](int t) {
-    const Tile& tile = plan.tiles[t];
-    return readTile(shards[owner[t]].dir / kTileDirectory /
-                    tileFileName(id.scenes[tile.scene], tile.index));
-  });
+  std::error_code ec;
+  const bool existed = fs::exists(options.out, ec);
+  try {
+    // Each tile file is checked against its shard's SHA-256 as it is read; the outputs are one
+    // output set, so a corrupt tile found half-way leaves nothing behind.
+    return writeSweepOutputs(options.out, id, plan, runs, threads, [&](int t) {
+      const std::string name = tilePath(id, plan, t);
+      return decodeTile(shards[owner[t]].manifest.files.readVerified(name),
+                        (shards[owner[t]].dir / name).string());
+    });
+  } catch (const Error&) {
+    if (!existed) fs::remove(options.out, ec);  // only if still empty
+    throw;
+  }
 }
 
 }  // namespace gtbake

@@ -2,7 +2,6 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
-#include "sweep/sha256.h"
 
 namespace gtbake {
 
@@ -14,16 +13,13 @@ constexpr const char* kFormat = "gtbake-shard 1";
 
 }  // namespace
 
-void writeShardManifest(const fs::path& dir, ShardManifest manifest, const TilePlan& plan) {
+std::string tilePath(const SweepIdentity& identity, const TilePlan& plan, int t) {
+  const Tile& tile = plan.tiles[t];
+  return std::string(kTileDirectory) + "/" + tileFileName(identity.scenes[tile.scene], tile.index);
+}
+
+void writeShardManifest(const fs::path& dir, const ShardManifest& manifest, const TilePlan& plan) {
   const SweepIdentity& id = manifest.identity;
-  manifest.files.clear();
-  for (int t : manifest.tiles) {
-    const Tile& tile = plan.tiles[t];
-    const std::string name =
-        std::string(kTileDirectory) + "/" + tileFileName(id.scenes[tile.scene], tile.index);
-    const std::string bytes = readFile(dir / name);
-    manifest.files.push_back({name, bytes.size(), sha256Hex(bytes)});
-  }
   nlohmann::ordered_json j;
   j["format"] = kFormat;
   j["gtbake_version"] = id.version;
@@ -45,28 +41,35 @@ void writeShardManifest(const fs::path& dir, ShardManifest manifest, const TileP
   j["shard"] = manifest.shard;
   j["shards"] = manifest.shards;
   j["tiles"] = manifest.tiles;
-  nlohmann::ordered_json files = nlohmann::ordered_json::array();
-  for (const ShardFile& f : manifest.files) {
-    files.push_back({{"name", f.name}, {"size", f.size}, {"sha256", f.sha256}});
-  }
-  j["files"] = std::move(files);
   j["threads"] = manifest.threads;
   j["seconds"] = manifest.seconds;
   writeFileAtomically(dir / "shard.json", j.dump(2) + "\n");
+  std::vector<std::string> names = {"shard.json"};
+  for (int t : manifest.tiles) names.push_back(tilePath(id, plan, t));
+  sealOutputSet(dir, kShardSet, names, id.settings);
+}
+
+void removeShardManifest(const fs::path& dir) {
+  std::error_code ec;
+  fs::remove(dir / manifestFileName(kShardSet), ec);
+  fs::remove(dir / "shard.json", ec);
 }
 
 ShardManifest readShardManifest(const fs::path& dir) {
-  const fs::path path = dir / "shard.json";
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) {
-    throw Error(dir.string() + " has no shard.json: not a shard directory, or its shard did not " +
-                "finish (run its gtbake sweep --shard command again to resume it)");
+  if (!fs::is_regular_file(dir / manifestFileName(kShardSet), ec)) {
+    throw Error(dir.string() + " has no " + manifestFileName(kShardSet) +
+                ": not a shard directory, or its shard did not finish (run its gtbake sweep "
+                "--shard command again to resume it)");
   }
+  const std::string where = "corrupt shard " + dir.string() + ": ";
   ShardManifest m;
+  m.files = readOutputSet(dir, kShardSet);
   try {
-    const nlohmann::ordered_json j = nlohmann::ordered_json::parse(readFile(path));
+    const nlohmann::ordered_json j =
+        nlohmann::ordered_json::parse(m.files.readVerified("shard.json"));
     if (j.at("format").get<std::string>() != kFormat) {
-      throw Error(path.string() + " is not a " + std::string(kFormat) + " manifest");
+      throw Error(where + "shard.json is not a " + std::string(kFormat) + " record");
     }
     SweepIdentity& id = m.identity;
     id.version = j.at("gtbake_version").get<std::string>();
@@ -76,7 +79,7 @@ ShardManifest readShardManifest(const fs::path& dir) {
     id.width = j.at("width").get<int>();
     id.height = j.at("height").get<int>();
     if (j.at("tile_side").get<int>() != kTileSide) {
-      throw Error(path.string() + " was cut into tiles of another size (other gtbake version)");
+      throw Error(where + "cut into tiles of another size (by another gtbake version)");
     }
     for (const auto& s : j.at("scenes")) {
       id.scenes.push_back(s.at("name").get<std::string>());
@@ -87,37 +90,30 @@ ShardManifest readShardManifest(const fs::path& dir) {
     m.shard = j.at("shard").get<int>();
     m.shards = j.at("shards").get<int>();
     m.tiles = j.at("tiles").get<std::vector<int>>();
-    for (const auto& f : j.at("files")) {
-      m.files.push_back({f.at("name").get<std::string>(), f.at("size").get<std::uint64_t>(),
-                         f.at("sha256").get<std::string>()});
-    }
     m.threads = j.at("threads").get<int>();
     m.seconds = j.at("seconds").get<double>();
   } catch (const nlohmann::json::exception& e) {
-    throw Error("corrupt shard manifest " + path.string() + ": " + e.what());
+    throw Error(where + "malformed shard.json (" + e.what() + ")");
   }
   SweepIdentity check = m.identity;
   sealIdentity(&check);
-  if (check.key != m.identity.key) {
-    throw Error("corrupt shard manifest " + path.string() +
-                ": its key does not match its settings");
-  }
-  if (m.shards < 1 || m.shard < 0 || m.shard >= m.shards || m.files.size() != m.tiles.size()) {
-    throw Error("corrupt shard manifest " + path.string() + ": bad shard index or file list");
-  }
+  if (check.key != m.identity.key) throw Error(where + "its key does not match its settings");
+  if (m.shards < 1 || m.shard < 0 || m.shard >= m.shards) throw Error(where + "bad shard index");
   return m;
 }
 
-void verifyShardFiles(const fs::path& dir, const ShardManifest& manifest) {
-  for (const ShardFile& f : manifest.files) {
-    const fs::path path = dir / f.name;
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec))
-      throw Error("corrupt shard " + dir.string() + ": " + f.name + " is missing");
-    const std::string bytes = readFile(path);
-    if (bytes.size() != f.size || sha256Hex(bytes) != f.sha256) {
-      throw Error("corrupt shard " + dir.string() + ": " + f.name +
-                  " does not match the SHA-256 in its shard.json");
+void checkShardFiles(const fs::path& dir, const ShardManifest& m, const TilePlan& plan) {
+  const std::string where = "corrupt shard " + dir.string() + ": ";
+  std::error_code ec;
+  for (int t : m.tiles) {
+    if (t < 0 || t >= static_cast<int>(plan.tiles.size())) {
+      throw Error(where + "tile " + std::to_string(t) + " is not in the plan");
+    }
+    const std::string name = tilePath(m.identity, plan, t);
+    const OutputFile* file = m.files.find(name);
+    if (file == nullptr) throw Error(where + name + " is not in its manifest");
+    if (!fs::is_regular_file(dir / name, ec) || fs::file_size(dir / name, ec) != file->size) {
+      throw Error(where + name + " is missing or has another size than its manifest says");
     }
   }
 }

@@ -71,7 +71,7 @@ void validateOptions(const SweepOptions& o) {
   if (o.out.empty()) throw Error("no output directory given: pass --out DIR");
 }
 
-// Each input is a .gltf/.glb file, or a directory whose *.gltf files are all taken, sorted.
+// Each input is a .gltf/.glb file, or a directory whose .gltf and .glb files are all taken, sorted.
 std::vector<fs::path> resolveSceneFiles(const std::vector<fs::path>& inputs) {
   std::vector<fs::path> files;
   for (const fs::path& input : inputs) {
@@ -79,12 +79,13 @@ std::vector<fs::path> resolveSceneFiles(const std::vector<fs::path>& inputs) {
     if (fs::is_directory(input, ec)) {
       std::vector<fs::path> found;
       for (const auto& entry : fs::directory_iterator(input, ec)) {
-        if (entry.is_regular_file() && entry.path().extension() == ".gltf") {
+        if (entry.is_regular_file() && isGltf(entry.path())) {
           found.push_back(entry.path());
         }
       }
       if (ec) throw Error("cannot list scene directory " + input.string() + ": " + ec.message());
-      if (found.empty()) throw Error("scene directory " + input.string() + " has no .gltf files");
+      if (found.empty())
+        throw Error("scene directory " + input.string() + " has no .gltf files (nor .glb)");
       std::sort(found.begin(), found.end());
       files.insert(files.end(), found.begin(), found.end());
     } else if (fs::is_regular_file(input, ec)) {
@@ -180,13 +181,18 @@ std::string signalName(int signal) {
   return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : std::to_string(signal);
 }
 
-// While alive, SIGINT and SIGTERM only raise a flag (the default action is back after the first,
-// so a second one stops at once): the tiles in flight finish and are saved, no new tile starts.
+// While alive, SIGINT and SIGTERM only raise a flag: the tiles in flight finish and are saved, no
+// new tile starts. The first such signal puts the previous handler back, so a second one stops
+// at once (removing this process's temporary files, atomic_file.h).
 std::atomic<int> g_stop_signal{0};
 static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs a lock-free flag");
+struct sigaction g_previous_int;  // the handlers before StopOnSignals (atomic_file.h's cleanup)
+struct sigaction g_previous_term;
 
 extern "C" void onStopSignal(int signal) {
   g_stop_signal.store(signal);
+  // sigaction is async-signal-safe: the next such signal goes to the previous handler.
+  sigaction(signal, signal == SIGINT ? &g_previous_int : &g_previous_term, nullptr);
 }
 
 class StopOnSignals {
@@ -197,21 +203,17 @@ class StopOnSignals {
     std::memset(&action, 0, sizeof(action));
     action.sa_handler = onStopSignal;
     sigemptyset(&action.sa_mask);
-    action.sa_flags = SA_RESETHAND;
-    sigaction(SIGINT, &action, &old_int_);
-    sigaction(SIGTERM, &action, &old_term_);
+    action.sa_flags = 0;
+    sigaction(SIGINT, &action, &g_previous_int);
+    sigaction(SIGTERM, &action, &g_previous_term);
   }
   ~StopOnSignals() {
-    sigaction(SIGINT, &old_int_, nullptr);
-    sigaction(SIGTERM, &old_term_, nullptr);
+    sigaction(SIGINT, &g_previous_int, nullptr);
+    sigaction(SIGTERM, &g_previous_term, nullptr);
   }
   StopOnSignals(const StopOnSignals&) = delete;
   StopOnSignals& operator=(const StopOnSignals&) = delete;
   int signal() const { return g_stop_signal.load(); }
-
- private:
-  struct sigaction old_int_;
-  struct sigaction old_term_;
 };
 
 // <out>/sweep-tiles, holding this sweep's checkpointed tiles. The directory's "key" file names
@@ -234,16 +236,11 @@ fs::path openTileDirectory(const SweepOptions& o, const SweepIdentity& id) {
     std::fprintf(stderr, "sweep: removing the tiles of another sweep in %s\n", dir.c_str());
     fs::remove_all(dir, ec);
     if (ec) throw Error("cannot remove " + dir.string() + ": " + ec.message());
-    fs::remove(o.out / "shard.json", ec);
+    removeShardManifest(o.out);
   }
   ensureDirectory(dir);
   if (!fs::exists(key_file, ec)) writeFileAtomically(key_file, id.key + "\n");
-  // A killed run leaves the temporary file of each tile it was writing (atomic_file.h).
-  for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    if (entry.path().filename().string().find(".tmp-") != std::string::npos) {
-      fs::remove(entry.path(), ec);
-    }
-  }
+  cleanStaleTemporaries(dir);  // a killed run leaves the tiles it was writing half-written
   return dir;
 }
 

@@ -6,7 +6,8 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/image_io.h"
-#include "sweep/sha256.h"
+#include "common/output_set.h"
+#include "common/sha256.h"
 
 namespace gtbake {
 
@@ -83,9 +84,7 @@ void sealIdentity(SweepIdentity* identity) {
 }
 
 std::string sceneSha256(const fs::path& gltf) {
-  const std::string bytes = readFile(gltf);
-  Sha256 hash;
-  hash.update(bytes);
+  std::string bytes = readFile(gltf);
   if (gltf.extension() == ".gltf") {
     nlohmann::json document;
     try {
@@ -96,15 +95,16 @@ std::string sceneSha256(const fs::path& gltf) {
     for (const auto& buffer : document.value("buffers", nlohmann::json::array())) {
       const std::string uri = buffer.value("uri", "");
       if (uri.empty() || uri.rfind("data:", 0) == 0) continue;
-      hash.update(readFile(gltf.parent_path() / uri));
+      bytes += readFile(gltf.parent_path() / uri);
     }
   }
-  return hash.hexDigest();
+  return sha256Hex(bytes);
 }
 
 SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity,
                               const TilePlan& plan, const std::vector<SceneRun>& runs, int threads,
                               const std::function<TileData(int)>& load) {
+  OutputSet output(out, "sweep");  // committed whole at the end (output_set.h)
   SweepResult result;
   nlohmann::ordered_json scene_entries = nlohmann::ordered_json::array();
   std::printf("%-16s %9s %8s %9s %9s\n", "scene", "pixels", "mean A", "seconds", "Mrays/s");
@@ -112,15 +112,21 @@ SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity
     const auto start = std::chrono::steady_clock::now();
     const std::string& name = identity.scenes[s];
     const SceneImage image = assembleScene(identity, plan, static_cast<int>(s), load);
+    if (image.unmasked == 0) {
+      throw Error(
+          "scene " + runs[s].gltf.string() +
+          ": no pixel sees geometry (every camera ray escapes); aim the camera at the scene");
+    }
     const std::string gltf = relativePath(runs[s].gltf, out);
     std::map<std::string, std::string> attributes = identity.attributes;
     attributes["gtbake.scene"] = gltf;
     const fs::path exr = out / (name + ".exr");
-    writeExr(exr, plan.width, plan.height, image.channels, attributes);
+    output.add(exr.filename().string(),
+               encodeExr(plan.width, plan.height, image.channels, attributes));
     for (const ExrChannel& c : image.channels) {
       if (c.name == "A" || c.name == "G050") {
-        writePng(out / (name + "_" + c.name + ".png"), plan.width, plan.height, 1,
-                 toGray8(c.pixels, 0.0f, 1.0f));
+        output.add(name + "_" + c.name + ".png",
+                   encodePng(plan.width, plan.height, 1, toGray8(c.pixels, 0.0f, 1.0f)));
       }
     }
     const double write_seconds =
@@ -166,7 +172,9 @@ SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity
   json["totals"] = {{"seconds", result.seconds},
                     {"rays", result.rays},
                     {"rays_per_second", rate(result.seconds, result.rays)}};
-  writeFileAtomically(out / "sweep.json", json.dump(2) + "\n");
+  output.setSettings(json["settings"]);
+  output.add("sweep.json", json.dump(2) + "\n");
+  output.commit();
   return result;
 }
 

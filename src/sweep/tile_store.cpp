@@ -6,7 +6,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
-#include "sweep/sha256.h"
+#include "common/sha256.h"
 
 namespace gtbake {
 

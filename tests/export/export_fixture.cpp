@@ -4,6 +4,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "common/output_set.h"
+
 namespace gtbake::test {
 
 float fixtureValue(double tx, double ty, double tz, double tw) {
@@ -38,6 +40,7 @@ namespace {
 void writeFloats(const std::filesystem::path& path, const std::vector<float>& v) {
   std::ofstream out(path, std::ios::binary);
   out.write(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(float));
+  out.close();
 }
 
 nlohmann::json axis(const char* name, const char* quantity, double min, double max) {
@@ -87,6 +90,9 @@ void writeFixture(const std::filesystem::path& dir) {
   fit["shipped"]["max_curve_difference"] = {{"value", 0.02}, {"A", 0.5}, {"rho", 0.9}};
   fit["sweep"] = {{"spp", 256}, {"bounces", 3}};
   std::ofstream(dir / "fit.json") << fit.dump(2);
+  // Readers require the output-set manifests `gtbake gtso` and `gtbake fit` write.
+  sealOutputSet(dir / "gtso", "gtso", {"gtso3d.f32", "gtso4d.f32", "gtso.json"});
+  sealOutputSet(dir, "fit", {"fit.json"});
 }
 
 }  // namespace gtbake::test

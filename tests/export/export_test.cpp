@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/output_set.h"
 #include "export/bc4_block.h"
 #include "export/bc4_encoder.h"
 #include "export/export_command.h"
@@ -191,6 +192,7 @@ TEST_F(ExportTest, RejectsMissingFit) {
 
 TEST_F(ExportTest, RejectsWrongTableSize) {
   std::ofstream(dir_ / "gtso" / "gtso4d.f32", std::ios::binary) << "short";
+  resealOutputSet(dir_ / "gtso", "gtso");  // past the manifest, to the reader's own check
   expectErrorAndNoOutput("gtso4d.f32");
 }
 
@@ -198,6 +200,7 @@ TEST_F(ExportTest, RejectsUnknownQuantity) {
   std::string json = slurp(dir_ / "gtso" / "gtso.json");
   json.replace(json.find("\"cos_theta_o\""), 13, "\"theta_v\"");
   std::ofstream(dir_ / "gtso" / "gtso.json") << json;
+  resealOutputSet(dir_ / "gtso", "gtso");
   expectErrorAndNoOutput("unknown quantity");
 }
 
@@ -206,6 +209,7 @@ TEST_F(ExportTest, RejectsNanTexel) {
   t[17] = std::nanf("");
   std::ofstream(dir_ / "gtso" / "gtso3d.f32", std::ios::binary)
       .write(reinterpret_cast<const char*>(t.data()), t.size() * 4);
+  resealOutputSet(dir_ / "gtso", "gtso");
   expectErrorAndNoOutput("texel 17");
 }
 
@@ -213,6 +217,7 @@ TEST_F(ExportTest, RejectsMissingCoefficient) {
   std::string json = slurp(dir_ / "fit.json");
   json.replace(json.find("\"c0\""), 4, "\"cz\"");
   std::ofstream(dir_ / "fit.json") << json;
+  resealOutputSet(dir_, "fit");
   expectErrorAndNoOutput("c0");
 }
 

@@ -11,6 +11,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/output_set.h"
 #include "fit/fit_command.h"
 #include "fit/fit_errors.h"
 #include "fit/multibounce_fit.h"
@@ -163,6 +164,7 @@ void editJson(const fs::path& dir, const std::function<void(json&)>& edit) {
   json doc = readJson(dir / "sweep.json");
   edit(doc);
   writeFileAtomically(dir / "sweep.json", doc.dump());
+  resealOutputSet(dir, "sweep");  // exercise loadSweep's own checks, not the manifest's
 }
 
 void editExr(const fs::path& file, const std::function<void(ExrImage&)>& edit) {
@@ -170,7 +172,8 @@ void editExr(const fs::path& file, const std::function<void(ExrImage&)>& edit) {
   edit(image);
   std::vector<ExrChannel> channels;
   for (const auto& [name, pixels] : image.channels) channels.push_back({name, pixels});
-  writeExr(file, image.width, image.height, channels);
+  writeExr(file, image.width, image.height, channels, image.attributes);
+  resealOutputSet(file.parent_path(), "sweep");
 }
 
 TEST(FitCommand, BadInputIsAOneLineError) {
@@ -179,6 +182,7 @@ TEST(FitCommand, BadInputIsAOneLineError) {
 
   fs::path dir = copyOfSweep("malformed");
   writeFileAtomically(dir / "sweep.json", "{\"settings\": [1, 2");
+  resealOutputSet(dir, "sweep");
   expectFitError(dir, "malformed JSON");
 
   dir = copyOfSweep("exr_missing");

@@ -10,6 +10,7 @@
 
 #include "common/atomic_file.h"
 #include "common/image_io.h"
+#include "common/output_set.h"
 #include "fit/multibounce_fit.h"
 
 namespace gtbake::test {
@@ -66,6 +67,7 @@ void writeWalkSweep(const fs::path& dir, const std::vector<std::string>& scenes,
                      {"threads", 1},       {"albedos", kAlbedos}};
   doc["scenes"] = nlohmann::json::array();
   doc["version"] = "test";
+  std::vector<std::string> files;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   for (const std::string& name : scenes) {
@@ -114,7 +116,12 @@ void writeWalkSweep(const fs::path& dir, const std::vector<std::string>& scenes,
       channels.push_back({albedoChannel(rho), g});
     }
     channels.push_back({"mask", mask});
-    writeExr(dir / (name + ".exr"), width, height, channels);
+    writeExr(dir / (name + ".exr"), width, height, channels,
+             {{"gtbake.spp", std::to_string(spp)},
+              {"gtbake.bounces", std::to_string(bounces)},
+              {"gtbake.seed", std::to_string(seed)},
+              {"gtbake.scene", name + ".gltf"}});
+    files.push_back(name + ".exr");
     doc["scenes"].push_back({{"name", name},
                              {"file", name + ".exr"},
                              {"gltf", name + ".gltf"},
@@ -126,6 +133,8 @@ void writeWalkSweep(const fs::path& dir, const std::vector<std::string>& scenes,
                              {"rays_per_second", 0.0}});
   }
   writeFileAtomically(dir / "sweep.json", doc.dump(2));
+  files.push_back("sweep.json");
+  sealOutputSet(dir, "sweep", files);  // readers require the manifest (output_set.h)
 }
 
 fs::path freshDir(const std::string& name) {

@@ -1,0 +1,67 @@
+// Bounds on the work and memory an input may ask for, and the checked readers every stage uses
+// for files it did not write itself in this run (docs/limits.md lists them all).
+//
+// Each limit has a default that covers every scene and table gtbake is meant for with a wide
+// margin, and an environment variable that raises it; an error names both, e.g.
+// "scene.gltf: 2.1e+08 triangles exceed the limit of 5e+07 (set GTBAKE_MAX_TRIANGLES to raise it)".
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace gtbake {
+
+struct Limit {
+  const char* env;         // environment variable that overrides the default
+  std::uint64_t fallback;  // default value
+  const char* unit;        // what is counted ("triangles", "bytes", ...)
+};
+
+// clang-format off
+inline constexpr Limit kMaxTriangles   {"GTBAKE_MAX_TRIANGLES",   50'000'000, "triangles"};
+inline constexpr Limit kMaxVertices    {"GTBAKE_MAX_VERTICES",    50'000'000, "vertices"};
+inline constexpr Limit kMaxInstances   {"GTBAKE_MAX_INSTANCES",    1'000'000, "node instances"};
+inline constexpr Limit kMaxInputBytes  {"GTBAKE_MAX_INPUT_BYTES", 4'000'000'000, "bytes"};
+inline constexpr Limit kMaxJsonDepth   {"GTBAKE_MAX_JSON_DEPTH",         64, "levels of JSON nesting"};
+// clang-format on
+
+// The limit's value: its environment variable if set to a positive integer, else the default.
+std::uint64_t limitValue(const Limit& limit);
+
+// Throws gtbake::Error "<what>: <value> <unit> exceed the limit of <N> (set ENV to raise it)"
+// when value > the limit.
+void checkLimit(const Limit& limit, std::uint64_t value, const std::string& what);
+
+// Reads a whole regular file (not a FIFO, device or directory: those are refused without being
+// opened for reading, so a FIFO cannot block), at most kMaxInputBytes. Throws gtbake::Error.
+std::string readRegularFile(const std::filesystem::path& path);
+
+// Deepest nesting of arrays and objects in JSON text (strings are skipped); stops counting at
+// `stop_at` + 1 so a hostile file costs one linear scan.
+int jsonNestingDepth(std::string_view text, int stop_at);
+
+// Reads and parses a JSON file after checking its size and nesting depth (kMaxJsonDepth);
+// throws a one-line gtbake::Error naming the file.
+nlohmann::json readJsonFile(const std::filesystem::path& path);
+
+// The same for JSON text already read (e.g. verified against an output-set manifest); `where`
+// names its file in errors.
+nlohmann::json parseJsonText(std::string_view text, const std::string& where);
+
+// An integer member in [lo, hi], without get<int>()'s silent truncation; one-line error
+// naming `where` and the key otherwise.
+std::int64_t jsonInteger(const nlohmann::json& object, const char* key, std::int64_t lo,
+                         std::int64_t hi, const std::string& where);
+
+// `name` as a file directly or below `dir`: refuses absolute names, ".." components (also
+// percent-encoded) and empty names, so a `file` entry of sweep.json or gtso.json cannot point
+// outside its directory. Returns dir / name.
+std::filesystem::path fileInsideDirectory(const std::filesystem::path& dir, const std::string& name,
+                                          const std::string& where);
+
+// Percent-decodes a URI path ("%2e" -> "."); malformed escapes are kept as written.
+std::string percentDecode(const std::string& text);
+
+}  // namespace gtbake

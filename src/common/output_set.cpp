@@ -1,0 +1,237 @@
+#include "common/output_set.h"
+
+#include <unistd.h>
+
+#include <system_error>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "common/input_limits.h"
+#include "common/sha256.h"
+#include "gtbake_version.h"
+
+namespace gtbake {
+
+namespace fs = std::filesystem;
+
+std::string manifestFileName(const std::string& command) {
+  return command + ".manifest.json";
+}
+
+const OutputFile* OutputManifest::find(const std::string& name) const {
+  for (const OutputFile& f : files) {
+    if (f.name == name) return &f;
+  }
+  return nullptr;
+}
+
+void OutputManifest::verify(const std::string& name, std::string_view bytes) const {
+  const std::string path = (dir / name).string();
+  const OutputFile* entry = find(name);
+  if (entry == nullptr) {
+    throw Error(path + " is not part of the output set in " +
+                (dir / manifestFileName(command)).string() + " (rerun `gtbake " + command + "`)");
+  }
+  if (entry->size != bytes.size() || entry->sha256 != sha256Hex(bytes)) {
+    throw Error(path + " does not match " + manifestFileName(command) + " (" +
+                std::to_string(bytes.size()) + " bytes, manifest says " +
+                std::to_string(entry->size) + " and another SHA-256): it was changed or replaced " +
+                "after `gtbake " + command + "` wrote it; rerun that command");
+  }
+}
+
+std::string OutputManifest::readVerified(const std::string& name) const {
+  const fs::path path = fileInsideDirectory(dir, name, (dir / manifestFileName(command)).string());
+  std::string bytes = readRegularFile(path);
+  verify(name, bytes);
+  return bytes;
+}
+
+OutputSet::OutputSet(fs::path dir, std::string command)
+    : dir_(std::move(dir)), command_(std::move(command)) {
+  ensureDirectory(dir_);
+  cleanStaleTemporaries(dir_);
+}
+
+OutputSet::~OutputSet() {
+  for (const Staged& s : staged_) {
+    if (!committed_) {
+      std::error_code ignored;
+      fs::remove(s.temp, ignored);
+    }
+    unregisterTemporary(s.slot);
+  }
+}
+
+void OutputSet::add(const std::string& name, std::string_view bytes) {
+  if (committed_) throw Error("internal: output set " + dir_.string() + " already committed");
+  const fs::path final_path = fileInsideDirectory(dir_, name, "output set " + dir_.string());
+  for (const Staged& s : staged_) {
+    if (s.file.name == name) throw Error("internal: " + final_path.string() + " written twice");
+  }
+  if (name == manifestFileName(command_)) {
+    throw Error("internal: " + name + " is the manifest's own name");
+  }
+  if (final_path.has_parent_path()) ensureDirectory(final_path.parent_path());
+  Staged staged;
+  staged.file = {name, bytes.size(), sha256Hex(bytes)};
+  staged.temp = final_path;
+  staged.temp += ".tmp-" + std::to_string(::getpid());
+  staged.slot = registerTemporary(staged.temp);
+  staged_.push_back(staged);
+  writeBytesChecked(staged.temp, bytes, final_path);
+}
+
+OutputManifest OutputSet::commit() {
+  const fs::path manifest_path = dir_ / manifestFileName(command_);
+  std::error_code ec;
+  fs::remove(manifest_path, ec);
+  if (ec) throw Error("cannot replace " + manifest_path.string() + ": " + ec.message());
+  OutputManifest manifest;
+  manifest.dir = dir_;
+  manifest.command = command_;
+  manifest.gtbake_version = GTBAKE_VERSION;
+  manifest.settings = settings_;
+  nlohmann::ordered_json files = nlohmann::ordered_json::array();
+  for (const Staged& s : staged_) {
+    fs::rename(s.temp, dir_ / s.file.name, ec);
+    if (ec) {
+      throw Error("cannot write " + (dir_ / s.file.name).string() + ": " + ec.message() +
+                  " (the output set in " + dir_.string() + " is incomplete; rerun)");
+    }
+    manifest.files.push_back(s.file);
+    files.push_back({{"name", s.file.name}, {"size", s.file.size}, {"sha256", s.file.sha256}});
+  }
+  committed_ = true;
+  nlohmann::ordered_json doc;
+  doc["command"] = command_;
+  doc["gtbake_version"] = GTBAKE_VERSION;
+  doc["settings"] = settings_;
+  doc["files"] = std::move(files);
+  writeFileAtomically(manifest_path, doc.dump(2) + "\n");
+  return manifest;
+}
+
+OutputManifest readOutputSet(const fs::path& dir, const std::string& command) {
+  const fs::path path = dir / manifestFileName(command);
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
+    throw Error(dir.string() + " has no complete `gtbake " + command + "` output (no " +
+                manifestFileName(command) + "; the run was interrupted or failed, or the files " +
+                "come from elsewhere): rerun `gtbake " + command + "`");
+  }
+  const nlohmann::json doc = readJsonFile(path);
+  const std::string where = path.string();
+  if (!doc.is_object() || !doc.contains("command") || !doc["command"].is_string() ||
+      !doc.contains("files") || !doc["files"].is_array() || !doc.contains("gtbake_version") ||
+      !doc["gtbake_version"].is_string()) {
+    throw Error(where + ": not an output-set manifest (needs command, gtbake_version, files)");
+  }
+  OutputManifest manifest;
+  manifest.dir = dir;
+  manifest.command = doc["command"].get<std::string>();
+  if (manifest.command != command) {
+    throw Error(where + ": written by `gtbake " + manifest.command + "`, expected `gtbake " +
+                command + "`");
+  }
+  manifest.gtbake_version = doc["gtbake_version"].get<std::string>();
+  if (doc.contains("settings")) manifest.settings = doc["settings"];
+  for (const nlohmann::json& f : doc["files"]) {
+    if (!f.is_object() || !f.contains("name") || !f["name"].is_string() || !f.contains("sha256") ||
+        !f["sha256"].is_string() || f["sha256"].get<std::string>().size() != 64) {
+      throw Error(where + ": every file entry needs a name, a size and a SHA-256");
+    }
+    OutputFile file;
+    file.name = f["name"].get<std::string>();
+    fileInsideDirectory(dir, file.name, where);
+    file.size = static_cast<std::uint64_t>(jsonInteger(f, "size", 0, INT64_MAX, where));
+    file.sha256 = f["sha256"].get<std::string>();
+    if (manifest.find(file.name) != nullptr) {
+      throw Error(where + ": lists " + file.name + " twice");
+    }
+    manifest.files.push_back(file);
+  }
+  return manifest;
+}
+
+OutputManifest sealOutputSet(const fs::path& dir, const std::string& command,
+                             const std::vector<std::string>& names,
+                             nlohmann::ordered_json settings) {
+  const fs::path manifest_path = dir / manifestFileName(command);
+  OutputManifest manifest;
+  manifest.dir = dir;
+  manifest.command = command;
+  manifest.gtbake_version = GTBAKE_VERSION;
+  manifest.settings = settings;
+  nlohmann::ordered_json files = nlohmann::ordered_json::array();
+  for (const std::string& name : names) {
+    const std::string bytes =
+        readRegularFile(fileInsideDirectory(dir, name, manifest_path.string()));
+    const OutputFile file{name, bytes.size(), sha256Hex(bytes)};
+    manifest.files.push_back(file);
+    files.push_back({{"name", file.name}, {"size", file.size}, {"sha256", file.sha256}});
+  }
+  nlohmann::ordered_json doc;
+  doc["command"] = command;
+  doc["gtbake_version"] = GTBAKE_VERSION;
+  doc["settings"] = std::move(settings);
+  doc["files"] = std::move(files);
+  writeFileAtomically(manifest_path, doc.dump(2) + "\n");
+  return manifest;
+}
+
+OutputManifest resealOutputSet(const fs::path& dir, const std::string& command) {
+  const OutputManifest old = readOutputSet(dir, command);
+  std::vector<std::string> names;
+  for (const OutputFile& f : old.files) names.push_back(f.name);
+  return sealOutputSet(dir, command, names, old.settings);
+}
+
+std::vector<fs::path> outputSetPaths(const fs::path& dir, const std::string& command) {
+  std::vector<fs::path> paths;
+  std::error_code ec;
+  if (!fs::is_regular_file(dir / manifestFileName(command), ec)) return paths;
+  paths.push_back(dir / manifestFileName(command));
+  try {
+    for (const OutputFile& f : readOutputSet(dir, command).files) paths.push_back(dir / f.name);
+  } catch (const Error&) {
+    // A broken manifest is reported by the reader; the manifest itself is still an input.
+  }
+  return paths;
+}
+
+void verifyOutputSet(const OutputManifest& manifest) {
+  for (const OutputFile& f : manifest.files) manifest.readVerified(f.name);
+}
+
+bool sameOrInside(const fs::path& candidate, const fs::path& input) {
+  std::error_code ec;
+  const fs::path a = fs::weakly_canonical(fs::absolute(candidate), ec);
+  if (ec) return false;
+  const fs::path b = fs::weakly_canonical(fs::absolute(input), ec);
+  if (ec) return false;
+  if (a == b) return true;
+  const fs::path relative = b.lexically_relative(a);
+  return !relative.empty() && *relative.begin() != "..";
+}
+
+}  // namespace gtbake
+
+namespace gtbake {
+
+void checkOutputFile(const fs::path& out, const std::string& option,
+                     const std::vector<fs::path>& inputs) {
+  std::error_code ec;
+  if (fs::is_directory(out, ec) || out.filename().empty() || out.filename() == "." ||
+      out.filename() == "..") {
+    throw Error(option + " " + out.string() + " is a directory; name the file to write");
+  }
+  for (const fs::path& input : inputs) {
+    if (sameOrInside(out, input)) {
+      throw Error(option + " " + out.string() + " would overwrite the input " + input.string() +
+                  "; write it somewhere else");
+    }
+  }
+}
+
+}  // namespace gtbake

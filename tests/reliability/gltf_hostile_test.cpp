@@ -1,0 +1,272 @@
+// Hostile glTF inputs (issue 9): each case once crashed, hung, read out of bounds or silently
+// produced wrong geometry; each must now be a one-line gtbake::Error (or the right result).
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+#include "reliability_util.h"
+#include "scene/gltf_reader.h"
+#include "scene/scene.h"
+
+namespace gtbake {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test::ScopedEnv;
+using test::Scratch;
+using test::spit;
+
+// A one-triangle glTF (positions at view 0 / accessor 0, u16 indices at view 1 / accessor 1)
+// and a camera at node 1; tests edit `doc` before writing.
+struct Gltf {
+  json doc;
+  std::string bin;
+
+  Gltf() {
+    const float p[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const std::uint16_t idx[4] = {0, 1, 2, 0};
+    bin.assign(reinterpret_cast<const char*>(p), sizeof(p));
+    bin.append(reinterpret_cast<const char*>(idx), sizeof(idx));
+    doc = {
+        {"asset", {{"version", "2.0"}}},
+        {"bufferViews",
+         {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
+          {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}}},
+        {"accessors",
+         {{{"bufferView", 0}, {"componentType", 5126}, {"type", "VEC3"}, {"count", 3}},
+          {{"bufferView", 1}, {"componentType", 5123}, {"type", "SCALAR"}, {"count", 3}}}},
+        {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
+        {"cameras", {{{"type", "perspective"}, {"perspective", {{"yfov", 0.6}, {"znear", 0.1}}}}}},
+        {"nodes", {{{"mesh", 0}}, {{"camera", 0}, {"translation", {0, 0, 5}}}}},
+        {"scenes", {{{"nodes", {0, 1}}}}},
+        {"scene", 0}};
+  }
+  fs::path write(const fs::path& dir, const std::string& name = "s") {
+    if (!doc.contains("buffers")) {
+      doc["buffers"] = json::array({{{"uri", name + ".bin"}, {"byteLength", bin.size()}}});
+    }
+    spit(dir / (name + ".bin"), bin);
+    spit(dir / (name + ".gltf"), doc.dump());
+    return dir / (name + ".gltf");
+  }
+};
+
+std::string errorOf(const fs::path& path, const GltfReadOptions& options = {}) {
+  try {
+    readGltfScene(path, options);
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    return message;
+  }
+  return "";
+}
+
+void expectError(const fs::path& path, const std::string& fragment,
+                 const GltfReadOptions& options = {}) {
+  const std::string message = errorOf(path, options);
+  EXPECT_NE(message.find(fragment), std::string::npos) << "got: '" << message << "'";
+}
+
+TEST(GltfHostile, BaselineReads) {
+  Scratch dir("gltf_ok");
+  Gltf g;
+  const Scene scene = readGltfScene(g.write(dir.path()), {});
+  EXPECT_EQ(scene.triangles.size(), 1u);
+}
+
+// count and byteOffset that wrap size_t arithmetic used to pass the bounds check.
+TEST(GltfHostile, WrappingAccessorCountOrOffsetIsRefused) {
+  Scratch dir("gltf_wrap");
+  for (const auto& [key, value] :
+       std::vector<std::pair<std::string, std::uint64_t>>{{"count", 0x4000000000000001ull},
+                                                          {"count", 0x1555555555555556ull},
+                                                          {"byteOffset", 0xFFFFFFFFFFFFFFF0ull}}) {
+    Gltf g;
+    g.doc["accessors"][0][key] = value;
+    const std::string message = errorOf(g.write(dir.path()));
+    EXPECT_FALSE(message.empty()) << key << "=" << value;
+  }
+  Gltf g;
+  g.doc["bufferViews"][0]["byteOffset"] = 0xFFFFFFFFFFFFFFF0ull;
+  EXPECT_FALSE(errorOf(g.write(dir.path())).empty());
+  Gltf h;
+  h.doc["accessors"][1]["count"] = 0x8000000000000001ull;  // index accessor
+  EXPECT_FALSE(errorOf(h.write(dir.path())).empty());
+}
+
+TEST(GltfHostile, DeepNodeChainIsWalkedWithoutRecursion) {
+  Scratch dir("gltf_deep");
+  Gltf g;
+  const int depth = 20000;
+  json nodes = json::array();
+  for (int i = 0; i < depth; ++i) nodes.push_back({{"children", {i + 1}}});
+  nodes.push_back({{"mesh", 0}});
+  nodes.push_back({{"camera", 0}, {"translation", {0, 0, 5}}});
+  g.doc["nodes"] = nodes;
+  g.doc["scenes"] = json::array({{{"nodes", {0, depth + 1}}}});
+  const Scene scene = readGltfScene(g.write(dir.path()), {});
+  EXPECT_EQ(scene.triangles.size(), 1u);
+}
+
+TEST(GltfHostile, DeeplyNestedJsonIsRefusedBeforeParsing) {
+  Scratch dir("gltf_nest");
+  Gltf g;
+  const fs::path path = g.write(dir.path());
+  std::string text = test::slurp(path);
+  text.insert(1, "\"extras\":" + std::string(100000, '[') + std::string(100000, ']') + ",");
+  spit(path, text);
+  expectError(path, "GTBAKE_MAX_JSON_DEPTH");
+}
+
+TEST(GltfHostile, DuplicatedChildrenCannotExplodeInstances) {
+  Scratch dir("gltf_dup");
+  Gltf g;
+  json nodes = json::array();
+  for (int i = 0; i < 40; ++i) nodes.push_back({{"children", {i + 1, i + 1}}});
+  nodes.push_back({{"mesh", 0}});
+  nodes.push_back({{"camera", 0}, {"translation", {0, 0, 5}}});
+  g.doc["nodes"] = nodes;
+  g.doc["scenes"] = json::array({{{"nodes", {0, 41}}}});
+  expectError(g.write(dir.path()), "GTBAKE_MAX_INSTANCES");
+}
+
+TEST(GltfHostile, TriangleAndVertexLimitsNameTheirVariable) {
+  Scratch dir("gltf_limits");
+  Gltf g;
+  g.doc["nodes"][0]["children"] = {2};
+  g.doc["nodes"].push_back({{"mesh", 0}});
+  const fs::path path = g.write(dir.path());
+  {
+    const ScopedEnv limit("GTBAKE_MAX_TRIANGLES", "1");
+    expectError(path, "GTBAKE_MAX_TRIANGLES");
+  }
+  {
+    const ScopedEnv limit("GTBAKE_MAX_VERTICES", "5");
+    expectError(path, "GTBAKE_MAX_VERTICES");
+  }
+  EXPECT_EQ(readGltfScene(path, {}).triangles.size(), 2u);
+}
+
+TEST(GltfHostile, FifoBufferIsRefusedNotWaitedOn) {
+  Scratch dir("gltf_fifo");
+  Gltf g;
+  g.doc["buffers"] = json::array({{{"uri", "pipe.bin"}, {"byteLength", g.bin.size()}}});
+  const fs::path path = g.write(dir.path());
+  ASSERT_EQ(::mkfifo((dir.path() / "pipe.bin").c_str(), 0600), 0);
+  expectError(path, "not a regular file");
+  // The glTF itself named as a FIFO.
+  ASSERT_EQ(::mkfifo((dir.path() / "f.gltf").c_str(), 0600), 0);
+  expectError(dir.path() / "f.gltf", "not a regular file");
+}
+
+TEST(GltfHostile, UrisOutsideTheDirectoryAreRefused) {
+  Scratch dir("gltf_paths");
+  fs::create_directories(dir.path() / "scenes");
+  Gltf g;
+  spit(dir.path() / "outside.bin", g.bin);
+  for (const std::string& uri :
+       std::vector<std::string>{"../outside.bin", "%2e%2e/outside.bin", "%2E%2E%2Foutside.bin",
+                                "sub/../../outside.bin", (dir.path() / "outside.bin").string()}) {
+    Gltf h;
+    h.doc["buffers"] = json::array({{{"uri", uri}, {"byteLength", h.bin.size()}}});
+    const fs::path path = h.write(dir.path() / "scenes");
+    const std::string message = errorOf(path);
+    EXPECT_TRUE(message.find("outside") != std::string::npos ||
+                message.find("absolute") != std::string::npos)
+        << uri << ": " << message;
+  }
+  // Explicitly allowed.
+  Gltf h;
+  h.doc["buffers"] = json::array({{{"uri", "../outside.bin"}, {"byteLength", h.bin.size()}}});
+  const fs::path path = h.write(dir.path() / "scenes");
+  GltfReadOptions allow;
+  allow.allow_outside = true;
+  EXPECT_EQ(readGltfScene(path, allow).triangles.size(), 1u);
+}
+
+// tinygltf falls back to "./uri" for a buffer missing beside the glTF; the reader must not.
+TEST(GltfHostile, MissingBufferIsNotSearchedInTheCurrentDirectory) {
+  Scratch dir("gltf_cwd");
+  fs::create_directories(dir.path() / "scenes");
+  fs::create_directories(dir.path() / "cwd");
+  Gltf g;
+  g.doc["buffers"] = json::array({{{"uri", "only_in_cwd.bin"}, {"byteLength", g.bin.size()}}});
+  const fs::path path = g.write(dir.path() / "scenes");
+  spit(dir.path() / "cwd" / "only_in_cwd.bin", g.bin);
+  const fs::path old = fs::current_path();
+  fs::current_path(dir.path() / "cwd");
+  const std::string message = errorOf(fs::absolute(path));
+  fs::current_path(old);
+  EXPECT_NE(message.find("only_in_cwd.bin"), std::string::npos) << message;
+}
+
+TEST(GltfHostile, AbsurdCameraAndVerticesAreRefused) {
+  Scratch dir("gltf_far");
+  {
+    Gltf g;
+    g.doc["nodes"][1]["translation"] = {0, 0, 1e18};
+    expectError(g.write(dir.path()), "GTBAKE_MAX_COORDINATE");
+  }
+  {
+    Gltf g;
+    g.doc["nodes"][0]["scale"] = {1e12, 1e12, 1e12};
+    expectError(g.write(dir.path()), "GTBAKE_MAX_COORDINATE");
+  }
+  {
+    Gltf g;
+    g.doc["nodes"][1]["scale"] = {0, 0, 0};
+    expectError(g.write(dir.path()), "zero scale");
+  }
+  {
+    Gltf g;
+    g.doc["nodes"][1]["scale"] = {-1, 1, 1};
+    expectError(g.write(dir.path()), "mirroring");
+  }
+}
+
+TEST(GltfHostile, CameraChosenByNameOrIndex) {
+  Scratch dir("gltf_cams");
+  Gltf g;
+  g.doc["cameras"][0]["name"] = "wide";
+  g.doc["cameras"].push_back({{"name", "tele"},
+                              {"type", "perspective"},
+                              {"perspective", {{"yfov", 0.2}, {"znear", 0.1}}}});
+  g.doc["nodes"].push_back({{"camera", 1}, {"translation", {0, 0, 9}}});
+  g.doc["scenes"][0]["nodes"] = {0, 1, 2};
+  const fs::path path = g.write(dir.path());
+  GltfReadInfo info;
+  EXPECT_DOUBLE_EQ(readGltfScene(path, {}, &info).camera.yfov, 0.6);
+  EXPECT_EQ(info.perspective_cameras, 2);
+  EXPECT_EQ(info.camera_name, "wide");
+  GltfReadOptions by_name;
+  by_name.camera = "tele";
+  EXPECT_DOUBLE_EQ(readGltfScene(path, by_name).camera.yfov, 0.2);
+  GltfReadOptions by_index;
+  by_index.camera = "1";
+  EXPECT_DOUBLE_EQ(readGltfScene(path, by_index).camera.position.z(), 9.0);
+  by_index.camera = "2";
+  expectError(path, "numbered from 0", by_index);
+  by_name.camera = "nope";
+  expectError(path, "no perspective camera", by_name);
+}
+
+TEST(GltfHostile, TruncatedAndForgedGlbAreErrors) {
+  Scratch dir("gltf_glb");
+  std::string glb = "glTF";
+  const std::uint32_t header[4] = {2, 0xFFFFFFF0u, 0xFFFFFFF0u, 0x4E4F534Au};
+  glb.append(reinterpret_cast<const char*>(header), sizeof(header));
+  glb += "{}";
+  spit(dir.path() / "x.glb", glb);
+  EXPECT_FALSE(errorOf(dir.path() / "x.glb").empty());
+  spit(dir.path() / "y.glb", "glT");
+  EXPECT_FALSE(errorOf(dir.path() / "y.glb").empty());
+}
+
+}  // namespace
+}  // namespace gtbake

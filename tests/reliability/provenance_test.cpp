@@ -1,0 +1,346 @@
+// Output sets end to end (issue 9): sweep, fit, gtso and export commit whole sets; readers verify
+// them against their manifests and check EXR provenance against sweep.json; hostile EXR headers
+// and sweep.json/gtso.json entries are refused before any large allocation.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+#include "common/image_io.h"
+#include "common/output_set.h"
+#include "export/export_command.h"
+#include "fit/fit_command.h"
+#include "fit/sweep_data.h"
+#include "gtso/gtso_command.h"
+#include "reliability_util.h"
+#include "scene/procedural_scenes.h"
+#include "scene/scene.h"
+#include "scene/scenes_command.h"
+#include "sweep/sweep_command.h"
+
+namespace gtbake {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test::ScopedEnv;
+using test::Scratch;
+using test::slurp;
+using test::spit;
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    return message;
+  }
+  return "";
+}
+
+#define EXPECT_ERROR(statement, fragment)                                         \
+  do {                                                                            \
+    const std::string message_ = errorOf([&] { statement; });                     \
+    EXPECT_NE(message_.find(fragment), std::string::npos) << "got: " << message_; \
+  } while (0)
+
+// Two tiny scenes every pixel of which sees geometry (camera inside a closed box), so a 40x40
+// sweep gives loadSweep its 1000 points.
+struct SweepFixture {
+  Scratch root{"sweep_fixture"};
+  fs::path scenes = root.path() / "scenes";
+  SweepFixture() {
+    Scene a = makeClosedBoxScene();
+    writeGltfScene(scenes / "box_a.gltf", a);
+    writeGltfScene(scenes / "box_b.gltf", a);
+  }
+  SweepOptions options(const fs::path& out, std::uint64_t seed = 1, int side = 40) const {
+    SweepOptions o;
+    o.scenes = {scenes};
+    o.out = out;
+    o.spp = 2;
+    o.width = o.height = side;
+    o.bounces = 1;
+    o.seed = seed;
+    o.threads = 1;
+    o.progress = false;
+    return o;
+  }
+};
+
+const SweepFixture& fixture() {
+  static const SweepFixture f;
+  return f;
+}
+
+fs::path sweepInto(const fs::path& out, std::uint64_t seed = 1, int side = 40) {
+  runSweep(fixture().options(out, seed, side));
+  return out;
+}
+
+TEST(SweepSet, CommittedWithManifestAndVerified) {
+  Scratch dir("sweep_set");
+  sweepInto(dir.path() / "s");
+  const OutputManifest m = readOutputSet(dir.path() / "s", "sweep");
+  EXPECT_NE(m.find("sweep.json"), nullptr);
+  EXPECT_NE(m.find("box_a.exr"), nullptr);
+  EXPECT_NE(m.find("box_b_A.png"), nullptr);
+  EXPECT_EQ(m.settings["width"], 40);
+  verifyOutputSet(m);
+  EXPECT_EQ(loadSweep(dir.path() / "s").scenes.size(), 2u);
+}
+
+// A failed rerun (at another resolution) leaves the earlier sweep whole and usable.
+TEST(SweepSet, FailedRerunKeepsTheEarlierSweepUsable) {
+  Scratch dir("sweep_rerun");
+  const fs::path out = sweepInto(dir.path() / "s");
+  const std::string before = slurp(out / "box_a.exr");
+  {
+    const ScopedEnv fail("GTBAKE_TEST_FAIL_WRITE", "box_b.exr");
+    EXPECT_ERROR(sweepInto(out, 1, 48), "No space left");
+  }
+  EXPECT_EQ(slurp(out / "box_a.exr"), before);
+  EXPECT_EQ(loadSweep(out).points(), 2u * 40 * 40);
+  for (const auto& e : fs::directory_iterator(out)) {
+    EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos) << e.path();
+  }
+}
+
+TEST(SweepSet, ReadersRefuseMixedSeedsDuplicatesAndForeignScenes) {
+  Scratch dir("sweep_mix");
+  const fs::path one = sweepInto(dir.path() / "seed1");
+  const fs::path two = sweepInto(dir.path() / "seed2", 2);
+  // A file from another run, dropped in: the manifest catches it.
+  fs::copy_file(two / "box_a.exr", one / "box_a.exr", fs::copy_options::overwrite_existing);
+  EXPECT_ERROR(loadSweep(one), "does not match sweep.manifest.json");
+  // Even resealed, its attributes give it away.
+  resealOutputSet(one, "sweep");
+  EXPECT_ERROR(loadSweep(one), "gtbake.seed");
+  // The EXR of another scene under this scene's name.
+  const fs::path three = sweepInto(dir.path() / "swap");
+  fs::copy_file(three / "box_b.exr", three / "box_a.exr", fs::copy_options::overwrite_existing);
+  resealOutputSet(three, "sweep");
+  EXPECT_ERROR(loadSweep(three), "gtbake.scene");
+  // The same scene listed twice.
+  const fs::path four = sweepInto(dir.path() / "dup");
+  json doc = json::parse(slurp(four / "sweep.json"));
+  doc["scenes"][1] = doc["scenes"][0];
+  spit(four / "sweep.json", doc.dump());
+  resealOutputSet(four, "sweep");
+  EXPECT_ERROR(loadSweep(four), "listed twice");
+  // No manifest at all (an interrupted commit, or files from elsewhere).
+  fs::remove(four / "sweep.manifest.json");
+  EXPECT_ERROR(loadSweep(four), "rerun `gtbake sweep`");
+}
+
+TEST(SweepSet, HostileSweepJsonEntries) {
+  Scratch dir("sweep_json");
+  const fs::path out = sweepInto(dir.path() / "s");
+  const std::string good = slurp(out / "sweep.json");
+  auto edited = [&](const std::function<void(json&)>& edit) {
+    json doc = json::parse(good);
+    edit(doc);
+    spit(out / "sweep.json", doc.dump());
+    resealOutputSet(out, "sweep");
+  };
+  // get<int>() used to truncate 2^32 + 2 to 2.
+  edited([](json& d) { d["settings"]["spp"] = 4294967298ull; });
+  EXPECT_ERROR(loadSweep(out), "'spp' must be an integer in");
+  edited([](json& d) { d["scenes"][0]["file"] = "../s/box_a.exr"; });
+  EXPECT_ERROR(loadSweep(out), "'..' is not allowed");
+  edited([&](json& d) { d["scenes"][0]["file"] = (fs::absolute(out) / "box_a.exr").string(); });
+  EXPECT_ERROR(loadSweep(out), "must be a relative path");
+  edited([](json& d) { d["scenes"][0]["width"] = 4000000000ull; });
+  EXPECT_ERROR(loadSweep(out), "'width' must be an integer");
+  spit(out / "sweep.json", std::string(5000, '[') + std::string(5000, ']'));
+  resealOutputSet(out, "sweep");
+  EXPECT_ERROR(loadSweep(out), "GTBAKE_MAX_JSON_DEPTH");
+}
+
+// Finds the int32 fields of the header's "dataWindow" box2i (xMin, yMin, xMax, yMax).
+std::size_t dataWindowOffset(const std::string& exr) {
+  const std::string key("dataWindow\0box2i\0", 17);
+  const std::size_t at = exr.find(key);
+  EXPECT_NE(at, std::string::npos);
+  return at + key.size() + 4;  // skip the attribute size
+}
+
+TEST(ExrHostile, ForgedDataWindowIsRefusedBeforeAllocating) {
+  const std::vector<ExrChannel> channels = {{"A", std::vector<float>(16 * 16, 0.5f)},
+                                            {"mask", std::vector<float>(16 * 16, 1.0f)}};
+  const std::string good = encodeExr(16, 16, channels);
+  EXPECT_EQ(decodeExr(good, "good.exr").width, 16);
+  auto forged = [&](std::int32_t x_max, std::int32_t y_max, std::int32_t x_min = 0) {
+    std::string bytes = good;
+    const std::size_t at = dataWindowOffset(bytes);
+    std::memcpy(&bytes[at], &x_min, 4);
+    std::memcpy(&bytes[at + 8], &x_max, 4);
+    std::memcpy(&bytes[at + 12], &y_max, 4);
+    return bytes;
+  };
+  // 5 GB of floats from a ~1 KB file: refused by the size the file could hold.
+  // (OpenEXR may already fail on the missing line offsets; either way nothing large is made.)
+  const std::string large = errorOf([&] { decodeExr(forged(8000, 8000), "f.exr"); });
+  EXPECT_TRUE(large.find("far larger") != std::string::npos ||
+              large.find("cannot read EXR") != std::string::npos)
+      << large;
+  // Beyond the largest side any sweep writes: refused while the header is read.
+  EXPECT_ERROR(decodeExr(forged(200000, 200000), "f.exr"), "cannot read EXR");
+  EXPECT_ERROR(decodeExr(forged(15, 15, -10), "f.exr"), "EXR");
+  // A size other than the provenance says, before any pixel is read.
+  EXPECT_ERROR(decodeExr(good, "g.exr", {32, 16, "sweep.json"}), "does not match sweep.json");
+  EXPECT_ERROR(decodeExr(good.substr(0, good.size() / 2), "t.exr"), "cannot read EXR");
+  EXPECT_ERROR(decodeExr("", "e.exr"), "cannot read EXR");
+}
+
+TEST(FitSet, OutputNeverReplacesAnInputAndIsNeverADirectory) {
+  Scratch dir("fit_out");
+  const fs::path sweep = sweepInto(dir.path() / "s");
+  const std::string before = slurp(sweep / "sweep.json");
+  FitOptions o;
+  o.sweep = sweep;
+  o.progress = false;
+  o.out = sweep / "sweep.json";
+  EXPECT_ERROR(runFit(o), "would overwrite the input");
+  o.out = sweep / "." / "box_a.exr";
+  EXPECT_ERROR(runFit(o), "would overwrite the input");
+  EXPECT_EQ(slurp(sweep / "sweep.json"), before);
+  fs::create_directories(dir.path() / "adir");
+  o.out = dir.path() / "adir";
+  EXPECT_ERROR(runFit(o), "is a directory");
+  EXPECT_TRUE(fs::is_empty(dir.path() / "adir"));
+  // Beside the sweep is fine (gtbake all writes luts/fit.json next to luts/sweep.json).
+  o.out = sweep / "fit.json";
+  o.report = dir.path() / "report";
+  runFit(o);
+  EXPECT_EQ(readOutputSet(sweep, "fit").readVerified("fit.json"), slurp(sweep / "fit.json"));
+}
+
+struct ExportFixture {
+  Scratch root{"export_fixture"};
+  fs::path gtso = root.path() / "gtso";
+  fs::path fit = root.path() / "fit" / "fit.json";
+  ExportFixture() {
+    GtsoOptions g;
+    g.out = gtso;
+    g.size = 4;
+    g.samples = 2 * 8 * 8;
+    g.progress = false;
+    g.threads = 1;
+    runGtso(g);
+    // fit.json as `gtbake fit` writes it (the fields export reads), sealed as its set.
+    json doc;
+    const char* names[6] = {"a1", "a0", "b1", "b0", "c1", "c0"};
+    for (int i = 0; i < 6; ++i) {
+      doc["linear"][names[i]] = 1.0 + i;
+      doc["linear_se"][names[i]] = 0.01;
+    }
+    fs::create_directories(fit.parent_path());
+    spit(fit, doc.dump(2));
+    sealOutputSet(fit.parent_path(), "fit", {"fit.json"});
+  }
+  ExportOptions options(const fs::path& out) const {
+    ExportOptions e;
+    e.fit = fit;
+    e.gtso = gtso;
+    e.out = out;
+    e.progress = false;
+    e.threads = 1;
+    return e;
+  }
+};
+
+TEST(ExportSet, FailedExportLeavesNoNewFileBesideOldOnes) {
+  const ExportFixture f;
+  const fs::path out = f.root.path() / "export";
+  runExport(f.options(out));
+  const OutputManifest m = readOutputSet(out, "export");
+  EXPECT_EQ(m.files.size(), 7u);
+  const std::string dds = slurp(out / "gtso3d.dds");
+  // Change the inputs, then fail half-way through writing: nothing of the new set appears.
+  json g = json::parse(slurp(f.gtso / "gtso.json"));
+  g["cone"]["u"] = 0.5;
+  spit(f.gtso / "gtso.json", g.dump());
+  resealOutputSet(f.gtso, "gtso");
+  {
+    const ScopedEnv fail("GTBAKE_TEST_FAIL_WRITE", "gtbake_tables.glsl");
+    EXPECT_ERROR(runExport(f.options(out)), "No space left");
+  }
+  EXPECT_EQ(slurp(out / "gtso3d.dds"), dds);
+  verifyOutputSet(readOutputSet(out, "export"));
+}
+
+TEST(ExportSet, InputsAreVerifiedAndBounded) {
+  const ExportFixture f;
+  const fs::path out = f.root.path() / "export";
+  // A table edited after gtso wrote it.
+  const std::string table = slurp(f.gtso / "gtso3d.f32");
+  spit(f.gtso / "gtso3d.f32", table.substr(0, table.size() - 4) + std::string(4, '\0'));
+  EXPECT_ERROR(runExport(f.options(out)), "does not match gtso.manifest.json");
+  spit(f.gtso / "gtso3d.f32", table);
+  const std::string good = slurp(f.gtso / "gtso.json");
+  auto edited = [&](const std::function<void(json&)>& edit) {
+    json doc = json::parse(good);
+    edit(doc);
+    spit(f.gtso / "gtso.json", doc.dump());
+    resealOutputSet(f.gtso, "gtso");
+  };
+  edited([](json& d) { d["tables"]["3d"]["file"] = "../fit/fit.json"; });
+  EXPECT_ERROR(runExport(f.options(out)), "'..' is not allowed");
+  edited([](json& d) { d["tables"]["4d"]["dims"] = {4096, 4096, 4096, 4096}; });
+  EXPECT_ERROR(runExport(f.options(out)), "GTBAKE_MAX_INPUT_BYTES");
+  edited([](json& d) { d["tables"]["3d"]["dims"] = {4294967300ull, 4, 4}; });
+  EXPECT_ERROR(runExport(f.options(out)), "integer in [2, 4096]");
+  // fit.json without its manifest.
+  fs::remove(f.fit.parent_path() / "fit.manifest.json");
+  EXPECT_ERROR(runExport(f.options(out)), "rerun `gtbake fit`");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(GtsoBounds, SamplesAndSizeAreBoundedBeforeWork) {
+  Scratch dir("gtso_bounds");
+  GtsoOptions g;
+  g.out = dir.path() / "g";
+  g.progress = false;
+  g.samples = 2000000000;
+  EXPECT_ERROR(runGtso(g), "--samples must be in");
+  g.samples = 0;
+  g.size = 6;  // export's BC4 blocks need multiples of 4
+  EXPECT_ERROR(runGtso(g), "multiple of 4");
+  g.size = 256;
+  EXPECT_ERROR(runGtso(g), "GTBAKE_MAX_GTSO_SECONDS");
+  EXPECT_FALSE(fs::exists(g.out));
+}
+
+TEST(ScenesWrite, InjectedFailureOnTheBufferIsAnErrorAndKeepsOldFiles) {
+  Scratch dir("scenes_fail");
+  runScenes({dir.path(), 1, false});
+  const std::string bin = slurp(dir.path() / "wells.bin");
+  const std::string gltf = slurp(dir.path() / "wells.gltf");
+  const ScopedEnv fail("GTBAKE_TEST_FAIL_WRITE", "wells.bin");
+  EXPECT_ERROR(runScenes({dir.path(), 2, false}), "No space left");
+  EXPECT_EQ(slurp(dir.path() / "wells.bin"), bin);
+  EXPECT_EQ(slurp(dir.path() / "wells.gltf"), gltf);
+}
+
+TEST(ScenesWrite, FullTmpfsIsAnError) {
+  Scratch dir("scenes_tmpfs");
+  const fs::path mount = dir.path() / "mnt";
+  fs::create_directories(mount);
+  const std::string cmd = "mount -t tmpfs -o size=256k tmpfs " + mount.string() + " 2>/dev/null";
+  if (std::system(cmd.c_str()) != 0) GTEST_SKIP() << "cannot mount a tmpfs here";
+  struct Unmount {
+    fs::path p;
+    ~Unmount() { (void)!std::system(("umount " + p.string()).c_str()); }
+  } unmount{mount};
+  EXPECT_ERROR(runScenes({mount, 1, false}), "cannot write");
+  for (const auto& e : fs::directory_iterator(mount)) {
+    EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos) << e.path();
+    EXPECT_GT(fs::file_size(e.path()), 0u) << e.path();
+  }
+}
+
+}  // namespace
+}  // namespace gtbake
