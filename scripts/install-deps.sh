@@ -8,6 +8,9 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libsquish-dev libnvtt-dev glslang-tools
   chromium
+  slurm-wlm
+  munge
+  parallel
 )
 missing=()
 for p in "${packages[@]}"; do
