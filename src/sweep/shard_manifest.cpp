@@ -33,6 +33,7 @@ void writeShardManifest(const fs::path& dir, const ShardManifest& manifest, cons
   for (std::size_t s = 0; s < id.scenes.size(); ++s) {
     scenes.push_back({{"name", id.scenes[s]},
                       {"sha256", id.scene_sha256[s]},
+                      {"triangles", id.scene_triangles[s]},
                       {"gltf", manifest.runs[s].gltf.string()},
                       {"build_seconds", manifest.runs[s].build_seconds},
                       {"trace_seconds", manifest.runs[s].trace_seconds}});
@@ -84,6 +85,7 @@ ShardManifest readShardManifest(const fs::path& dir) {
     for (const auto& s : j.at("scenes")) {
       id.scenes.push_back(s.at("name").get<std::string>());
       id.scene_sha256.push_back(s.at("sha256").get<std::string>());
+      id.scene_triangles.push_back(s.at("triangles").get<std::uint64_t>());
       m.runs.push_back({fs::path(s.at("gltf").get<std::string>()),
                         s.at("build_seconds").get<double>(), s.at("trace_seconds").get<double>()});
     }

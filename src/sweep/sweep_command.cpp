@@ -143,7 +143,8 @@ WalkSettings walkSettings(const SweepOptions& o) {
 
 // Everything that determines a pixel's values (the thread count and shard do not), as recorded in
 // sweep.json's "settings" (plus "threads") and the EXR attributes (plus "gtbake.scene").
-SweepIdentity describeSweep(const SweepOptions& o, const std::vector<fs::path>& files) {
+SweepIdentity describeSweep(const SweepOptions& o, const std::vector<fs::path>& files,
+                            const std::vector<Scene>& scenes) {
   SweepIdentity id;
   id.version = GTBAKE_VERSION;
   nlohmann::ordered_json& settings = id.settings;
@@ -167,9 +168,10 @@ SweepIdentity describeSweep(const SweepOptions& o, const std::vector<fs::path>& 
       {"gtbake.stratified_first_bounce", o.stratify_first_bounce ? "1" : "0"},
       {"gtbake.specular_roughness", specularRoughnessList(o.specular_roughness)},
       {"gtbake.specular_spp", std::to_string(o.specular_roughness.empty() ? 0 : o.specular_spp)}};
-  for (const fs::path& file : files) {
-    id.scenes.push_back(file.stem().string());
-    id.scene_sha256.push_back(sceneSha256(file));
+  for (std::size_t s = 0; s < files.size(); ++s) {
+    id.scenes.push_back(files[s].stem().string());
+    id.scene_sha256.push_back(sceneSha256(files[s]));
+    id.scene_triangles.push_back(scenes[s].triangles.size());
   }
   id.width = o.width;
   id.height = o.height;
@@ -389,7 +391,7 @@ SweepResult runSweep(const SweepOptions& options) {
   const ThreadLimit threads(options.threads);
   const std::vector<fs::path> files = resolveSceneFiles(options.scenes);
   const std::vector<Scene> scenes = loadScenes(files);
-  const SweepIdentity id = describeSweep(options, files);
+  const SweepIdentity id = describeSweep(options, files, scenes);
   const bool sharded = options.shards > 0;
   const TilePlan plan = planTiles(static_cast<int>(scenes.size()), options.width, options.height,
                                   sharded ? options.shards : 1);

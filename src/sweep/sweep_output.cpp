@@ -77,6 +77,7 @@ void sealIdentity(SweepIdentity* identity) {
   j["attributes"] = identity->attributes;
   j["scenes"] = identity->scenes;
   j["scene_sha256"] = identity->scene_sha256;
+  j["scene_triangles"] = identity->scene_triangles;
   j["width"] = identity->width;
   j["height"] = identity->height;
   j["tile_side"] = kTileSide;
@@ -151,6 +152,7 @@ SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity
     entry["gltf"] = gltf;
     entry["width"] = plan.width;
     entry["height"] = plan.height;
+    entry["triangles"] = identity.scene_triangles[s];
     entry["unmasked_pixels"] = image.unmasked;
     entry["mean_A"] = mean_a;
     entry["seconds"] = seconds;

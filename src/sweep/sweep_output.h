@@ -2,6 +2,7 @@
 // sweep and for `gtbake merge`, so the three write the same bytes (docs/reproducibility.md).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -22,6 +23,7 @@ struct SweepIdentity {
   std::map<std::string, std::string> attributes;  // EXR attributes without "gtbake.scene"
   std::vector<std::string> scenes;                // names (glTF stems), in sweep order
   std::vector<std::string> scene_sha256;          // of each glTF and its buffers
+  std::vector<std::uint64_t> scene_triangles;     // triangle count of each scene
   int width = 0;
   int height = 0;
   std::string key;  // SHA-256 of all of the above and kTileSide: equal keys, same tiles
