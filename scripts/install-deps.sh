@@ -8,6 +8,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libsquish-dev libnvtt-dev glslang-tools
   chromium
+  clang libclang-rt-14-dev
   slurm-wlm
   munge
   parallel

@@ -5,3 +5,5 @@ cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh
 ctest --test-dir build --output-on-failure -j"$(nproc)" --timeout 900
+# ASan + UBSan on the reliability subset (its own build dir; skip with GTBAKE_SKIP_SANITIZE=1).
+if [[ "${GTBAKE_SKIP_SANITIZE:-0}" != 1 ]]; then scripts/test-sanitize.sh; fi

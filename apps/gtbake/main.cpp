@@ -1,6 +1,8 @@
 // gtbake: the command-line shell. Parses into each stage's options struct, calls one library entry
 // point per subcommand, and turns failures into one line on stderr and a non-zero exit.
+#include <glog/logging.h>
 #include <CLI/CLI.hpp>
+
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -49,7 +51,8 @@ int main(int argc, char** argv) {
   ScenesOptions scenes;
   auto* scenes_cmd = app.add_subcommand("scenes", "Write the seven procedural scene types as glTF");
   scenes_cmd->add_option("--out", scenes.out, "Output directory")->required();
-  scenes_cmd->add_option("--seed", scenes.seed, "Seed of the clutter and terrain generators");
+  std::string scenes_seed = std::to_string(scenes.seed);
+  scenes_cmd->add_option("--seed", scenes_seed, "Seed of the clutter and terrain generators");
 
   SweepOptions sweep;
   std::string resolution = std::to_string(sweep.width) + "x" + std::to_string(sweep.height);
@@ -61,7 +64,10 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--bounces", sweep.bounces, "Interreflections K counted in G")
       ->capture_default_str();
   sweep_cmd->add_option("--radius", sweep.radius, "Sky beyond this distance (default unbounded)");
-  sweep_cmd->add_option("--seed", sweep.seed, "Random seed")->capture_default_str();
+  std::string sweep_seed = std::to_string(sweep.seed);
+  sweep_cmd->add_option("--seed", sweep_seed, "Random seed")->capture_default_str();
+  sweep_cmd->add_option("--camera", sweep.camera,
+                        "Camera of a glTF with several: its name or index (default: the first)");
   sweep_cmd->add_option("--threads", sweep.threads, "Worker threads (0 = all cores)");
   std::string specular_roughness = specularRoughnessList(sweep.specular_roughness);
   sweep_cmd
@@ -88,8 +94,9 @@ int main(int argc, char** argv) {
   fit_cmd->add_option("--sweep", fit.sweep, "Directory written by gtbake sweep")->required();
   fit_cmd->add_option("--out", fit.out, "fit.json to write")->required();
   fit_cmd->add_option("--report", fit.report, "HTML report directory (default: beside --out)");
-  fit_cmd->add_option("--shipped", fit_shipped,
-                      "Constants to compare against, a1,a0,b1,b0,c1,c0 (default: the paper's)");
+  auto* fit_shipped_opt =
+      fit_cmd->add_option("--shipped", fit_shipped,
+                          "Constants to compare against, a1,a0,b1,b0,c1,c0 (default: the paper's)");
 
   ValidateOptions validate;
   std::string validate_coeffs;
@@ -97,8 +104,8 @@ int main(int argc, char** argv) {
       app.add_subcommand("validate", "Score shipped Equation 10 constants against a sweep");
   validate_cmd->add_option("--sweep", validate.sweep, "Directory written by gtbake sweep")
       ->required();
-  validate_cmd->add_option("--coeffs", validate_coeffs,
-                           "a1,a0,b1,b0,c1,c0 (default: the paper's Equation 10)");
+  auto* validate_coeffs_opt = validate_cmd->add_option(
+      "--coeffs", validate_coeffs, "a1,a0,b1,b0,c1,c0 (default: the paper's Equation 10)");
 
   GtsoOptions gtso;
   auto* gtso_cmd = app.add_subcommand("gtso", "Bake the 3D and 4D GTSO tables and fit u");
@@ -122,6 +129,27 @@ int main(int argc, char** argv) {
   all_cmd->add_option("--out", all.out, "Output directory")->capture_default_str();
   all_cmd->add_option("--threads", all.threads, "Worker threads (0 = all cores)");
 
+  // An unknown word where the subcommand goes is named as such (CLI11 would say "A subcommand is
+  // required").
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.empty() || word[0] == '-') continue;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands({})) known = known || sub->get_name() == word;
+    if (!known) {
+      std::fprintf(stderr,
+                   "gtbake: error: unknown subcommand '%s' (scenes, sweep, fit, validate, gtso, "
+                   "export, all; see gtbake --help)\n",
+                   word.c_str());
+      return kExitUsage;
+    }
+    break;
+  }
+  // Ceres logs through glog: keep its warnings off stderr so a failure stays one error line.
+  google::InitGoogleLogging(argv[0]);
+  FLAGS_minloglevel = google::GLOG_FATAL;
+  FLAGS_logtostderr = true;
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -138,10 +166,17 @@ int main(int argc, char** argv) {
   const bool progress = !quiet;
   try {
     if (*scenes_cmd) {
+      scenes.seed = parseSeed(scenes_seed, "--seed");
       scenes.progress = progress;
       runScenes(scenes);
     } else if (*sweep_cmd) {
       std::tie(sweep.width, sweep.height) = parseResolution(resolution);
+      sweep.seed = parseSeed(sweep_seed, "--seed");
+      if (sweep.bounces == 0) {
+        throw Error(
+            "--bounces 0 gives a sweep that fit and validate cannot use (they need P1); "
+            "use 1 to 16");
+      }
       sweep.specular_roughness = parseSpecularRoughness(specular_roughness);
       if (!shard.empty()) std::tie(sweep.shard, sweep.shards) = parseShard(shard);
       sweep.command_line = joinArguments(argc, argv);
@@ -150,11 +185,11 @@ int main(int argc, char** argv) {
     } else if (*merge_cmd) {
       runMerge(merge);
     } else if (*fit_cmd) {
-      if (!fit_shipped.empty()) fit.shipped = parseCoeffs(fit_shipped);
+      if (fit_shipped_opt->count() > 0) fit.shipped = parseCoeffs(fit_shipped, "--shipped");
       fit.progress = progress;
       runFit(fit);
     } else if (*validate_cmd) {
-      if (!validate_coeffs.empty()) validate.coeffs = parseCoeffs(validate_coeffs);
+      if (validate_coeffs_opt->count() > 0) validate.coeffs = parseCoeffs(validate_coeffs);
       validate.progress = progress;
       runValidate(validate);
     } else if (*gtso_cmd) {

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include "common/atomic_file.h"
 #include "common/checked_math.h"
@@ -53,6 +54,78 @@ void setExrLimits() {
 void appendToString(void* context, void* data, int size) {
   static_cast<std::string*>(context)->append(static_cast<const char*>(data),
                                              static_cast<std::size_t>(size));
+}
+
+// Walks the header's attribute list (name, type, int32 size, value) checking every size against
+// the bytes actually present, before OpenEXR sees the file: OpenEXR allocates an attribute's
+// value from its stated size, so a forged size would cost gigabytes. Single-part scan-line files
+// only, as gtbake writes them (a forged tiled header with 1x1 tiles makes OpenEXR allocate a
+// tile offset table of hundreds of megabytes).
+void checkExrHeader(const std::string& bytes, const std::string& name) {
+  const std::size_t size = bytes.size();
+  if (size < 8 || static_cast<unsigned char>(bytes[0]) != 0x76 ||
+      static_cast<unsigned char>(bytes[1]) != 0x2f ||
+      static_cast<unsigned char>(bytes[2]) != 0x31 ||
+      static_cast<unsigned char>(bytes[3]) != 0x01) {
+    throw Error("cannot read EXR " + name + ": not an OpenEXR file");
+  }
+  const auto flags = static_cast<unsigned char>(bytes[5]);
+  if ((flags & 0x1A) != 0) {  // bit 9 tiled, bit 11 deep data, bit 12 multi-part
+    throw Error("cannot read EXR " + name +
+                ": tiled, deep or multi-part files are not supported (gtbake writes scan lines)");
+  }
+  std::size_t at = 8;
+  for (int attributes = 0;; ++attributes) {
+    if (attributes > 10000) throw Error("cannot read EXR " + name + ": too many header attributes");
+    if (at >= size) throw Error("cannot read EXR " + name + ": truncated header");
+    if (bytes[at] == '\0') return;  // end of the header
+    std::string fields[2];          // attribute name, then type name
+    for (std::string& field : fields) {
+      const std::size_t nul = bytes.find('\0', at);
+      if (nul == std::string::npos || nul - at > 255) {
+        throw Error("cannot read EXR " + name + ": malformed header attribute");
+      }
+      field = bytes.substr(at, nul - at);
+      at = nul + 1;
+    }
+    const std::string& type = fields[1];
+    if (size - at < 4) throw Error("cannot read EXR " + name + ": truncated header");
+    std::int32_t value_size = 0;
+    std::memcpy(&value_size, bytes.data() + at, 4);
+    at += 4;
+    if (value_size < 0 || static_cast<std::size_t>(value_size) > size - at) {
+      throw Error("cannot read EXR " + name + ": a header attribute claims " +
+                  std::to_string(value_size) + " bytes, more than the file holds");
+    }
+    // OpenEXR reads typed values by their type, not their stated size: the two must agree or
+    // it would go on parsing from another offset than this walk.
+    static const std::map<std::string, int> kFixedSizes = {
+        {"box2i", 16}, {"box2f", 16}, {"compression", 1}, {"lineOrder", 1},
+        {"float", 4},  {"double", 8}, {"int", 4},         {"v2f", 8},
+        {"v2i", 8},    {"v3f", 12},   {"v3i", 12}};
+    const auto fixed = kFixedSizes.find(type);
+    if (fixed != kFixedSizes.end()) {
+      if (value_size != fixed->second) {
+        throw Error("cannot read EXR " + name + ": attribute " + fields[0] + " of type " + type +
+                    " has size " + std::to_string(value_size));
+      }
+    } else if (type == "chlist") {
+      std::size_t c = at;  // entries: name NUL, then 16 bytes; an empty name ends the list
+      const std::size_t end = at + static_cast<std::size_t>(value_size);
+      while (c < end && bytes[c] != '\0') {
+        const std::size_t nul = bytes.find('\0', c);
+        if (nul == std::string::npos || nul >= end || end - nul - 1 < 16) {
+          throw Error("cannot read EXR " + name + ": malformed channel list");
+        }
+        c = nul + 1 + 16;
+      }
+      if (c + 1 != end) throw Error("cannot read EXR " + name + ": malformed channel list");
+    } else if (type != "string") {
+      throw Error("cannot read EXR " + name + ": unsupported header attribute type '" + type +
+                  "' (gtbake writes scan-line float EXRs)");
+    }
+    at += static_cast<std::size_t>(value_size);
+  }
 }
 
 }  // namespace
@@ -102,6 +175,7 @@ void writeExr(const fs::path& path, int width, int height, const std::vector<Exr
 ExrImage decodeExr(const std::string& bytes, const std::string& name, const ExrExpect& expect) {
   setExrLimits();
   ExrImage image;
+  checkExrHeader(bytes, name);
   try {
     Imf::StdISStream stream;
     stream.str(bytes);

@@ -54,6 +54,9 @@ std::string albedoChannel(double rho) {
 }
 
 SweepData loadSweep(const fs::path& dir) {
+  if (fs::exists(dir) && !fs::is_directory(dir)) {
+    throw Error("--sweep " + dir.string() + " is a file; pass the directory `gtbake sweep` wrote");
+  }
   if (!fs::is_directory(dir)) throw Error("sweep directory " + dir.string() + " does not exist");
   const fs::path json_path = dir / "sweep.json";
   if (!fs::is_regular_file(json_path)) {

@@ -1,5 +1,6 @@
 #include "pipeline/option_values.h"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <regex>
@@ -25,7 +26,7 @@ std::pair<int, int> parseResolution(const std::string& text) {
   return {static_cast<int>(width), static_cast<int>(height)};
 }
 
-MultiBounceCoeffs parseCoeffs(const std::string& text) {
+MultiBounceCoeffs parseCoeffs(const std::string& text, const std::string& option) {
   std::vector<std::string> items;
   for (size_t start = 0;;) {
     const size_t comma = text.find(',', start);
@@ -34,7 +35,7 @@ MultiBounceCoeffs parseCoeffs(const std::string& text) {
     start = comma + 1;
   }
   if (items.size() != 6) {
-    throw Error("--coeffs needs six comma-separated numbers a1,a0,b1,b0,c1,c0; got " +
+    throw Error(option + " needs six comma-separated numbers a1,a0,b1,b0,c1,c0; got " +
                 std::to_string(items.size()));
   }
   MultiBounceCoeffs coeffs{};
@@ -42,10 +43,23 @@ MultiBounceCoeffs parseCoeffs(const std::string& text) {
     char* end = nullptr;
     coeffs[i] = std::strtod(items[i].c_str(), &end);
     if (items[i].empty() || *end != '\0' || !std::isfinite(coeffs[i])) {
-      throw Error("--coeffs: '" + items[i] + "' is not a finite number");
+      throw Error(option + ": '" + items[i] + "' is not a finite number");
     }
   }
   return coeffs;
+}
+
+std::uint64_t parseSeed(const std::string& text, const std::string& option) {
+  if (text.empty() || text.size() > 20 ||
+      text.find_first_not_of("0123456789") != std::string::npos) {
+    throw Error(option + " must be an integer in [0, 2^64 - 1], got '" + text + "'");
+  }
+  errno = 0;
+  const unsigned long long value = std::strtoull(text.c_str(), nullptr, 10);
+  if (errno == ERANGE) {
+    throw Error(option + " must be an integer in [0, 2^64 - 1], got '" + text + "'");
+  }
+  return value;
 }
 
 }  // namespace gtbake

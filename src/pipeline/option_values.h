@@ -1,6 +1,7 @@
 // Parsing of the command line's structured values, strict and with one-line errors.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <utility>
 
@@ -11,7 +12,12 @@ namespace gtbake {
 // "WxH" with 1 ≤ W, H ≤ 8192, e.g. "256x256". Throws gtbake::Error otherwise.
 std::pair<int, int> parseResolution(const std::string& text);
 
-// "a1,a0,b1,b0,c1,c0": exactly six finite numbers. Throws gtbake::Error otherwise.
-MultiBounceCoeffs parseCoeffs(const std::string& text);
+// "a1,a0,b1,b0,c1,c0": exactly six finite numbers. Throws gtbake::Error naming `option`
+// otherwise (an empty text is an error, not the default constants).
+MultiBounceCoeffs parseCoeffs(const std::string& text, const std::string& option = "--coeffs");
+
+// A seed: decimal digits only, 0 ≤ seed < 2^64 ("-1" and "18446744073709551616" are errors, not
+// silently wrapped). Throws gtbake::Error naming `option`.
+std::uint64_t parseSeed(const std::string& text, const std::string& option);
 
 }  // namespace gtbake

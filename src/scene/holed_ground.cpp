@@ -1,7 +1,9 @@
 #include "scene/holed_ground.h"
 
 #include <cmath>
-#include <stdexcept>
+#include <string>
+
+#include "common/error.h"
 
 namespace gtbake {
 namespace {
@@ -19,7 +21,10 @@ double sidePoint(double lo, double hi, int j, int m, const std::vector<double>& 
 std::vector<HoleRim> addHoledGround(MeshBuilder& mesh, int cells_x, int cells_z, double cell,
                                     int segments, const std::vector<GroundHole>& holes,
                                     double extent) {
-  if (segments % 8 != 0) throw std::invalid_argument("addHoledGround: segments % 8 != 0");
+  if (segments <= 0 || segments % 8 != 0) {
+    throw Error("holed ground: the curve segments must be a positive multiple of 8, got " +
+                std::to_string(segments));
+  }
   const double pi = std::acos(-1.0);
   const int m = segments / 4;  // points per cell side
   const double half = 0.5 * cell;

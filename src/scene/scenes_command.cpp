@@ -13,6 +13,7 @@ namespace gtbake {
 
 std::vector<std::filesystem::path> runScenes(const ScenesOptions& options) {
   ensureDirectory(options.out);
+  cleanStaleTemporaries(options.out);  // left by a killed run (atomic_file.h)
   const auto& names = sceneTypeNames();
   std::vector<std::filesystem::path> written;
   Progress progress("scenes", names.size(), options.progress);

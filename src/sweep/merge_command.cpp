@@ -37,6 +37,7 @@ std::vector<Shard> readShards(const MergeOptions& o) {
 std::string firstDifference(const SweepIdentity& a, const SweepIdentity& b) {
   if (a.version != b.version) return "gtbake version " + a.version + " vs " + b.version;
   if (a.scenes != b.scenes) return "scene lists";
+  if (a.camera != b.camera) return "--camera '" + a.camera + "' vs '" + b.camera + "'";
   for (std::size_t s = 0; s < a.scenes.size(); ++s) {
     if (a.scene_sha256[s] != b.scene_sha256[s]) return "contents of scene " + a.scenes[s];
   }

@@ -28,6 +28,7 @@ void writeShardManifest(const fs::path& dir, const ShardManifest& manifest, cons
   j["attributes"] = id.attributes;
   j["width"] = id.width;
   j["height"] = id.height;
+  j["camera"] = id.camera;
   j["tile_side"] = kTileSide;
   nlohmann::ordered_json scenes = nlohmann::ordered_json::array();
   for (std::size_t s = 0; s < id.scenes.size(); ++s) {
@@ -79,6 +80,7 @@ ShardManifest readShardManifest(const fs::path& dir) {
     id.attributes = j.at("attributes").get<std::map<std::string, std::string>>();
     id.width = j.at("width").get<int>();
     id.height = j.at("height").get<int>();
+    id.camera = j.at("camera").get<std::string>();
     if (j.at("tile_side").get<int>() != kTileSide) {
       throw Error(where + "cut into tiles of another size (by another gtbake version)");
     }

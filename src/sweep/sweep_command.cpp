@@ -24,6 +24,7 @@
 #include "common/progress.h"
 #include "common/threads.h"
 #include "gtbake_version.h"
+#include "scene/gltf_reader.h"
 #include "scene/scene.h"
 #include "sweep/escape_image.h"
 #include "sweep/shard_manifest.h"
@@ -118,10 +119,16 @@ std::string formatNumber(double value) {
 }
 
 // Loads every scene before anything is written: a bad scene fails the run with no output.
-std::vector<Scene> loadScenes(const std::vector<fs::path>& files) {
+std::vector<Scene> loadScenes(const std::vector<fs::path>& files, const std::string& camera) {
   std::vector<Scene> scenes;
   for (const fs::path& file : files) {
-    scenes.push_back(readGltfScene(file));
+    GltfReadInfo info;
+    scenes.push_back(readGltfScene(file, {camera, false}, &info));
+    if (info.perspective_cameras > 1) {
+      std::fprintf(stderr, "sweep: %s: camera %d '%s' of %d (choose with --camera NAME|INDEX)\n",
+                   file.string().c_str(), info.camera_instance, info.camera_name.c_str(),
+                   info.perspective_cameras);
+    }
     scenes.back().name = file.stem().string();
     if (scenes.back().triangles.empty())
       throw Error("scene " + file.string() + " has no triangles");
@@ -175,6 +182,7 @@ SweepIdentity describeSweep(const SweepOptions& o, const std::vector<fs::path>& 
   }
   id.width = o.width;
   id.height = o.height;
+  id.camera = o.camera;
   sealIdentity(&id);
   return id;
 }
@@ -390,7 +398,7 @@ SweepResult runSweep(const SweepOptions& options) {
   validateOptions(options);
   const ThreadLimit threads(options.threads);
   const std::vector<fs::path> files = resolveSceneFiles(options.scenes);
-  const std::vector<Scene> scenes = loadScenes(files);
+  const std::vector<Scene> scenes = loadScenes(files, options.camera);
   const SweepIdentity id = describeSweep(options, files, scenes);
   const bool sharded = options.shards > 0;
   const TilePlan plan = planTiles(static_cast<int>(scenes.size()), options.width, options.height,

@@ -31,6 +31,9 @@ struct SweepOptions {
   double radius = std::numeric_limits<double>::infinity();  // sky beyond this distance
   std::uint64_t seed = 1;
   int threads = 0;  // 0 = all cores
+  // Camera of glTF files with several: a name or a walk-order index; "" = the first (the sweep
+  // prints which one it took).
+  std::string camera;
   bool progress = true;
   // First walk direction stratified within each half-sample estimate (docs/sweep.md); off gives
   // independent walks, e.g. to compare variances.

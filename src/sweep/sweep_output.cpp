@@ -80,6 +80,7 @@ void sealIdentity(SweepIdentity* identity) {
   j["scene_triangles"] = identity->scene_triangles;
   j["width"] = identity->width;
   j["height"] = identity->height;
+  j["camera"] = identity->camera;
   j["tile_side"] = kTileSide;
   identity->key = sha256Hex(j.dump());
 }

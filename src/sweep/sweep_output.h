@@ -26,7 +26,8 @@ struct SweepIdentity {
   std::vector<std::uint64_t> scene_triangles;     // triangle count of each scene
   int width = 0;
   int height = 0;
-  std::string key;  // SHA-256 of all of the above and kTileSide: equal keys, same tiles
+  std::string camera;  // --camera ("" = each glTF's first)
+  std::string key;     // SHA-256 of all of the above and kTileSide: equal keys, same tiles
 };
 
 // Fills `key` from the other fields.

@@ -3,6 +3,9 @@
 // and sweep.json/gtso.json entries are refused before any large allocation.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstring>
 #include <nlohmann/json.hpp>
 
@@ -192,6 +195,21 @@ TEST(ExrHostile, ForgedDataWindowIsRefusedBeforeAllocating) {
   // A size other than the provenance says, before any pixel is read.
   EXPECT_ERROR(decodeExr(good, "g.exr", {32, 16, "sweep.json"}), "does not match sweep.json");
   EXPECT_ERROR(decodeExr(good.substr(0, good.size() / 2), "t.exr"), "cannot read EXR");
+  // An attribute whose stated size exceeds the file (OpenEXR would allocate it), and a channel
+  // list whose entries disagree with its stated size (found by fuzz_exr: OpenEXR then parsed the
+  // rest of the header from another offset and allocated gigabytes).
+  {
+    std::string bytes = good;
+    const std::size_t at = bytes.find(std::string("channels\0chlist\0", 16)) + 16;
+    const std::int32_t huge = 1 << 30;
+    std::memcpy(&bytes[at], &huge, 4);
+    EXPECT_ERROR(decodeExr(bytes, "h.exr"), "more than the file holds");
+    std::int32_t off_by_two = 0;
+    std::memcpy(&off_by_two, &good[at], 4);
+    off_by_two -= 2;
+    std::memcpy(&bytes[at], &off_by_two, 4);
+    EXPECT_ERROR(decodeExr(bytes, "c.exr"), "malformed channel list");
+  }
   EXPECT_ERROR(decodeExr("", "e.exr"), "cannot read EXR");
 }
 
@@ -323,6 +341,17 @@ TEST(ScenesWrite, InjectedFailureOnTheBufferIsAnErrorAndKeepsOldFiles) {
   EXPECT_ERROR(runScenes({dir.path(), 2, false}), "No space left");
   EXPECT_EQ(slurp(dir.path() / "wells.bin"), bin);
   EXPECT_EQ(slurp(dir.path() / "wells.gltf"), gltf);
+}
+
+TEST(ScenesWrite, StaleTemporariesOfAKilledRunAreRemoved) {
+  Scratch dir("scenes_stale");
+  const pid_t child = ::fork();
+  if (child == 0) std::_Exit(0);
+  ::waitpid(child, nullptr, 0);
+  const fs::path stale = dir.path() / ("cavity.gltf.tmp-" + std::to_string(child));
+  spit(stale, "{");
+  runScenes({dir.path(), 1, false});
+  EXPECT_FALSE(fs::exists(stale));
 }
 
 TEST(ScenesWrite, FullTmpfsIsAnError) {

@@ -1,0 +1,178 @@
+// The smaller items of issue 9 through the real binary: one line on stderr, a non-zero exit,
+// nothing written; and the library-level ones (.glb scene directories, holed ground).
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <nlohmann/json.hpp>
+
+#include "../cli/cli_harness.h"
+#include "common/error.h"
+#include "common/output_set.h"
+#include "reliability_util.h"
+#include "scene/procedural_scenes.h"
+#include "scene/scene.h"
+#include "sweep/sweep_command.h"
+
+namespace gtbake {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test::Scratch;
+using test::slurp;
+using test::spit;
+
+std::size_t lines(const std::string& text) {
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+void expectOneLineError(const std::string& arguments, const std::string& fragment) {
+  const test::RunResult r = test::runGtbake(arguments + " --quiet");
+  EXPECT_NE(r.exit_code, 0) << arguments;
+  EXPECT_EQ(lines(r.err), 1u) << arguments << "\n" << r.err;
+  EXPECT_NE(r.err.find(fragment), std::string::npos) << arguments << "\n" << r.err;
+}
+
+// A small committed-style sweep the CLI cases read (two closed boxes, 40x40).
+const fs::path& sweepDir() {
+  static const Scratch root("cli_sweep");
+  static const fs::path dir = [] {
+    writeGltfScene(root.path() / "scenes" / "box_a.gltf", makeClosedBoxScene());
+    writeGltfScene(root.path() / "scenes" / "box_b.gltf", makeSphericalCavityScene(1.0, 0.7));
+    SweepOptions o;
+    o.scenes = {root.path() / "scenes"};
+    o.out = root.path() / "sweep";
+    o.spp = 2;
+    o.width = o.height = 40;
+    o.bounces = 1;
+    o.threads = 1;
+    o.progress = false;
+    runSweep(o);
+    return o.out;
+  }();
+  return dir;
+}
+
+TEST(CliReliability, SeedsOutsideUint64AreErrorsNotWrapped) {
+  Scratch dir("cli_seed");
+  const std::string out = (dir.path() / "o").string();
+  expectOneLineError("scenes --out " + out + " --seed -1", "--seed must be an integer");
+  expectOneLineError("scenes --out " + out + " --seed 18446744073709551616", "--seed must be");
+  expectOneLineError("sweep --scenes " + out + " --out " + out + " --seed -1", "--seed must be");
+  EXPECT_FALSE(fs::exists(dir.path() / "o"));
+}
+
+TEST(CliReliability, EmptyCoeffsAreAnErrorAndShippedIsNamed) {
+  expectOneLineError("validate --sweep " + sweepDir().string() + " --coeffs ''",
+                     "--coeffs needs six");
+  Scratch dir("cli_shipped");
+  expectOneLineError("fit --sweep " + sweepDir().string() + " --out " +
+                         (dir.path() / "f.json").string() + " --shipped 1,2,3",
+                     "--shipped needs six");
+  EXPECT_FALSE(fs::exists(dir.path() / "f.json"));
+}
+
+TEST(CliReliability, UnknownSubcommandIsNamed) {
+  expectOneLineError("bake", "unknown subcommand 'bake'");
+}
+
+TEST(CliReliability, SweepNamingAFileSaysSo) {
+  Scratch dir("cli_sweepfile");
+  expectOneLineError("validate --sweep " + (sweepDir() / "sweep.json").string(), "is a file");
+}
+
+TEST(CliReliability, ZeroBouncesAreRefusedBeforeTracing) {
+  Scratch dir("cli_bounces");
+  expectOneLineError("sweep --scenes " + (sweepDir().parent_path() / "scenes").string() +
+                         " --out " + (dir.path() / "o").string() + " --bounces 0",
+                     "--bounces 0");
+  EXPECT_FALSE(fs::exists(dir.path() / "o"));
+}
+
+TEST(CliReliability, FitOutputIsNeverAnInputNorADirectory) {
+  const std::string before = slurp(sweepDir() / "sweep.json");
+  expectOneLineError(
+      "fit --sweep " + sweepDir().string() + " --out " + (sweepDir() / "sweep.json").string(),
+      "would overwrite the input");
+  EXPECT_EQ(slurp(sweepDir() / "sweep.json"), before);
+  Scratch dir("cli_fitdir");
+  expectOneLineError("fit --sweep " + sweepDir().string() + " --out " + dir.path().string(),
+                     "is a directory");
+  EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+// Whatever Ceres or glog would print, a failed fit is one error line (here: too few points).
+TEST(CliReliability, FailedFitIsOneLine) {
+  Scratch dir("cli_fitfail");
+  expectOneLineError(
+      "fit --sweep " + sweepDir().string() + " --out " + (dir.path() / "f.json").string(),
+      "gtbake: error:");
+}
+
+// A binary glTF (one triangle under a camera) assembled by hand: JSON chunk, BIN chunk.
+std::string oneTriangleGlb() {
+  const float p[9] = {-10, -1, -10, 10, -1, -10, 0, -1, 10};
+  std::string bin(reinterpret_cast<const char*>(p), sizeof(p));
+  json doc = {
+      {"asset", {{"version", "2.0"}}},
+      {"buffers", {{{"byteLength", bin.size()}}}},
+      {"bufferViews", {{{"buffer", 0}, {"byteLength", bin.size()}}}},
+      {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"type", "VEC3"}, {"count", 3}}}},
+      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}}},
+      {"cameras", {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}}},
+      {"nodes",
+       {{{"mesh", 0}},
+        {{"camera", 0}, {"rotation", {-0.7071067811865476, 0, 0, 0.7071067811865476}}}}},
+      {"scenes", {{{"nodes", {0, 1}}}}}};
+  std::string text = doc.dump();
+  while (text.size() % 4) text.push_back(' ');
+  auto u32 = [](std::uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  std::string chunks = u32(static_cast<std::uint32_t>(text.size())) + u32(0x4E4F534A) + text +
+                       u32(static_cast<std::uint32_t>(bin.size())) + u32(0x004E4942) + bin;
+  return "glTF" + u32(2) + u32(static_cast<std::uint32_t>(12 + chunks.size())) + chunks;
+}
+
+TEST(SceneDirectories, GlbFilesAreTakenFromADirectory) {
+  Scratch dir("glb_dir");
+  fs::create_directories(dir.path() / "scenes");
+  spit(dir.path() / "scenes" / "floor.glb", oneTriangleGlb());
+  SweepOptions o;
+  o.scenes = {dir.path() / "scenes"};
+  o.out = dir.path() / "out";
+  o.spp = 2;
+  o.width = o.height = 8;
+  o.bounces = 1;
+  o.threads = 1;
+  o.progress = false;
+  EXPECT_EQ(runSweep(o).scenes.size(), 1u);
+  EXPECT_NE(readOutputSet(o.out, "sweep").find("floor.exr"), nullptr);
+}
+
+TEST(SceneDirectories, SweepRefusesASceneWithNoUnmaskedPixel) {
+  Scratch dir("no_pixel");
+  Scene scene = makeClosedBoxScene();
+  scene.camera.position = {1e5, 1e5, 1e5};  // far outside, looking away
+  writeGltfScene(dir.path() / "away.gltf", scene);
+  SweepOptions o;
+  o.scenes = {dir.path() / "away.gltf"};
+  o.out = dir.path() / "out";
+  o.spp = 2;
+  o.width = o.height = 8;
+  o.bounces = 1;
+  o.threads = 1;
+  o.progress = false;
+  try {
+    runSweep(o);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no pixel sees geometry"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(o.out / "sweep.manifest.json"));
+}
+
+TEST(SceneDirectories, HoledGroundPreconditionIsAGtbakeError) {
+  EXPECT_THROW(makeSphericalCavityScene(1.0, 0.7, 12), Error);
+}
+
+}  // namespace
+}  // namespace gtbake
