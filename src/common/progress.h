@@ -25,7 +25,6 @@ class Progress {
   void finish();
   // Ends the bar where it stands, without drawing (the work was interrupted, not finished).
   void abandon();
-  double elapsedSeconds() const;
 
  private:
   void draw(std::uint64_t done, bool final);

@@ -6,13 +6,14 @@
 #include <functional>
 #include <numeric>
 
+#include "common/math_constants.h"
+
 namespace gtbake::gtso {
 
 namespace {
 
 constexpr double kMirrorTie = 1e-9;  // |wr.b - cos(alpha_v)| below this is "on the boundary"
-constexpr double kHalfPi = 1.57079632679489661923;
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kHalfPi = kPi / 2.0;
 // psi rows per phi column: psi spans pi/2 and phi pi (the lobe is symmetric in y), so this makes
 // psi steps 4x finer than phi steps; t varies fastest along psi (the lobe's tails), and at a
 // fixed triangle count 2:1 gave 4x lower max error than 1:2 (docs/gtso.md).

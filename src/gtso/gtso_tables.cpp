@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/math_constants.h"
 #include "common/progress.h"
 #include "common/rng.h"
 #include "gtso/gtso_integrator.h"
@@ -13,7 +14,6 @@
 namespace gtbake::gtso {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 double betaMax(int dims) {
   return dims == 3 ? kPi / 2.0 : kPi;

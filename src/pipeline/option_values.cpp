@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "common/error.h"
-#include "sweep/sweep_command.h"
 
 namespace gtbake {
 
@@ -17,13 +16,8 @@ std::pair<int, int> parseResolution(const std::string& text) {
   if (!std::regex_match(text, match, kPattern)) {
     throw Error("--res must look like WxH (e.g. 256x256), got '" + text + "'");
   }
-  const long width = std::stol(match[1]);
-  const long height = std::stol(match[2]);
-  if (width < 1 || height < 1 || width > kMaxSweepResolution || height > kMaxSweepResolution) {
-    throw Error("--res sides must be between 1 and " + std::to_string(kMaxSweepResolution) +
-                ", got '" + text + "'");
-  }
-  return {static_cast<int>(width), static_cast<int>(height)};
+  // At most six digits each, so both fit an int; the sweep checks the range (kMaxResolution).
+  return {std::stoi(match[1]), std::stoi(match[2])};
 }
 
 MultiBounceCoeffs parseCoeffs(const std::string& text, const std::string& option) {
