@@ -357,7 +357,7 @@ TEST(ClosedForm, WellFloorSpecularOcclusionMatchesQuadrature) {
 // between the spheres of radius r_in and R (closed forms for both), ± 3 SE of the pooled estimate.
 TEST(ClosedForm, BentNormalBesideSphere) {
   const double radius = 1.0;
-  const Scene scene = test::sphereOnPlane(radius, 128, 50.0);
+  const Scene scene = makeSphereOnPlaneScene(radius, 128);
   const EmbreeTracer tracer(scene);
   const Eigen::Vector3d centre(0, radius, 0);
   const double r_in = test::inradius(scene, centre);
