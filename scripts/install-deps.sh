@@ -11,6 +11,9 @@ packages=(
   mesa-vulkan-drivers
   libvulkan-dev
   clang libclang-rt-14-dev
+  slurm-wlm
+  munge
+  parallel
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -24,6 +24,8 @@
 #include "pipeline/all_command.h"
 #include "pipeline/option_values.h"
 #include "scene/scenes_command.h"
+#include "sweep/merge_command.h"
+#include "sweep/specular_occlusion.h"
 #include "sweep/sweep_command.h"
 
 namespace {
@@ -62,9 +64,9 @@ void addThreadsOption(CLI::App* parser, int& threads) {
 
 Subcommand addScenesCommand(CLI::App& app) {
   auto options = std::make_shared<ScenesOptions>();
+  auto seed = std::make_shared<std::string>(std::to_string(options->seed));
   auto* parser = app.add_subcommand("scenes", "Write the seven procedural scene types as glTF");
   parser->add_option("--out", options->out, "Output directory")->required();
-  auto seed = std::make_shared<std::string>(std::to_string(options->seed));
   parser->add_option("--seed", *seed, "Seed of the clutter and terrain generators");
   return {parser, [options, seed](const RunContext& context) {
             options->seed = parseSeed(*seed, "--seed");
@@ -90,17 +92,43 @@ Subcommand addSweepCommand(CLI::App& app) {
   parser->add_option("--camera", options->camera,
                      "Camera of a glTF with several: its name or index (default: the first)");
   addThreadsOption(parser, options->threads);
-  return {parser, [options, resolution, seed](const RunContext& context) {
+  auto specular_roughness =
+      std::make_shared<std::string>(specularRoughnessList(options->specular_roughness));
+  parser
+      ->add_option("--specular-roughness", *specular_roughness,
+                   "Perceptual roughness values of the S channels, or none")
+      ->capture_default_str();
+  parser->add_option("--specular-spp", options->specular_spp, "VNDF samples per roughness (even)")
+      ->capture_default_str();
+  auto shard = std::make_shared<std::string>();
+  parser->add_option("--shard", *shard,
+                     "Trace only shard I of N (0 <= I < N) into --out, for gtbake merge");
+  parser->add_flag("--resume", options->resume,
+                   "Continue an interrupted sweep from the tiles saved in --out");
+  return {parser,
+          [options, resolution, seed, specular_roughness, shard](const RunContext& context) {
+            std::tie(options->width, options->height) = parseResolution(*resolution);
             options->seed = parseSeed(*seed, "--seed");
             if (options->bounces == 0) {
               throw Error(
                   "--bounces 0 gives a sweep that fit and validate cannot use (they need "
                   "P1); use 1 to 16");
             }
-            std::tie(options->width, options->height) = parseResolution(*resolution);
+            options->specular_roughness = parseSpecularRoughness(*specular_roughness);
+            if (!shard->empty()) std::tie(options->shard, options->shards) = parseShard(*shard);
+            options->command_line = context.command_line;
             options->progress = context.progress;
             runSweep(*options);
           }};
+}
+
+Subcommand addMergeCommand(CLI::App& app) {
+  auto options = std::make_shared<MergeOptions>();
+  auto* parser = app.add_subcommand("merge", "Combine the shard directories of a sharded sweep");
+  parser->add_option("--out", options->out, "Output directory (as gtbake sweep --out)")->required();
+  parser->add_option("shards", options->shards, "Shard directories (gtbake sweep --shard)")
+      ->required();
+  return {parser, [options](const RunContext&) { runMerge(*options); }};
 }
 
 Subcommand addFitCommand(CLI::App& app) {
@@ -206,6 +234,7 @@ std::vector<Subcommand> registerSubcommands(CLI::App& app) {
   std::vector<Subcommand> subcommands;
   subcommands.push_back(addScenesCommand(app));
   subcommands.push_back(addSweepCommand(app));
+  subcommands.push_back(addMergeCommand(app));
   subcommands.push_back(addFitCommand(app));
   subcommands.push_back(addValidateCommand(app));
   subcommands.push_back(addGtsoCommand(app));
@@ -252,6 +281,9 @@ int runSelectedSubcommand(const std::vector<Subcommand>& subcommands, const RunC
     for (const Subcommand& subcommand : subcommands) {
       if (*subcommand.parser) subcommand.run(context);
     }
+  } catch (const gtbake::SweepInterrupted& e) {
+    std::fprintf(stderr, "gtbake: %s\n", firstLine(e.what()).c_str());
+    return 128 + e.signal();
   } catch (const gtbake::Error& e) {
     std::fprintf(stderr, "gtbake: error: %s\n", firstLine(e.what()).c_str());
     return kExitError;
@@ -266,7 +298,8 @@ int runSelectedSubcommand(const std::vector<Subcommand>& subcommands, const RunC
 
 int main(int argc, char** argv) {
   CLI::App app{"gtbake " GTBAKE_VERSION
-               ": regenerate GTAO/GTSO constants and tables from path-traced ground truth"};
+               ": regenerate GTAO/GTSO constants and "
+               "tables from path-traced ground truth"};
   app.require_subcommand(1);
   app.fallthrough();  // --quiet is accepted after the subcommand too
   app.set_version_flag("--version", GTBAKE_VERSION);

@@ -38,6 +38,11 @@ void Progress::finish() {
   draw(total_, true);
 }
 
+void Progress::abandon() {
+  if (finished_.exchange(true)) return;
+  if (enabled_ && tty_) std::fputc('\n', stderr);  // keep the partial bar's line
+}
+
 void Progress::draw(std::uint64_t done, bool final) {
   const auto now = std::chrono::steady_clock::now();
   const double fraction = std::min(1.0, static_cast<double>(done) / static_cast<double>(total_));

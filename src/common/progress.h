@@ -23,6 +23,8 @@ class Progress {
   void add(std::uint64_t units);
   // Draws the final state (100% and the elapsed time); called by the destructor if not before.
   void finish();
+  // Ends the bar where it stands, without drawing (the work was interrupted, not finished).
+  void abandon();
 
  private:
   void draw(std::uint64_t done, bool final);

@@ -8,12 +8,22 @@
 // disk point (x, y) to (x, y, √(1 − x² − y²)), whose density over the hemisphere is cosθ/π.
 #pragma once
 
+// x86-64: an AVX2 clone (8 float lanes) of each loop over walks or samples next to the default
+// (SSE2, 4 lanes), chosen once at load time; both compute the same IEEE operations, so the same
+// bits.
+#if defined(__x86_64__)
+#define GTBAKE_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define GTBAKE_AVX2_CLONES
+#endif
+
 namespace gtbake {
 
 inline constexpr float kQuarterPi = 0.785398163397448309616f;  // π/4, the concentric map's wedge
 
-// The hemisphere point (dx, dy, dz), dz ≥ 0, of (u0, u1) ∈ [0,1)².
-inline void concentricHemisphere(float u0, float u1, float* dx, float* dy, float* dz) {
+// The concentric disk point (dx, dy) of (u0, u1) ∈ [0,1)² (Shirley & Chiu 1997; pbrt-v4's
+// SampleUniformDiskConcentric, the same orientation as gtso::sampleUniformDiskConcentric).
+inline void concentricDisk(float u0, float u1, float* dx, float* dy) {
   // With s = 2u − 1, the disk point is (r cos φ, r sin φ), φ = π/4·t, |t| ≤ 1, in the wedge pair
   // where |sx| > |sy| (r = sx, t = sy/sx), and (r sin φ, r cos φ) with r = sy, t = sx/sy in the
   // other; signed r covers the opposite wedges. So only sin and cos on [−π/4, π/4] are needed:
@@ -34,6 +44,11 @@ inline void concentricHemisphere(float u0, float u1, float* dx, float* dy, float
       x2 * (-0.5f + x2 * (1.0f / 24 + x2 * (-1.0f / 720 + x2 * (1.0f / 40320 - x2 / 3628800))));
   *dx = r * (first ? cos_x : sin_x);
   *dy = r * (first ? sin_x : cos_x);
+}
+
+// The hemisphere point (dx, dy, dz), dz ≥ 0, of (u0, u1) ∈ [0,1)²: the disk point lifted.
+inline void concentricHemisphere(float u0, float u1, float* dx, float* dy, float* dz) {
+  concentricDisk(u0, u1, dx, dy);
   const float h = 1.0f - *dx * *dx - *dy * *dy;
   *dz = __builtin_sqrtf(h > 0.0f ? h : 0.0f);
 }

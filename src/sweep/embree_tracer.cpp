@@ -41,7 +41,7 @@ void throwOnDeviceError(RTCDevice device, const char* what) {
 
 }  // namespace
 
-EmbreeTracer::EmbreeTracer(const Scene& scene) {
+EmbreeTracer::EmbreeTracer(const Scene& scene, RTCBuildQuality quality, RTCSceneFlags extra_flags) {
   if (scene.triangles.empty()) throw Error("scene '" + scene.name + "' has no triangles");
   const std::size_t vertex_count = scene.positions.size();
   vertices_.resize(3 * vertex_count + 1, 0.0f);
@@ -72,10 +72,10 @@ EmbreeTracer::EmbreeTracer(const Scene& scene) {
   }
   rtcSetDeviceErrorFunction(device_, recordEmbreeError, nullptr);
   scene_ = rtcNewScene(device_);
-  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneFlags(scene_, static_cast<RTCSceneFlags>(RTC_SCENE_FLAG_ROBUST | extra_flags));
+  rtcSetSceneBuildQuality(scene_, quality);
   RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-  rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
+  rtcSetGeometryBuildQuality(geometry, quality);
   rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                              vertices_.data(), 0, 3 * sizeof(float), vertex_count);
   rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, indices_.data(),

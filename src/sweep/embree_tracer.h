@@ -82,7 +82,10 @@ inline void offsetAlongNormal(const float p[3], const float n[3], float scale, f
 class EmbreeTracer {
  public:
   // Throws gtbake::Error if the scene has no triangles or an index is out of range.
-  explicit EmbreeTracer(const Scene& scene);
+  // `quality` and `extra_flags` (added to RTC_SCENE_FLAG_ROBUST) only for bench/sweep's choice
+  // of the build (docs/cluster.md, "Scale"); the sweep uses the defaults.
+  explicit EmbreeTracer(const Scene& scene, RTCBuildQuality quality = RTC_BUILD_QUALITY_HIGH,
+                        RTCSceneFlags extra_flags = RTC_SCENE_FLAG_NONE);
   ~EmbreeTracer();
   EmbreeTracer(const EmbreeTracer&) = delete;
   EmbreeTracer& operator=(const EmbreeTracer&) = delete;

@@ -24,43 +24,82 @@ std::uint64_t EscapeImage::unmaskedPixels() const {
   return static_cast<std::uint64_t>(std::count(mask.begin(), mask.end(), std::uint8_t{1}));
 }
 
-EscapeImage traceEscapeImage(const EmbreeTracer& tracer, const PerspectiveCamera& camera, int width,
-                             int height, const WalkSettings& settings,
-                             const std::string& progress_label, bool progress) {
+EscapeImage makeEscapeImage(int width, int height, const WalkSettings& settings) {
   EscapeImage image;
   image.width = width;
   image.height = height;
   image.settings = settings;
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  const std::size_t per_pixel = 2 * static_cast<std::size_t>(settings.bounces + 1);
   image.mask.assign(pixels, 0);
-  image.counts.assign(pixels * per_pixel, 0);
+  image.counts.assign(pixels * 2 * static_cast<std::size_t>(settings.bounces + 1), 0);
+  image.normal.assign(3 * pixels, 0.0f);
+  image.view.assign(3 * pixels, 0.0f);
+  image.bent.assign(3 * pixels, 0.0f);
+  image.specular.assign(3 * pixels * settings.specular_roughness.size(), 0.0f);
+  return image;
+}
 
-  const int tiles_x = (width + kTileSize - 1) / kTileSize;
-  const int tiles_y = (height + kTileSize - 1) / kTileSize;
-  Progress bar(progress_label, pixels, progress);
+std::uint64_t tracePixel(const EmbreeTracer& tracer, const PerspectiveCamera& camera, int width,
+                         int height, int i, int j, std::size_t slot, EscapeImage* image,
+                         PixelScratch* scratch) {
+  const WalkSettings& settings = image->settings;
+  const std::size_t p = slot;
+  const Ray camera_ray = cameraRay(camera, i, j, width, height);
+  SurfaceHit hit;
+  if (!tracer.intersect(camera_ray, INFINITY, &hit)) return 1;
+  image->mask[p] = 1;
+  const std::uint64_t stream =
+      pixelStream(settings.scene_key, static_cast<std::uint64_t>(j) * width + i);
+  const std::size_t per_pixel = 2 * static_cast<std::size_t>(settings.bounces + 1);
+  double bent[3] = {0.0, 0.0, 0.0};
+  std::uint64_t rays = 1 + countEscapes(tracer, hit, settings, stream,
+                                        &image->counts[p * per_pixel], &scratch->walks, bent);
+  const float wo[3] = {-camera_ray.direction.x(), -camera_ray.direction.y(),
+                       -camera_ray.direction.z()};
+  const double length = std::sqrt(bent[0] * bent[0] + bent[1] * bent[1] + bent[2] * bent[2]);
+  for (int c = 0; c < 3; ++c) {
+    image->normal[3 * p + c] = hit.normal[c];
+    image->view[3 * p + c] = wo[c];
+    image->bent[3 * p + c] = length > 0.0 ? static_cast<float>(bent[c] / length) : hit.normal[c];
+  }
+  const std::size_t roughness = settings.specular_roughness.size();
+  if (roughness == 0) return rays;
+  scratch->sums.assign(4 * roughness, 0.0);
+  rays +=
+      traceSpecular(tracer, hit, wo, settings, stream, scratch->sums.data(), &scratch->specular);
+  float* out = &image->specular[3 * p * roughness];
+  for (std::size_t r = 0; r < roughness; ++r) {
+    const double* sum = &scratch->sums[4 * r];
+    out[3 * r] = static_cast<float>(specularRatio(sum[0] + sum[2], sum[1] + sum[3]));
+    out[3 * r + 1] = static_cast<float>(specularRatio(sum[0], sum[1]));
+    out[3 * r + 2] = static_cast<float>(specularRatio(sum[2], sum[3]));
+  }
+  return rays;
+}
+
+EscapeImage traceEscapeImage(const EmbreeTracer& tracer, const PerspectiveCamera& camera, int width,
+                             int height, const PixelRect& rect, const WalkSettings& settings,
+                             const std::string& progress_label, bool progress) {
+  EscapeImage image = makeEscapeImage(rect.width(), rect.height(), settings);
+  const int tiles_x = (rect.width() + kTileSize - 1) / kTileSize;
+  const int tiles_y = (rect.height() + kTileSize - 1) / kTileSize;
+  Progress bar(progress_label, rect.pixels(), progress);
   std::atomic<std::uint64_t> rays{0};
   const auto start = std::chrono::steady_clock::now();
   tbb::parallel_for(
       tbb::blocked_range<int>(0, tiles_x * tiles_y, 1), [&](const tbb::blocked_range<int>& range) {
         for (int tile = range.begin(); tile != range.end(); ++tile) {
-          const int x0 = (tile % tiles_x) * kTileSize;
-          const int y0 = (tile / tiles_x) * kTileSize;
-          const int x1 = std::min(x0 + kTileSize, width);
-          const int y1 = std::min(y0 + kTileSize, height);
+          const int x0 = rect.x0 + (tile % tiles_x) * kTileSize;
+          const int y0 = rect.y0 + (tile / tiles_x) * kTileSize;
+          const int x1 = std::min(x0 + kTileSize, rect.x1);
+          const int y1 = std::min(y0 + kTileSize, rect.y1);
           std::uint64_t tile_rays = 0;
-          WalkScratch scratch;
+          PixelScratch scratch;
           for (int j = y0; j < y1; ++j) {
             for (int i = x0; i < x1; ++i) {
-              const std::size_t p = static_cast<std::size_t>(j) * width + i;
-              SurfaceHit hit;
-              ++tile_rays;
-              if (!tracer.intersect(cameraRay(camera, i, j, width, height), INFINITY, &hit)) {
-                continue;
-              }
-              image.mask[p] = 1;
-              tile_rays +=
-                  countEscapes(tracer, hit, settings, p, &image.counts[p * per_pixel], &scratch);
+              const std::size_t slot = static_cast<std::size_t>(j - rect.y0) * rect.width() +
+                                       static_cast<std::size_t>(i - rect.x0);
+              tile_rays += tracePixel(tracer, camera, width, height, i, j, slot, &image, &scratch);
             }
           }
           rays += tile_rays;
@@ -76,6 +115,12 @@ EscapeImage traceEscapeImage(const EmbreeTracer& tracer, const PerspectiveCamera
 std::string albedoChannelName(double albedo) {
   char name[8];
   std::snprintf(name, sizeof(name), "G%03d", static_cast<int>(std::lround(albedo * 100.0)));
+  return name;
+}
+
+std::string specularChannelName(double roughness) {
+  char name[8];
+  std::snprintf(name, sizeof(name), "S%03d", static_cast<int>(std::lround(roughness * 100.0)));
   return name;
 }
 
@@ -99,6 +144,21 @@ std::vector<ExrChannel> escapeChannels(const EscapeImage& image) {
   std::vector<ExrChannel> g;
   for (double albedo : kSweepAlbedos) g.push_back(blank(albedoChannelName(albedo)));
   ExrChannel mask = blank("mask");
+  // NX NY NZ, VX VY VZ, BNX BNY BNZ.
+  std::vector<ExrChannel> vectors;
+  const std::vector<float>* sources[3] = {&image.normal, &image.view, &image.bent};
+  for (const char* prefix : {"N", "V", "BN"}) {
+    for (const char* axis : {"X", "Y", "Z"}) vectors.push_back(blank(std::string(prefix) + axis));
+  }
+  const std::size_t roughness = image.settings.specular_roughness.size();
+  std::vector<ExrChannel> specular;
+  std::vector<ExrChannel> specular_halves[2];
+  for (double r : image.settings.specular_roughness) {
+    specular.push_back(blank(specularChannelName(r)));
+    for (int h = 0; h < 2; ++h) {
+      specular_halves[h].push_back(blank("H" + std::to_string(h) + "." + specularChannelName(r)));
+    }
+  }
 
   for (std::size_t p = 0; p < pixels; ++p) {
     if (image.mask[p] == 0) continue;
@@ -119,12 +179,26 @@ std::vector<ExrChannel> escapeChannels(const EscapeImage& image) {
       }
       g[a].pixels[p] = static_cast<float>(sum);
     }
+    for (int v = 0; v < 3; ++v) {
+      for (int c = 0; c < 3; ++c) vectors[3 * v + c].pixels[p] = (*sources[v])[3 * p + c];
+    }
+    for (std::size_t r = 0; r < roughness; ++r) {
+      const float* s = &image.specular[3 * (p * roughness + r)];
+      specular[r].pixels[p] = s[0];
+      specular_halves[0][r].pixels[p] = s[1];
+      specular_halves[1][r].pixels[p] = s[2];
+    }
   }
 
   std::vector<ExrChannel> channels = std::move(full);
   for (auto& c : g) channels.push_back(std::move(c));
   channels.push_back(std::move(mask));
+  for (auto& c : vectors) channels.push_back(std::move(c));
+  for (auto& c : specular) channels.push_back(std::move(c));
   for (auto& half : halves) {
+    for (auto& c : half) channels.push_back(std::move(c));
+  }
+  for (auto& half : specular_halves) {
     for (auto& c : half) channels.push_back(std::move(c));
   }
   return channels;

@@ -1,27 +1,51 @@
-// One scene's sweep image: per pixel, the escape counts of countEscapes at the surface point seen
-// through the pixel centre, and the EXR channels derived from them (SPEC §1.1, §2).
+// One scene's sweep image: per pixel, at the surface point seen through the pixel centre, the
+// escape counts of countEscapes, the bent normal from their first bounce, the true specular
+// occlusion of traceSpecular, and the EXR channels derived from them (SPEC §1.1, §2).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "common/image_io.h"
 #include "sweep/escape_walk.h"
+#include "sweep/specular_occlusion.h"
 
 namespace gtbake {
 
 // The albedos of the paper's sweep (Section 5) and their channel names G010 … G090.
 inline constexpr double kSweepAlbedos[] = {0.1, 0.2, 0.3, 0.4, 0.5, 0.7, 0.9};
 
+// A half-open rectangle of pixels [x0, x1) × [y0, y1) of a width × height image.
+struct PixelRect {
+  int x0 = 0;
+  int y0 = 0;
+  int x1 = 0;
+  int y1 = 0;
+  int width() const { return x1 - x0; }
+  int height() const { return y1 - y0; }
+  std::size_t pixels() const {
+    return static_cast<std::size_t>(width()) * static_cast<std::size_t>(height());
+  }
+};
+
 struct EscapeImage {
-  int width = 0;
+  int width = 0;  // of the traced rectangle (the whole image unless a PixelRect was given)
   int height = 0;
   WalkSettings settings;
   std::vector<std::uint8_t> mask;     // 1 = the pixel's camera ray hit geometry
   std::vector<std::uint32_t> counts;  // per pixel 2(K+1): half h, bounce k at h(K+1) + k
-  std::uint64_t rays = 0;             // camera rays + walk segments
-  double seconds = 0.0;               // tracing wall time (BVH build excluded)
+  // Per pixel, world space, xyz at 3p: the normal n at the hit (geometric, facing the camera),
+  // ωo (unit, from the hit to the camera) and the bent normal b (n if no first bounce escaped).
+  std::vector<float> normal;
+  std::vector<float> view;
+  std::vector<float> bent;
+  // Per pixel and roughness j (R = settings.specular_roughness.size()): Ŝ, H0, H1 at
+  // 3(pR + j) + {0, 1, 2}.
+  std::vector<float> specular;
+  std::uint64_t rays = 0;  // camera rays + walk segments + specular rays
+  double seconds = 0.0;    // tracing wall time (BVH build excluded)
 
   std::uint64_t unmaskedPixels() const;
   // Escape count for pixel p, half h, bounce k.
@@ -30,16 +54,46 @@ struct EscapeImage {
   }
 };
 
-// Traces every pixel (TBB over 8×8 tiles). Each pixel uses the random stream of its index
-// j·width + i, so the result is the same for any thread count.
+// An image of width × height pixels with every array sized and zero (mask 0).
+EscapeImage makeEscapeImage(int width, int height, const WalkSettings& settings);
+
+// Per-thread buffers of tracePixel.
+struct PixelScratch {
+  WalkScratch walks;
+  SpecularScratch specular;
+  std::vector<double> sums;
+};
+
+// Everything the sweep records for pixel (i, j) of a width × height image, stored at `slot` of
+// `image` (whose arrays makeEscapeImage sized): the camera ray, and on a hit the walks, the bent
+// normal and the specular samples, all from the random stream pixelStream(settings.scene_key,
+// j·width + i). Returns the rays traced. A pixel's values depend only on (seed, scene, pixel), so
+// any rectangle, thread count or shard gives the same bits.
+std::uint64_t tracePixel(const EmbreeTracer& tracer, const PerspectiveCamera& camera, int width,
+                         int height, int i, int j, std::size_t slot, EscapeImage* image,
+                         PixelScratch* scratch);
+
+// Traces the pixels of `rect` of a width × height image (TBB over 8×8 blocks, tracePixel); the
+// result holds rect's pixels row-major.
 EscapeImage traceEscapeImage(const EmbreeTracer& tracer, const PerspectiveCamera& camera, int width,
-                             int height, const WalkSettings& settings,
+                             int height, const PixelRect& rect, const WalkSettings& settings,
                              const std::string& progress_label, bool progress);
 
-// EXR channels: A, P1..PK, G010 … G090, mask, H0.A, H0.P1..PK, H1.A, H1.P1..PK (masked = 0).
+// Every pixel of the image.
+inline EscapeImage traceEscapeImage(const EmbreeTracer& tracer, const PerspectiveCamera& camera,
+                                    int width, int height, const WalkSettings& settings,
+                                    const std::string& progress_label, bool progress) {
+  return traceEscapeImage(tracer, camera, width, height, PixelRect{0, 0, width, height}, settings,
+                          progress_label, progress);
+}
+
+// EXR channels: A, P1..PK, G010 … G090, mask, NX NY NZ, VX VY VZ, BNX BNY BNZ, S010 …, then
+// H0.A, H0.P1..PK, H1.A, H1.P1..PK, H0.S010 …, H1.S010 … (masked = 0).
 std::vector<ExrChannel> escapeChannels(const EscapeImage& image);
 
 // G(ρ) channel name, e.g. 0.5 -> "G050".
 std::string albedoChannelName(double albedo);
+// S(r_p) channel name, e.g. 0.25 -> "S025".
+std::string specularChannelName(double roughness);
 
 }  // namespace gtbake

@@ -1,37 +1,19 @@
 #include "sweep/escape_walk.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "sweep/cosine_direction.h"
 #include "sweep/philox_lanes.h"
 
-// x86-64: an AVX2 clone (8 float lanes) of each walk loop next to the default (SSE2, 4 lanes),
-// chosen once at load time; both compute the same IEEE operations, so the same bits.
-// GTBAKE_PORTABLE_KERNELS builds the default path only (tests/portable checks the bits agree).
-#if defined(__x86_64__) && !defined(GTBAKE_PORTABLE_KERNELS)
-#define GTBAKE_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define GTBAKE_AVX2_CLONES
-#endif
-
 namespace gtbake {
 
-namespace {
-
-// Columns of the first-bounce stratification grid: the largest divisor of n not above √n.
-int gridColumns(int n) {
-  int a = static_cast<int>(std::sqrt(static_cast<double>(n)));
-  while (a > 1 && n % a != 0) --a;
-  return a;
+std::uint32_t sceneStreamKey(const std::string& scene_name) {
+  std::uint32_t h = 2166136261u;  // FNV-1a offset basis and prime (32 bit)
+  for (unsigned char c : scene_name) h = (h ^ c) * 16777619u;
+  return h;
 }
-
-// (u0, u1) of the first bounce moved into cell (column, row) of the columns × rows grid.
-inline float stratum(float cell, float u, int cells) {
-  return (cell + u) / static_cast<float>(cells);
-}
-
-}  // namespace
 
 Eigen::Vector3f cosineDirection(const Eigen::Vector3f& n, float u0, float u1) {
   const float normal[3] = {n.x(), n.y(), n.z()};
@@ -44,11 +26,9 @@ Eigen::Vector3f cosineDirection(const Eigen::Vector3f& n, float u0, float u1) {
 }
 
 WalkSampler::WalkSampler(const WalkSettings& settings, std::uint64_t stream)
-    : rng_(settings.seed, stream), stratify_(settings.stratify_first_bounce) {
-  const int half = settings.spp / 2;
-  columns_ = gridColumns(half);
-  rows_ = half / columns_;
-}
+    : rng_(settings.seed, stream),
+      stratify_(settings.stratify_first_bounce),
+      grid_(std::max(1, settings.spp / 2)) {}
 
 std::array<std::uint32_t, 4> WalkSampler::blockWords(int s, int k) const {
   return rng_.words(static_cast<std::uint64_t>(s), static_cast<std::uint32_t>(k >> 1));
@@ -59,14 +39,21 @@ Eigen::Vector3f WalkSampler::direction(const Eigen::Vector3f& normal, int s, int
   float u0 = wordToUniform(words[2 * (k & 1)]);
   float u1 = wordToUniform(words[2 * (k & 1) + 1]);
   if (k == 0 && stratify_) {
-    const int t = s >> 1;  // index within the half-sample estimate: cell t of the grid
-    u0 = stratum(static_cast<float>(t % columns_), u0, columns_);
-    u1 = stratum(static_cast<float>(t / columns_), u1, rows_);
+    u0 = stratum(grid_.column(s), u0, grid_.columns());
+    u1 = stratum(grid_.row(s), u1, grid_.rows());
   }
   return cosineDirection(normal, u0, u1);
 }
 
 namespace {
+
+// Adds a first-bounce direction to the bent-normal sum, if one is kept.
+inline void addDirection(double* sum, float x, float y, float z) {
+  if (sum == nullptr) return;
+  sum[0] += x;
+  sum[1] += y;
+  sum[2] += z;
+}
 
 void resizeScratch(WalkScratch* w, int spp, const WalkSampler& sampler) {
   const std::size_t n = static_cast<std::size_t>(spp);
@@ -87,16 +74,15 @@ void resizeScratch(WalkScratch* w, int spp, const WalkSampler& sampler) {
     // rest for every segment.
     w->rays.assign(n, makeRayHit(Ray{Eigen::Vector3f::Zero(), Eigen::Vector3f::UnitZ()}, 0.0f));
   }
-  if (w->cell_count != spp || w->cell_columns != sampler.columns()) {
+  if (w->cell_count != spp || w->cell_columns != sampler.grid().columns()) {
     w->cell[0].resize(n);
     w->cell[1].resize(n);
     for (int s = 0; s < spp; ++s) {
-      const int t = s >> 1;
-      w->cell[0][s] = static_cast<float>(t % sampler.columns());
-      w->cell[1][s] = static_cast<float>(t / sampler.columns());
+      w->cell[0][s] = sampler.grid().column(s);
+      w->cell[1][s] = sampler.grid().row(s);
     }
     w->cell_count = spp;
-    w->cell_columns = sampler.columns();
+    w->cell_columns = sampler.grid().columns();
   }
 }
 
@@ -114,8 +100,8 @@ void bounceUniforms(WalkScratch* w, int m, int k, const WalkSampler& sampler) {
     // Every walk is alive at k = 0, so slot i is sample i.
     const float* __restrict cu = w->cell[0].data();
     const float* __restrict cv = w->cell[1].data();
-    const int columns = sampler.columns();
-    const int rows = sampler.rows();
+    const int columns = sampler.grid().columns();
+    const int rows = sampler.grid().rows();
     for (int i = 0; i < m; ++i) {
       u0[i] = stratum(cu[i], u0[i], columns);
       u1[i] = stratum(cv[i], u1[i], rows);
@@ -205,7 +191,8 @@ void setRay(RTCRayHit* rh, float ox, float oy, float oz, float dx, float dy, flo
 // through surfaceHit, offsetOrigin and WalkSampler (the same kernels, so the same rays).
 std::uint64_t countEscapesSingle(const EmbreeTracer& tracer, const SurfaceHit& start,
                                  const WalkSettings& settings, const WalkSampler& sampler,
-                                 std::uint64_t stream, std::uint32_t* counts, WalkScratch* w) {
+                                 std::uint64_t stream, std::uint32_t* counts, WalkScratch* w,
+                                 double* first_escape_sum) {
   const int bounces = settings.bounces;
   const int spp = settings.spp;
   resizeScratch(w, spp, sampler);
@@ -233,13 +220,12 @@ std::uint64_t countEscapesSingle(const EmbreeTracer& tracer, const SurfaceHit& s
         ray = Ray{tracer.offsetOrigin(at), sampler.direction(at.normal, s, k, words)};
       }
       ++rays;
-      if (k == bounces) {
-        // The last counted segment: only whether it escapes matters.
-        if (!tracer.occluded(ray, settings.radius)) ++half_counts[k];
-        break;
-      }
-      if (!tracer.intersect(ray, settings.radius, &at)) {
+      const bool escaped = k == bounces ? !tracer.occluded(ray, settings.radius)
+                                        : !tracer.intersect(ray, settings.radius, &at);
+      if (escaped) {
         ++half_counts[k];
+        if (k == 0)
+          addDirection(first_escape_sum, ray.direction.x(), ray.direction.y(), ray.direction.z());
         break;
       }
     }
@@ -253,7 +239,8 @@ std::uint64_t countEscapesSingle(const EmbreeTracer& tracer, const SurfaceHit& s
 // escapes counted per half and the survivors' hits compacted to the front.
 std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& start,
                                  const WalkSettings& settings, const WalkSampler& sampler,
-                                 std::uint64_t stream, std::uint32_t* counts, WalkScratch* w) {
+                                 std::uint64_t stream, std::uint32_t* counts, WalkScratch* w,
+                                 double* first_escape_sum) {
   const int bounces = settings.bounces;
   resizeScratch(w, settings.spp, sampler);
   const PhiloxLanes philox(settings.seed, stream);
@@ -293,7 +280,9 @@ std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& s
       // The last counted segment: only whether it escapes matters.
       tracer.occludedStream(rays, static_cast<unsigned>(m));
       for (int i = 0; i < m; ++i) {
-        if (rays[i].ray.tfar >= 0.0f) ++counts[(w->walk[i] & 1) * (bounces + 1) + k];
+        if (rays[i].ray.tfar < 0.0f) continue;
+        ++counts[(w->walk[i] & 1) * (bounces + 1) + k];
+        if (k == 0) addDirection(first_escape_sum, dx[i], dy[i], dz[i]);
       }
       break;
     }
@@ -304,6 +293,7 @@ std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& s
       const RTCRayHit& rh = rays[i];
       if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
         ++counts[(w->walk[i] & 1) * (bounces + 1) + k];
+        if (k == 0) addDirection(first_escape_sum, dx[i], dy[i], dz[i]);
         continue;
       }
       w->walk[alive] = w->walk[i];
@@ -331,11 +321,12 @@ std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& s
 
 std::uint64_t countEscapes(const EmbreeTracer& tracer, const SurfaceHit& start,
                            const WalkSettings& settings, std::uint64_t stream,
-                           std::uint32_t* counts, WalkScratch* scratch) {
+                           std::uint32_t* counts, WalkScratch* scratch, double* first_escape_sum) {
   const WalkSampler sampler(settings, stream);
-  return settings.streams
-             ? countEscapesStream(tracer, start, settings, sampler, stream, counts, scratch)
-             : countEscapesSingle(tracer, start, settings, sampler, stream, counts, scratch);
+  return settings.streams ? countEscapesStream(tracer, start, settings, sampler, stream, counts,
+                                               scratch, first_escape_sum)
+                          : countEscapesSingle(tracer, start, settings, sampler, stream, counts,
+                                               scratch, first_escape_sum);
 }
 
 }  // namespace gtbake

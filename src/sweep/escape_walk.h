@@ -39,10 +39,12 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "common/rng.h"
 #include "sweep/embree_tracer.h"
+#include "sweep/strata.h"
 
 namespace gtbake {
 
@@ -56,7 +58,23 @@ struct WalkSettings {
   // instead of one rtcIntersect1 / rtcOccluded1 call per ray. Same rays, same counts, bit for
   // bit; the two are within measurement noise of each other (bench_sweep, docs/sweep.md).
   bool streams = true;
+  // High 32 bits of every pixel's random stream (sceneStreamKey of the scene's name; the pixel
+  // index fills the low 32 bits), so no two scenes share draws and a pixel's value depends only on
+  // (seed, scene, pixel), never on threads, tiles or shards.
+  std::uint32_t scene_key = 0;
+  // True specular occlusion (specular_occlusion.h): perceptual roughness values r_p (α = r_p²) and
+  // VNDF samples per value (even: two half-sample estimates). Empty: not traced.
+  std::vector<double> specular_roughness;
+  int specular_spp = 0;
 };
+
+// The scene part of the random streams: 32-bit FNV-1a of the scene's name (its glTF file stem).
+std::uint32_t sceneStreamKey(const std::string& scene_name);
+
+// The random stream of pixel p of the scene with key scene_key.
+inline std::uint64_t pixelStream(std::uint32_t scene_key, std::uint64_t p) {
+  return (static_cast<std::uint64_t>(scene_key) << 32) | (p & 0xffffffffu);
+}
 
 // A cosine-distributed unit direction about the unit normal n, from (u0, u1) ∈ [0,1)² through the
 // concentric disk map (Shirley & Chiu 1997) lifted to the hemisphere (Malley's method); the
@@ -79,14 +97,12 @@ class WalkSampler {
     return direction(normal, s, k, blockWords(s, k));
   }
   bool stratified() const { return stratify_; }
-  int columns() const { return columns_; }
-  int rows() const { return rows_; }
+  const StratumGrid& grid() const { return grid_; }
 
  private:
   CounterRng rng_;
   bool stratify_;
-  int columns_;
-  int rows_;
+  StratumGrid grid_;
 };
 
 // Per-thread buffers for the stream traversal, reused from point to point: per walk still alive
@@ -110,9 +126,13 @@ struct WalkScratch {
 
 // Traces settings.spp walks from `start` with random streams keyed by (seed, stream) and adds
 // escape counts to counts[h * (K + 1) + k] for half h ∈ {0, 1} (sample parity) and k = 0..K.
+// If first_escape_sum is given, adds to it (x, y, z, in double, in sample order) the first-bounce
+// directions of the walks that escape at once: (π/N) times that sum estimates
+// ∫ V (n·ω) ω dω, whose direction is the bent normal (cosine sampling cancels the (n·ω)/π).
 // Returns the number of rays traced. Depends only on (start, settings, stream).
 std::uint64_t countEscapes(const EmbreeTracer& tracer, const SurfaceHit& start,
                            const WalkSettings& settings, std::uint64_t stream,
-                           std::uint32_t* counts, WalkScratch* scratch);
+                           std::uint32_t* counts, WalkScratch* scratch,
+                           double* first_escape_sum = nullptr);
 
 }  // namespace gtbake

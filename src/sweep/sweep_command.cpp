@@ -1,27 +1,36 @@
-// `gtbake sweep` (SPEC §2): validate, load every scene, trace each one's escape image, write the
-// EXR, PNG previews and sweep.json, print the summary table.
+// `gtbake sweep` (SPEC §2) in named steps: validate, load every scene, describe the sweep (its
+// identity key), plan the tiles, trace the tiles not yet checkpointed, then write either the
+// sweep's outputs (EXR, PNG previews, sweep.json, summary table) or, for a shard, its manifest.
 #include "sweep/sweep_command.h"
 
+#include <tbb/parallel_for.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <set>
 #include <string>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
-#include "common/image_io.h"
-#include "common/output_set.h"
+#include "common/progress.h"
 #include "common/threads.h"
 #include "gtbake_version.h"
 #include "scene/gltf_reader.h"
 #include "scene/scene.h"
 #include "sweep/escape_image.h"
+#include "sweep/shard_manifest.h"
+#include "sweep/sweep_output.h"
+#include "sweep/tile_plan.h"
+#include "sweep/tile_store.h"
 
 namespace gtbake {
 
@@ -29,9 +38,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int kMaxSpp = 1 << 20;      // keeps counts in uint32 and a pixel's walks < 1 s
-constexpr int kMaxResolution = 8192;  // pixels per side; 8192² × 2(K+1) counts fits in memory
-constexpr int kMaxBounces = 16;       // ρ^17 ≤ 0.9^17 ≈ 0.17 of p_17: beyond that nobody asks
+constexpr int kMaxSpp = 1 << 20;     // keeps counts in uint32 and a pixel's walks < 1 s
+constexpr int kMaxShards = 1 << 16;  // far more than tiles a useful sweep has per shard
+constexpr int kMaxBounces = 16;      // ρ^17 ≤ 0.9^17 ≈ 0.17 of p_17: beyond that nobody asks
 
 bool isGltf(const fs::path& path) {
   const std::string ext = path.extension().string();
@@ -43,8 +52,9 @@ void validateOptions(const SweepOptions& o) {
     throw Error("--spp must be an even number in [2, " + std::to_string(kMaxSpp) + "], got " +
                 std::to_string(o.spp));
   }
-  if (o.width < 1 || o.width > kMaxResolution || o.height < 1 || o.height > kMaxResolution) {
-    throw Error("--res must be WxH with each side in [1, " + std::to_string(kMaxResolution) +
+  if (o.width < 1 || o.width > kMaxSweepResolution || o.height < 1 ||
+      o.height > kMaxSweepResolution) {
+    throw Error("--res must be WxH with each side in [1, " + std::to_string(kMaxSweepResolution) +
                 "], got " + std::to_string(o.width) + "x" + std::to_string(o.height));
   }
   if (o.bounces < 0 || o.bounces > kMaxBounces) {
@@ -52,7 +62,12 @@ void validateOptions(const SweepOptions& o) {
                 std::to_string(o.bounces));
   }
   if (!(o.radius > 0.0)) throw Error("--radius must be a positive distance in metres");
-  if (o.threads < 0) throw Error("--threads must be 0 (all cores) or a positive count");
+  validateSpecularOptions(o.specular_roughness, o.specular_spp);
+  if (o.shards < 0 || o.shards > kMaxShards ||
+      (o.shards > 0 && (o.shard < 0 || o.shard >= o.shards))) {
+    throw Error("--shard must be I/N with 0 <= I < N <= " + std::to_string(kMaxShards) + ", got " +
+                std::to_string(o.shard) + "/" + std::to_string(o.shards));
+  }
   if (o.scenes.empty()) throw Error("no scenes given: pass --scenes DIR|FILE...");
   if (o.out.empty()) throw Error("no output directory given: pass --out DIR");
 }
@@ -103,21 +118,12 @@ std::string formatNumber(double value) {
   return text;
 }
 
-nlohmann::ordered_json rate(double seconds, std::uint64_t rays) {
-  return seconds > 0.0 ? nlohmann::ordered_json(static_cast<double>(rays) / seconds)
-                       : nlohmann::ordered_json(nullptr);
-}
-
-}  // namespace
-
-SweepResult runSweep(const SweepOptions& options) {
-  validateOptions(options);
-  const std::vector<fs::path> files = resolveSceneFiles(options.scenes);
-  // Load every scene before writing anything: a bad scene fails the run with no output.
+// Loads every scene before anything is written: a bad scene fails the run with no output.
+std::vector<Scene> loadScenes(const std::vector<fs::path>& files, const std::string& camera) {
   std::vector<Scene> scenes;
   for (const fs::path& file : files) {
     GltfReadInfo info;
-    scenes.push_back(readGltfScene(file, {options.camera, false}, &info));
+    scenes.push_back(readGltfScene(file, {camera, false}, &info));
     if (info.perspective_cameras > 1) {
       std::fprintf(stderr, "sweep: %s: camera %d '%s' of %d (choose with --camera NAME|INDEX)\n",
                    file.string().c_str(), info.camera_instance, info.camera_name.c_str(),
@@ -127,104 +133,296 @@ SweepResult runSweep(const SweepOptions& options) {
     if (scenes.back().triangles.empty())
       throw Error("scene " + file.string() + " has no triangles");
   }
-  ensureWritableDirectory(options.out);
-  OutputSet output(options.out, "sweep");  // committed whole at the end (output_set.h)
-  const ThreadLimit threads(options.threads);
+  return scenes;
+}
 
+WalkSettings walkSettings(const SweepOptions& o) {
   WalkSettings settings;
-  settings.spp = options.spp;
-  settings.bounces = options.bounces;
-  settings.radius = std::isinf(options.radius) ? INFINITY : static_cast<float>(options.radius);
-  settings.seed = options.seed;
-  settings.stratify_first_bounce = options.stratify_first_bounce;
+  settings.spp = o.spp;
+  settings.bounces = o.bounces;
+  settings.radius = std::isinf(o.radius) ? INFINITY : static_cast<float>(o.radius);
+  settings.seed = o.seed;
+  settings.stratify_first_bounce = o.stratify_first_bounce;
+  settings.specular_roughness = o.specular_roughness;
+  settings.specular_spp = o.specular_roughness.empty() ? 0 : o.specular_spp;
+  return settings;
+}
 
-  SweepResult result;
-  nlohmann::ordered_json scene_entries = nlohmann::ordered_json::array();
-  std::printf("%-16s %9s %8s %9s %9s\n", "scene", "pixels", "mean A", "seconds", "Mrays/s");
-  for (std::size_t s = 0; s < scenes.size(); ++s) {
-    const Scene& scene = scenes[s];
-    const auto start = std::chrono::steady_clock::now();
-    const EmbreeTracer tracer(scene);
-    const EscapeImage image = traceEscapeImage(tracer, scene.camera, options.width, options.height,
-                                               settings, "sweep " + scene.name, options.progress);
-    const std::vector<ExrChannel> channels = escapeChannels(image);
-    const std::string gltf = relativePath(files[s], options.out);
-    const std::map<std::string, std::string> attributes = {
-        {"gtbake.version", GTBAKE_VERSION},
-        {"gtbake.spp", std::to_string(options.spp)},
-        {"gtbake.bounces", std::to_string(options.bounces)},
-        {"gtbake.seed", std::to_string(options.seed)},
-        {"gtbake.radius", std::isinf(options.radius) ? "inf" : formatNumber(options.radius)},
-        {"gtbake.scene", gltf},
-        {"gtbake.stratified_first_bounce", options.stratify_first_bounce ? "1" : "0"}};
-    if (image.unmaskedPixels() == 0) {
-      throw Error(
-          "scene " + files[s].string() +
-          ": no pixel sees geometry (every camera ray escapes); aim the camera at the scene");
+// Everything that determines a pixel's values (the thread count and shard do not), as recorded in
+// sweep.json's "settings" (plus "threads") and the EXR attributes (plus "gtbake.scene").
+SweepIdentity describeSweep(const SweepOptions& o, const std::vector<fs::path>& files,
+                            const std::vector<Scene>& scenes) {
+  SweepIdentity id;
+  id.version = GTBAKE_VERSION;
+  nlohmann::ordered_json& settings = id.settings;
+  settings["spp"] = o.spp;
+  settings["width"] = o.width;
+  settings["height"] = o.height;
+  settings["bounces"] = o.bounces;
+  settings["radius"] =
+      std::isinf(o.radius) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(o.radius);
+  settings["seed"] = o.seed;
+  settings["albedos"] = kSweepAlbedos;
+  settings["stratified_first_bounce"] = o.stratify_first_bounce;
+  settings["specular_roughness"] = o.specular_roughness;
+  settings["specular_spp"] = o.specular_roughness.empty() ? 0 : o.specular_spp;
+  id.attributes = {
+      {"gtbake.version", GTBAKE_VERSION},
+      {"gtbake.spp", std::to_string(o.spp)},
+      {"gtbake.bounces", std::to_string(o.bounces)},
+      {"gtbake.seed", std::to_string(o.seed)},
+      {"gtbake.radius", std::isinf(o.radius) ? "inf" : formatNumber(o.radius)},
+      {"gtbake.stratified_first_bounce", o.stratify_first_bounce ? "1" : "0"},
+      {"gtbake.specular_roughness", specularRoughnessList(o.specular_roughness)},
+      {"gtbake.specular_spp", std::to_string(o.specular_roughness.empty() ? 0 : o.specular_spp)}};
+  for (std::size_t s = 0; s < files.size(); ++s) {
+    id.scenes.push_back(files[s].stem().string());
+    id.scene_sha256.push_back(sceneSha256(files[s]));
+    id.scene_triangles.push_back(scenes[s].triangles.size());
+  }
+  id.width = o.width;
+  id.height = o.height;
+  id.camera = o.camera;
+  sealIdentity(&id);
+  return id;
+}
+
+std::string signalName(int signal) {
+  return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : std::to_string(signal);
+}
+
+// While alive, SIGINT and SIGTERM only raise a flag: the tiles in flight finish and are saved, no
+// new tile starts. The first such signal puts the previous handler back, so a second one stops
+// at once (removing this process's temporary files, atomic_file.h).
+std::atomic<int> g_stop_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs a lock-free flag");
+struct sigaction g_previous_int;  // the handlers before StopOnSignals (atomic_file.h's cleanup)
+struct sigaction g_previous_term;
+
+extern "C" void onStopSignal(int signal) {
+  g_stop_signal.store(signal);
+  // sigaction is async-signal-safe: the next such signal goes to the previous handler.
+  sigaction(signal, signal == SIGINT ? &g_previous_int : &g_previous_term, nullptr);
+}
+
+class StopOnSignals {
+ public:
+  StopOnSignals() {
+    g_stop_signal.store(0);
+    struct sigaction action;
+    std::memset(&action, 0, sizeof(action));
+    action.sa_handler = onStopSignal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = 0;
+    sigaction(SIGINT, &action, &g_previous_int);
+    sigaction(SIGTERM, &action, &g_previous_term);
+  }
+  ~StopOnSignals() {
+    sigaction(SIGINT, &g_previous_int, nullptr);
+    sigaction(SIGTERM, &g_previous_term, nullptr);
+  }
+  StopOnSignals(const StopOnSignals&) = delete;
+  StopOnSignals& operator=(const StopOnSignals&) = delete;
+  int signal() const { return g_stop_signal.load(); }
+};
+
+// <out>/sweep-tiles, holding this sweep's checkpointed tiles. The directory's "key" file names
+// the sweep; tiles of another sweep are removed (or, with --resume, refused).
+fs::path openTileDirectory(const SweepOptions& o, const SweepIdentity& id) {
+  const fs::path dir = o.out / kTileDirectory;
+  const fs::path key_file = dir / "key";
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) {
+    if (o.resume) {
+      throw Error("nothing to resume: " + dir.string() +
+                  " does not exist (the sweep finished, or never started there)");
     }
-    const fs::path exr = options.out / (scene.name + ".exr");
-    output.add(exr.filename().string(),
-               encodeExr(options.width, options.height, channels, attributes));
-    for (const ExrChannel& c : channels) {
-      if (c.name == "A" || c.name == "G050") {
-        output.add(scene.name + "_" + c.name + ".png",
-                   encodePng(options.width, options.height, 1, toGray8(c.pixels, 0.0f, 1.0f)));
+  } else if (!fs::is_regular_file(key_file, ec) || readFile(key_file) != id.key + "\n") {
+    if (o.resume) {
+      throw Error("cannot resume: " + dir.string() +
+                  " holds tiles of another sweep (other settings, seed, scenes or gtbake version); "
+                  "run without --resume to start over");
+    }
+    std::fprintf(stderr, "sweep: removing the tiles of another sweep in %s\n", dir.c_str());
+    fs::remove_all(dir, ec);
+    if (ec) throw Error("cannot remove " + dir.string() + ": " + ec.message());
+    removeShardManifest(o.out);
+  }
+  ensureDirectory(dir);
+  if (!fs::exists(key_file, ec)) writeFileAtomically(key_file, id.key + "\n");
+  cleanStaleTemporaries(dir);  // a killed run leaves the tiles it was writing half-written
+  return dir;
+}
+
+// A checkpointed tile that is whole and belongs to this sweep and place; corrupt ones are
+// reported and traced again.
+bool haveTile(const fs::path& path, const SweepIdentity& id, const Tile& tile) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return false;
+  try {
+    const TileData t = readTile(path);
+    return t.key == id.key && t.scene == id.scenes[tile.scene] && t.index == tile.index &&
+           t.rect.x0 == tile.rect.x0 && t.rect.y0 == tile.rect.y0 && t.rect.x1 == tile.rect.x1 &&
+           t.rect.y1 == tile.rect.y1;
+  } catch (const Error& e) {
+    std::fprintf(stderr, "sweep: tracing again: %s\n", e.what());
+    return false;
+  }
+}
+
+struct TraceReport {
+  std::vector<SceneRun> runs;  // per scene: glTF, build and trace time of this run
+  std::size_t traced = 0;      // tiles traced by this run
+  std::size_t reused = 0;      // tiles found checkpointed
+  std::uint64_t rays = 0;      // traced by this run
+  int signal = 0;              // the stop signal, or 0 if every tile is done
+};
+
+// Traces the tiles `mine` that are not checkpointed yet, scene by scene (TBB over the tiles, and
+// inside each tile over 8×8 blocks), saving each tile as it finishes. Stops starting tiles after
+// SIGINT/SIGTERM.
+TraceReport traceTiles(const SweepOptions& o, const std::vector<Scene>& scenes,
+                       const std::vector<fs::path>& files, const SweepIdentity& id,
+                       const TilePlan& plan, const std::vector<int>& mine, const fs::path& dir) {
+  TraceReport report;
+  WalkSettings settings = walkSettings(o);
+  const std::string prefix =
+      o.shards > 0 ? "shard " + std::to_string(o.shard) + "/" + std::to_string(o.shards) + " "
+                   : "sweep ";
+  const StopOnSignals stop;
+  for (std::size_t s = 0; s < scenes.size(); ++s) {
+    report.runs.push_back({files[s], 0.0, 0.0});
+    std::vector<int> pending;
+    for (int t : mine) {
+      if (plan.tiles[t].scene != static_cast<int>(s)) continue;
+      const fs::path path = dir / tileFileName(id.scenes[s], plan.tiles[t].index);
+      if (haveTile(path, id, plan.tiles[t])) {
+        ++report.reused;
+      } else {
+        pending.push_back(t);
       }
     }
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-    const std::uint64_t unmasked = image.unmaskedPixels();
-    double sum_a = 0.0;
-    for (std::size_t p = 0; p < channels[0].pixels.size(); ++p) sum_a += channels[0].pixels[p];
-    const double mean_a = unmasked > 0 ? sum_a / static_cast<double>(unmasked) : 0.0;
-    std::printf("%-16s %9llu %8.4f %9.2f %9.2f\n", scene.name.c_str(),
-                static_cast<unsigned long long>(unmasked), mean_a, seconds,
-                image.seconds > 0.0 ? 1e-6 * static_cast<double>(image.rays) / image.seconds : 0.0);
-    std::fflush(stdout);
-
-    result.scenes.push_back({exr, seconds, image.rays});
-    result.seconds += seconds;
-    result.rays += image.rays;
-    nlohmann::ordered_json entry;
-    entry["name"] = scene.name;
-    entry["file"] = exr.filename().string();
-    entry["gltf"] = gltf;
-    entry["width"] = options.width;
-    entry["height"] = options.height;
-    entry["unmasked_pixels"] = unmasked;
-    entry["mean_A"] = mean_a;
-    entry["seconds"] = seconds;
-    entry["build_seconds"] = tracer.buildSeconds();
-    entry["trace_seconds"] = image.seconds;
-    entry["rays"] = image.rays;
-    entry["rays_per_second"] = rate(image.seconds, image.rays);
-    scene_entries.push_back(std::move(entry));
+    if (pending.empty() || stop.signal() != 0) continue;
+    const auto build_start = std::chrono::steady_clock::now();
+    const EmbreeTracer tracer(scenes[s]);
+    settings.scene_key = sceneStreamKey(scenes[s].name);
+    const auto trace_start = std::chrono::steady_clock::now();
+    report.runs[s].build_seconds = std::chrono::duration<double>(trace_start - build_start).count();
+    std::uint64_t pixels = 0;
+    for (int t : pending) pixels += plan.tiles[t].rect.pixels();
+    Progress bar(prefix + id.scenes[s], pixels, o.progress);
+    std::atomic<std::size_t> traced{0};
+    std::atomic<std::uint64_t> rays{0};
+    tbb::parallel_for(std::size_t{0}, pending.size(), [&](std::size_t k) {
+      if (stop.signal() != 0) return;
+      const Tile& tile = plan.tiles[pending[k]];
+      const EscapeImage image = traceEscapeImage(tracer, scenes[s].camera, o.width, o.height,
+                                                 tile.rect, settings, "", false);
+      writeTile(dir / tileFileName(id.scenes[s], tile.index),
+                makeTile(image, id.key, id.scenes[s], tile.index, tile.rect));
+      rays += image.rays;
+      ++traced;
+      bar.add(tile.rect.pixels());
+    });
+    if (stop.signal() == 0) {
+      bar.finish();
+    } else {
+      bar.abandon();
+    }
+    report.runs[s].trace_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - trace_start).count();
+    report.traced += traced.load();
+    report.rays += rays.load();
   }
-  std::printf(
-      "%-16s %9s %8s %9.2f %9.2f\n", "total", "", "", result.seconds,
-      result.seconds > 0.0 ? 1e-6 * static_cast<double>(result.rays) / result.seconds : 0.0);
+  report.signal = stop.signal();
+  return report;
+}
 
-  nlohmann::ordered_json json;
-  json["gtbake_version"] = GTBAKE_VERSION;
-  nlohmann::ordered_json& settings_json = json["settings"];
-  settings_json["spp"] = options.spp;
-  settings_json["width"] = options.width;
-  settings_json["height"] = options.height;
-  settings_json["bounces"] = options.bounces;
-  settings_json["radius"] = std::isinf(options.radius) ? nlohmann::ordered_json(nullptr)
-                                                       : nlohmann::ordered_json(options.radius);
-  settings_json["seed"] = options.seed;
-  settings_json["threads"] = threads.threads();
-  settings_json["albedos"] = kSweepAlbedos;
-  settings_json["stratified_first_bounce"] = options.stratify_first_bounce;
-  json["scenes"] = std::move(scene_entries);
-  json["totals"] = {{"seconds", result.seconds},
-                    {"rays", result.rays},
-                    {"rays_per_second", rate(result.seconds, result.rays)}};
-  output.setSettings(json["settings"]);
-  output.add("sweep.json", json.dump(2) + "\n");
-  output.commit();
+[[noreturn]] void throwInterrupted(const SweepOptions& o, const TraceReport& report,
+                                   std::size_t total, const fs::path& dir) {
+  const std::string command =
+      o.command_line.empty() ? "the same gtbake sweep command" : o.command_line;
+  throw SweepInterrupted("interrupted by " + signalName(report.signal) + ": " +
+                             std::to_string(report.traced + report.reused) + " of " +
+                             std::to_string(total) + " tiles are saved in " + dir.string() +
+                             "; to resume, run again: " + command +
+                             (o.resume ? "" : " (or add --resume)"),
+                         report.signal);
+}
+
+// A finished shard: its manifest, and one line on stdout.
+SweepResult finishShard(const SweepOptions& o, const SweepIdentity& id, const TilePlan& plan,
+                        const std::vector<int>& mine, TraceReport report, int threads,
+                        double seconds) {
+  ShardManifest manifest;
+  manifest.identity = id;
+  for (SceneRun& run : report.runs) run.gltf = relativePath(run.gltf, o.out);
+  manifest.runs = report.runs;
+  manifest.shard = o.shard;
+  manifest.shards = o.shards;
+  manifest.tiles = mine;
+  manifest.threads = threads;
+  manifest.seconds = seconds;
+  writeShardManifest(o.out, manifest, plan);
+  std::printf(
+      "shard %d/%d: %zu of %zu tiles of %zu scenes (%zu traced now, %zu checkpointed), "
+      "%.1f Mrays in %.2f s -> %s\n",
+      o.shard, o.shards, mine.size(), plan.tiles.size(), id.scenes.size(), report.traced,
+      report.reused, 1e-6 * static_cast<double>(report.rays), seconds,
+      (o.out / "shard.json").c_str());
+  SweepResult result;
+  result.seconds = seconds;
+  result.rays = report.rays;
+  return result;
+}
+
+}  // namespace
+
+std::pair<int, int> parseShard(const std::string& text) {
+  static const std::regex kPattern("([0-9]{1,6})/([0-9]{1,6})");
+  std::smatch match;
+  if (!std::regex_match(text, match, kPattern)) {
+    throw Error("--shard must look like I/N (shard I of N, 0 <= I < N), got '" + text + "'");
+  }
+  const int index = std::stoi(match[1]);
+  const int count = std::stoi(match[2]);
+  if (count < 1 || count > kMaxShards || index >= count) {
+    throw Error("--shard must be I/N with 0 <= I < N <= " + std::to_string(kMaxShards) + ", got '" +
+                text + "'");
+  }
+  return {index, count};
+}
+
+SweepResult runSweep(const SweepOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  validateOptions(options);
+  const ThreadLimit threads(options.threads);
+  const std::vector<fs::path> files = resolveSceneFiles(options.scenes);
+  const std::vector<Scene> scenes = loadScenes(files, options.camera);
+  const SweepIdentity id = describeSweep(options, files, scenes);
+  const bool sharded = options.shards > 0;
+  const TilePlan plan = planTiles(static_cast<int>(scenes.size()), options.width, options.height,
+                                  sharded ? options.shards : 1);
+  const std::vector<int> mine = plan.tilesOfShard(sharded ? options.shard : 0);
+  ensureWritableDirectory(options.out);
+  const fs::path dir = openTileDirectory(options, id);
+
+  const TraceReport report = traceTiles(options, scenes, files, id, plan, mine, dir);
+  if (report.signal != 0) throwInterrupted(options, report, mine.size(), dir);
+  if (report.reused > 0 && options.progress) {
+    std::fprintf(stderr, "sweep: resumed: %zu of %zu tiles were checkpointed in %s\n",
+                 report.reused, mine.size(), dir.c_str());
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (sharded) return finishShard(options, id, plan, mine, report, threads.threads(), seconds);
+
+  const SweepResult result =
+      writeSweepOutputs(options.out, id, plan, report.runs, threads.threads(), [&](int t) {
+        return readTile(dir / tileFileName(id.scenes[plan.tiles[t].scene], plan.tiles[t].index));
+      });
+  std::error_code ec;
+  fs::remove_all(dir, ec);  // the outputs are complete; a leftover checkpoint only costs space
   return result;
 }
 

@@ -5,9 +5,16 @@
 #include <filesystem>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "common/error.h"
+
 namespace gtbake {
+
+// Pixels per side of a sweep image: 8192² × 2(K+1) counts and the channels fit in memory, and
+// beyond it a sweep would take days.
+inline constexpr int kMaxSweepResolution = 8192;
 
 struct SweepOptions {
   // .gltf files, or directories whose *.gltf files are all taken (sorted by name).
@@ -31,6 +38,18 @@ struct SweepOptions {
   // First walk direction stratified within each half-sample estimate (docs/sweep.md); off gives
   // independent walks, e.g. to compare variances.
   bool stratify_first_bounce = true;
+  // True specular occlusion channels S + r_p×100 at these perceptual roughness values (α = r_p²;
+  // empty: none) with this many VNDF samples per value and pixel (even; docs/sweep.md §2).
+  std::vector<double> specular_roughness = {0.10, 0.25, 0.40, 0.60, 0.80};
+  int specular_spp = 64;
+  // Shard `shard` of `shards` (0-based; shards = 0: not sharded). A shard traces only its tiles
+  // (tile_plan.h) and writes them with <out>/shard.json for `gtbake merge` (docs/cluster.md).
+  int shard = 0;
+  int shards = 0;
+  // Require tiles checkpointed by an interrupted run of the same sweep in <out>/sweep-tiles and
+  // skip them. Without it they are skipped too, if they belong to the same sweep.
+  bool resume = false;
+  std::string command_line;  // quoted in the message that says how to resume
 };
 
 struct SweepSceneResult {
@@ -45,7 +64,24 @@ struct SweepResult {
   std::uint64_t rays = 0;
 };
 
-// Writes <out>/<scene>.exr per scene and <out>/sweep.json; prints a summary to stdout.
+// SIGINT or SIGTERM stopped the sweep after its finished tiles were saved; the message says how
+// to resume. The CLI exits with 128 + signal.
+class SweepInterrupted : public Error {
+ public:
+  SweepInterrupted(const std::string& message, int signal) : Error(message), signal_(signal) {}
+  int signal() const { return signal_; }
+
+ private:
+  int signal_;
+};
+
+// Writes <out>/<scene>.exr per scene and <out>/sweep.json; prints a summary to stdout. Tiles
+// are checkpointed in <out>/sweep-tiles as they finish (removed once the outputs are written); a
+// sweep stopped by a signal or killed resumes from them. Sharded: writes <out>/sweep-tiles and
+// <out>/shard.json instead (result.scenes is then empty).
 SweepResult runSweep(const SweepOptions& options);
+
+// "I/N" with 0 ≤ I < N → (I, N); a one-line gtbake::Error otherwise.
+std::pair<int, int> parseShard(const std::string& text);
 
 }  // namespace gtbake

@@ -9,9 +9,13 @@
 #include <cmath>
 #include <random>
 
+#include <tbb/parallel_for.h>
+
 #include "closed_form_scenes.h"
+#include "gtso/ggx.h"
 #include "scene/procedural_scenes.h"
 #include "sweep/escape_image.h"
+#include "sweep/specular_occlusion.h"
 #include "walk_points.h"
 
 namespace gtbake {
@@ -23,30 +27,53 @@ double binomialSe(double p, double n) {
   return std::sqrt(std::max(p * (1.0 - p), 0.0) / n);
 }
 
+// Above a plane nothing is occluded: A = G(ρ) = 1 and S = 1 for every roughness exactly (the ratio
+// estimator of specular_occlusion.h is Σw/Σw), p_k = 0, the normal is +y; the bent normal is the
+// normalised sum of cosine directions, n up to its Monte Carlo scatter.
 TEST(ClosedForm, OpenPlaneIsFullyUnoccluded) {
   const Scene scene = test::openPlane(1.0);
   const EmbreeTracer tracer(scene);
   WalkSettings settings;
   settings.spp = 32;
+  settings.specular_roughness = {0.0, 0.1, 0.25, 0.4, 0.6, 0.8, 1.0};
+  settings.specular_spp = 16;
   const EscapeImage image = traceEscapeImage(tracer, scene.camera, 48, 32, settings, "", false);
   const auto channels = escapeChannels(image);
   std::size_t unmasked = 0;
+  auto one = [](const std::string& name) {
+    return name == "A" || name[0] == 'G' || name == "mask" || name == "H0.A" || name == "H1.A" ||
+           name == "NY" || name[0] == 'S' || name.rfind("H0.S", 0) == 0 ||
+           name.rfind("H1.S", 0) == 0;
+  };
+  Eigen::Vector3d bent_sum = Eigen::Vector3d::Zero();
   for (const ExrChannel& c : channels) {
+    if (c.name[0] == 'V' || c.name.rfind("BN", 0) == 0) continue;  // checked below
     for (std::size_t p = 0; p < image.mask.size(); ++p) {
       const bool geometry = image.mask[p] == 1;
-      float expected = 0.0f;
-      if (geometry && (c.name == "A" || c.name[0] == 'G' || c.name == "mask" || c.name == "H0.A" ||
-                       c.name == "H1.A")) {
-        expected = 1.0f;  // A = G(ρ) = 1 exactly: nothing above a plane
-      }
+      const float expected = geometry && one(c.name) ? 1.0f : 0.0f;
       ASSERT_EQ(c.pixels[p], expected) << c.name << " pixel " << p;
     }
   }
-  for (std::uint8_t m : image.mask) unmasked += m;
+  for (std::size_t p = 0; p < image.mask.size(); ++p) {
+    if (image.mask[p] == 0) continue;
+    ++unmasked;
+    const Eigen::Vector3f b(image.bent[3 * p], image.bent[3 * p + 1], image.bent[3 * p + 2]);
+    ASSERT_NEAR(b.norm(), 1.0f, 1e-6f);
+    ASSERT_GT(b.y(), 0.9f) << "pixel " << p;
+    bent_sum += b.cast<double>();
+    ASSERT_GT(image.view[3 * p + 1], 0.0f);  // the camera is above the plane
+  }
   EXPECT_GT(unmasked, 0u);
   EXPECT_LT(unmasked, image.mask.size());  // the camera sees past the plane's edge too
+  // Tangential components: per walk E[(ω·t)²] = 1/4 under the cosine density and Σ n·ω ≈ 2N/3,
+  // so each pixel's b_t has SD ≤ (√N/2)/(2N/3) = 0.75/√N (stratification lowers it).
+  const double se = 0.75 / std::sqrt(settings.spp * static_cast<double>(unmasked));
+  EXPECT_NEAR(bent_sum.x() / unmasked, 0.0, 3.0 * se);
+  EXPECT_NEAR(bent_sum.z() / unmasked, 0.0, 3.0 * se);
 }
 
+// Inside a closed box no walk escapes and no specular sample sees the sky: A = G = S = 0; with no
+// escaping first bounce the bent normal is n.
 TEST(ClosedForm, ClosedBoxSeesNoSky) {
   const Scene scene = makeClosedBoxScene();
   const EmbreeTracer tracer(scene);
@@ -57,6 +84,13 @@ TEST(ClosedForm, ClosedBoxSeesNoSky) {
   for (std::uint32_t c : image.counts) ASSERT_EQ(c, 0u);  // A = G = 0: no walk ever escapes
   // Every walk runs all K + 1 segments: rays = pixels × (1 + spp (K + 1)).
   EXPECT_EQ(image.rays, 32u * 32u * (1u + 64u * 4u));
+  EXPECT_TRUE(image.bent == image.normal);
+
+  settings.specular_roughness = {0.0, 0.1, 0.25, 0.4, 0.6, 0.8, 1.0};
+  settings.specular_spp = 32;
+  const EscapeImage specular = traceEscapeImage(tracer, scene.camera, 32, 32, settings, "", false);
+  for (float s : specular.specular) ASSERT_EQ(s, 0.0f);
+  EXPECT_GT(specular.rays, image.rays + 32u * 32u * 7u);  // at least one ray per roughness
 }
 
 // Every point of a spherical bowl sees the same A = 1 − h/(2R) (its opening is a spherical cap;
@@ -207,6 +241,169 @@ TEST(ClosedForm, PlaneBesideSphere) {
     EXPECT_GT(e.p[0], a_smooth - 3.0 * se) << "x = " << x;
     EXPECT_LT(e.p[0], 1.0 - occluded(r_in) + 3.0 * se) << "x = " << x;
   }
+}
+
+// Floor centre of the cylindrical well, ω_o at 24° from the normal (the opening's half-angle is
+// atan(r/d) = 26.6°, so the lobes straddle its edge): Ŝ of traceSpecular, pooled over 256
+// replicas, against S by quadrature of the GGX lobe (gtso::GgxDistribution::f, polar coordinates
+// about ω_r) against the exact visibility of the mesh's 96-gon opening. Mirror: S = V(ω_r) = 1.
+TEST(ClosedForm, WellFloorSpecularOcclusionMatchesQuadrature) {
+  const double radius = 0.5;
+  const double depth = 1.0;
+  const int segments = 96;
+  const Scene scene = test::cylindricalWell(radius, depth, segments);
+  const EmbreeTracer tracer(scene);
+  const std::vector<Eigen::Vector3d> opening = test::wellOpening(radius, segments);
+  const Eigen::Vector3d x(0, -depth, 0);
+  // Visible iff the ray from x leaves through the opening, the regular polygon with vertices at
+  // angles 2πj/N: at polar angle φ the polygon's edge (midpoint angle φ_m) is at distance
+  // r cos(π/N) / cos(φ − φ_m) from the centre.
+  auto visible = [&](const Eigen::Vector3d& w) {
+    if (w.y() <= 0.0) return false;
+    const Eigen::Vector3d hit = x + (depth / w.y()) * w;
+    double phi = std::atan2(hit.z(), hit.x());
+    if (phi < 0.0) phi += 2.0 * kPi;
+    const double edge = std::floor(phi * segments / (2.0 * kPi));
+    const double mid = 2.0 * kPi * (edge + 0.5) / segments;
+    return std::hypot(hit.x(), hit.z()) * std::cos(phi - mid) <= radius * std::cos(kPi / segments);
+  };
+  EXPECT_TRUE(visible(opening[3] - x + Eigen::Vector3d(-1e-9, 0, 0)));
+  EXPECT_FALSE(visible((opening[3] + opening[4]) * 0.5 - x + Eigen::Vector3d(1e-6, 0, 0)));
+  const double theta_o = 24.0 * kPi / 180.0;
+  // Local frame of the GGX code: n = +z = world +y, ω_o in the (x, z) plane = world (x, y).
+  const gtso::Vec3 wo_local{std::sin(theta_o), 0.0, std::cos(theta_o)};
+  const Eigen::Vector3f wo(static_cast<float>(std::sin(theta_o)),
+                           static_cast<float>(std::cos(theta_o)), 0.0f);
+  auto world = [](const gtso::Vec3& v) { return Eigen::Vector3d(v.x, v.z, -v.y); };
+  const std::vector<double> roughness = {0.0, 0.1, 0.25, 0.4, 0.6, 0.8};
+
+  WalkSettings settings;
+  settings.specular_roughness = roughness;
+  settings.specular_spp = 256;
+  const int replicas = 256;
+  std::vector<double> sums(replicas * 4 * roughness.size(), 0.0);
+  tbb::parallel_for(0, replicas, [&](int i) {
+    SpecularScratch scratch;
+    const float wo_f[3] = {wo.x(), wo.y(), wo.z()};
+    traceSpecular(tracer, SurfaceHit{x.cast<float>(), Eigen::Vector3f::UnitY()}, wo_f, settings,
+                  static_cast<std::uint64_t>(i), &sums[i * 4 * roughness.size()], &scratch);
+  });
+
+  for (std::size_t j = 0; j < roughness.size(); ++j) {
+    // Pooled ratio and its delta-method SE over the replicas.
+    double num = 0.0;
+    double den = 0.0;
+    for (int i = 0; i < replicas; ++i) {
+      const double* q = &sums[(i * roughness.size() + j) * 4];
+      num += q[0] + q[2];
+      den += q[1] + q[3];
+    }
+    const double estimate = num / den;
+    double var = 0.0;
+    for (int i = 0; i < replicas; ++i) {
+      const double* q = &sums[(i * roughness.size() + j) * 4];
+      const double e = (q[0] + q[2]) - estimate * (q[1] + q[3]);
+      var += e * e;
+    }
+    const double se = std::sqrt(var) / den;
+
+    double exact = 1.0;  // mirror: ω_r at 24° leaves through the opening
+    if (roughness[j] > 0.0) {
+      const gtso::GgxDistribution ggx(roughness[j] * roughness[j]);
+      const gtso::Vec3 wr{-wo_local.x, 0.0, wo_local.z};
+      const gtso::Vec3 e1{wo_local.z, 0.0, wo_local.x};  // ⟂ ω_r in the plane of incidence
+      const gtso::Vec3 e2{0.0, 1.0, 0.0};
+      // ψ = π t² concentrates the cells at ω_r, where the narrow lobes live.
+      const int nt = 2000;
+      const int nphi = 768;
+      std::vector<double> lobe(nt, 0.0);
+      std::vector<double> lit(nt, 0.0);
+      tbb::parallel_for(0, nt, [&](int a) {
+        const double t = (a + 0.5) / nt;
+        const double psi = kPi * t * t;
+        const double dpsi = 2.0 * kPi * t / nt;
+        for (int b = 0; b < nphi; ++b) {
+          const double phi = 2.0 * kPi * (b + 0.5) / nphi;
+          const gtso::Vec3 wi = std::cos(psi) * wr + (std::sin(psi) * std::cos(phi)) * e1 +
+                                (std::sin(psi) * std::sin(phi)) * e2;
+          if (wi.z <= 0.0) continue;
+          const double f = ggx.f(wo_local, wi) * wi.z * std::sin(psi) * dpsi;
+          lobe[a] += f;
+          if (visible(world(wi))) lit[a] += f;
+        }
+      });
+      double lobe_sum = 0.0;
+      double lit_sum = 0.0;
+      for (int a = 0; a < nt; ++a) {
+        lobe_sum += lobe[a];
+        lit_sum += lit[a];
+      }
+      exact = lit_sum / lobe_sum;
+    }
+    std::printf("[ info ] r_p %.2f: S = %.5f ± %.5f, quadrature %.5f\n", roughness[j], estimate, se,
+                exact);
+    if (roughness[j] == 0.0) {
+      EXPECT_EQ(estimate, 1.0);
+    } else {
+      EXPECT_NEAR(estimate, exact, 3.0 * se + 2e-4) << "r_p " << roughness[j];
+    }
+  }
+}
+
+// Point on the plane at distance d = R beside the sphere: b leans away from it. With the
+// sphere's cap c (axis from x to the centre, half-angle γ, sin γ = r/D), ∫ V (n·ω) ω dω =
+// (2π/3) n − a (c·n) c − β (n − (c·n) c), a = ∫_cap cos²ψ = 2π(1 − cos³γ)/3 and
+// β = ∫_cap sin²ψ cos²φ = π(2/3 − cos γ + cos³γ/3), so tan(tilt) = v_x / v_y. The mesh lies
+// between the spheres of radius r_in and R (closed forms for both), ± 3 SE of the pooled estimate.
+TEST(ClosedForm, BentNormalBesideSphere) {
+  const double radius = 1.0;
+  const Scene scene = makeSphereOnPlaneScene(radius, 128);
+  const EmbreeTracer tracer(scene);
+  const Eigen::Vector3d centre(0, radius, 0);
+  const double r_in = test::inradius(scene, centre);
+  const double d = 1.0;
+  auto tilt = [&](double r) {
+    const Eigen::Vector3d n = Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d c = (centre - Eigen::Vector3d(d, 0, 0)).normalized();
+    const double big_d = (centre - Eigen::Vector3d(d, 0, 0)).norm();
+    const double cos_g = std::sqrt(1.0 - r * r / (big_d * big_d));
+    const double a = 2.0 * kPi * (1.0 - cos_g * cos_g * cos_g) / 3.0;
+    const double beta = kPi * (2.0 / 3.0 - cos_g + cos_g * cos_g * cos_g / 3.0);
+    const double cn = c.dot(n);
+    const Eigen::Vector3d v = (2.0 * kPi / 3.0) * n - a * cn * c - beta * (n - cn * c);
+    return std::atan2(v.x(), v.y());
+  };
+  WalkSettings settings;
+  settings.spp = 1024;
+  settings.bounces = 0;
+  const int replicas = 512;
+  std::vector<double> sums(3 * replicas, 0.0);
+  tbb::parallel_for(0, replicas, [&](int i) {
+    WalkScratch scratch;
+    std::uint32_t counts[2] = {0, 0};
+    countEscapes(tracer,
+                 SurfaceHit{Eigen::Vector3f(static_cast<float>(d), 0, 0), Eigen::Vector3f::UnitY()},
+                 settings, static_cast<std::uint64_t>(i), counts, &scratch, &sums[3 * i]);
+  });
+  double tx = 0.0;
+  double ny = 0.0;
+  for (int i = 0; i < replicas; ++i) {
+    tx += sums[3 * i];
+    ny += sums[3 * i + 1];
+  }
+  const double estimate = std::atan2(tx, ny);
+  double var = 0.0;  // delta method for atan(T/N) over independent replicas
+  for (int i = 0; i < replicas; ++i) {
+    const double e = ny * sums[3 * i] - tx * sums[3 * i + 1];
+    var += e * e;
+  }
+  const double se = std::sqrt(var) / (tx * tx + ny * ny);
+  const double lo = std::min(tilt(r_in), tilt(radius));
+  const double hi = std::max(tilt(r_in), tilt(radius));
+  std::printf("[ info ] bent-normal tilt %.4f° ± %.4f°, closed form [%.4f°, %.4f°]\n",
+              estimate * 180 / kPi, se * 180 / kPi, lo * 180 / kPi, hi * 180 / kPi);
+  EXPECT_GT(estimate, lo - 3.0 * se);
+  EXPECT_LT(estimate, hi + 3.0 * se);
 }
 
 }  // namespace

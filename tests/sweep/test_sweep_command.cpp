@@ -94,13 +94,25 @@ TEST_F(SweepCommand, ChannelsJsonAndHalves) {
   const ExrImage image = readExr(o.out / "spheres.exr");
   std::vector<std::string> names;
   for (const auto& [name, pixels] : image.channels) names.push_back(name);
-  const std::vector<std::string> expected = {"A",     "G010",  "G020", "G030",  "G040",  "G050",
-                                             "G070",  "G090",  "H0.A", "H0.P1", "H0.P2", "H1.A",
-                                             "H1.P1", "H1.P2", "P1",   "P2",    "mask"};
+  std::vector<std::string> expected = {"A", "BNX", "BNY", "BNZ"};
+  for (const char* g : {"G010", "G020", "G030", "G040", "G050", "G070", "G090"}) {
+    expected.push_back(g);
+  }
+  for (const char* h : {"H0.", "H1."}) {
+    for (const char* c : {"A", "P1", "P2", "S010", "S025", "S040", "S060", "S080"}) {
+      expected.push_back(h + std::string(c));
+    }
+  }
+  for (const char* c : {"NX", "NY", "NZ", "P1", "P2", "S010", "S025", "S040", "S060", "S080", "VX",
+                        "VY", "VZ", "mask"}) {
+    expected.push_back(c);
+  }
   EXPECT_EQ(names, expected);
   EXPECT_EQ(image.attributes.at("gtbake.spp"), "16");
   EXPECT_EQ(image.attributes.at("gtbake.bounces"), "2");
   EXPECT_EQ(image.attributes.at("gtbake.radius"), "inf");
+  EXPECT_EQ(image.attributes.at("gtbake.specular_roughness"), "0.1,0.25,0.4,0.6,0.8");
+  EXPECT_EQ(image.attributes.at("gtbake.specular_spp"), "64");
 
   const auto& a = image.channel("A", "");
   const auto& p1 = image.channel("P1", "");
@@ -131,6 +143,8 @@ TEST_F(SweepCommand, ChannelsJsonAndHalves) {
   EXPECT_EQ(json["settings"]["bounces"], 2);
   EXPECT_TRUE(json["settings"]["radius"].is_null());
   EXPECT_EQ(json["settings"]["albedos"].size(), 7u);
+  EXPECT_EQ(json["settings"]["specular_roughness"].size(), 5u);
+  EXPECT_EQ(json["settings"]["specular_spp"], 64);
   ASSERT_EQ(json["scenes"].size(), 1u);
   EXPECT_EQ(json["scenes"][0]["name"], "spheres");
   EXPECT_EQ(json["scenes"][0]["file"], "spheres.exr");
@@ -202,6 +216,14 @@ TEST_F(SweepCommand, RejectsBadOptionsWithoutOutput) {
   expectRejected(o, "--radius");
   o.radius = -1.0;
   expectRejected(o, "--radius");
+  o = options(scene, "out");
+  o.specular_roughness = {0.1, 1.2};
+  expectRejected(o, "--specular-roughness");
+  o.specular_roughness = {0.1, 0.101};  // both S010
+  expectRejected(o, "--specular-roughness");
+  o.specular_roughness = {0.5};
+  o.specular_spp = 7;
+  expectRejected(o, "--specular-spp");
   o = options(scene, "out");
   o.scenes.clear();
   expectRejected(o, "no scenes");

@@ -1,0 +1,125 @@
+#include "sweep/shard_manifest.h"
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+
+namespace gtbake {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kFormat = "gtbake-shard 1";
+
+}  // namespace
+
+std::string tilePath(const SweepIdentity& identity, const TilePlan& plan, int t) {
+  const Tile& tile = plan.tiles[t];
+  return std::string(kTileDirectory) + "/" + tileFileName(identity.scenes[tile.scene], tile.index);
+}
+
+void writeShardManifest(const fs::path& dir, const ShardManifest& manifest, const TilePlan& plan) {
+  const SweepIdentity& id = manifest.identity;
+  nlohmann::ordered_json j;
+  j["format"] = kFormat;
+  j["gtbake_version"] = id.version;
+  j["key"] = id.key;
+  j["settings"] = id.settings;
+  j["attributes"] = id.attributes;
+  j["width"] = id.width;
+  j["height"] = id.height;
+  j["camera"] = id.camera;
+  j["tile_side"] = kTileSide;
+  nlohmann::ordered_json scenes = nlohmann::ordered_json::array();
+  for (std::size_t s = 0; s < id.scenes.size(); ++s) {
+    scenes.push_back({{"name", id.scenes[s]},
+                      {"sha256", id.scene_sha256[s]},
+                      {"triangles", id.scene_triangles[s]},
+                      {"gltf", manifest.runs[s].gltf.string()},
+                      {"build_seconds", manifest.runs[s].build_seconds},
+                      {"trace_seconds", manifest.runs[s].trace_seconds}});
+  }
+  j["scenes"] = std::move(scenes);
+  j["shard"] = manifest.shard;
+  j["shards"] = manifest.shards;
+  j["tiles"] = manifest.tiles;
+  j["threads"] = manifest.threads;
+  j["seconds"] = manifest.seconds;
+  writeFileAtomically(dir / "shard.json", j.dump(2) + "\n");
+  std::vector<std::string> names = {"shard.json"};
+  for (int t : manifest.tiles) names.push_back(tilePath(id, plan, t));
+  sealOutputSet(dir, kShardSet, names, id.settings);
+}
+
+void removeShardManifest(const fs::path& dir) {
+  std::error_code ec;
+  fs::remove(dir / manifestFileName(kShardSet), ec);
+  fs::remove(dir / "shard.json", ec);
+}
+
+ShardManifest readShardManifest(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_regular_file(dir / manifestFileName(kShardSet), ec)) {
+    throw Error(dir.string() + " has no " + manifestFileName(kShardSet) +
+                ": not a shard directory, or its shard did not finish (run its gtbake sweep "
+                "--shard command again to resume it)");
+  }
+  const std::string where = "corrupt shard " + dir.string() + ": ";
+  ShardManifest m;
+  m.files = readOutputSet(dir, kShardSet);
+  try {
+    const nlohmann::ordered_json j =
+        nlohmann::ordered_json::parse(m.files.readVerified("shard.json"));
+    if (j.at("format").get<std::string>() != kFormat) {
+      throw Error(where + "shard.json is not a " + std::string(kFormat) + " record");
+    }
+    SweepIdentity& id = m.identity;
+    id.version = j.at("gtbake_version").get<std::string>();
+    id.key = j.at("key").get<std::string>();
+    id.settings = j.at("settings");
+    id.attributes = j.at("attributes").get<std::map<std::string, std::string>>();
+    id.width = j.at("width").get<int>();
+    id.height = j.at("height").get<int>();
+    id.camera = j.at("camera").get<std::string>();
+    if (j.at("tile_side").get<int>() != kTileSide) {
+      throw Error(where + "cut into tiles of another size (by another gtbake version)");
+    }
+    for (const auto& s : j.at("scenes")) {
+      id.scenes.push_back(s.at("name").get<std::string>());
+      id.scene_sha256.push_back(s.at("sha256").get<std::string>());
+      id.scene_triangles.push_back(s.at("triangles").get<std::uint64_t>());
+      m.runs.push_back({fs::path(s.at("gltf").get<std::string>()),
+                        s.at("build_seconds").get<double>(), s.at("trace_seconds").get<double>()});
+    }
+    m.shard = j.at("shard").get<int>();
+    m.shards = j.at("shards").get<int>();
+    m.tiles = j.at("tiles").get<std::vector<int>>();
+    m.threads = j.at("threads").get<int>();
+    m.seconds = j.at("seconds").get<double>();
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(where + "malformed shard.json (" + e.what() + ")");
+  }
+  SweepIdentity check = m.identity;
+  sealIdentity(&check);
+  if (check.key != m.identity.key) throw Error(where + "its key does not match its settings");
+  if (m.shards < 1 || m.shard < 0 || m.shard >= m.shards) throw Error(where + "bad shard index");
+  return m;
+}
+
+void checkShardFiles(const fs::path& dir, const ShardManifest& m, const TilePlan& plan) {
+  const std::string where = "corrupt shard " + dir.string() + ": ";
+  std::error_code ec;
+  for (int t : m.tiles) {
+    if (t < 0 || t >= static_cast<int>(plan.tiles.size())) {
+      throw Error(where + "tile " + std::to_string(t) + " is not in the plan");
+    }
+    const std::string name = tilePath(m.identity, plan, t);
+    const OutputFile* file = m.files.find(name);
+    if (file == nullptr) throw Error(where + name + " is not in its manifest");
+    if (!fs::is_regular_file(dir / name, ec) || fs::file_size(dir / name, ec) != file->size) {
+      throw Error(where + name + " is missing or has another size than its manifest says");
+    }
+  }
+}
+
+}  // namespace gtbake

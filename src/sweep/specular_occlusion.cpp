@@ -1,0 +1,222 @@
+#include "sweep/specular_occlusion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <set>
+
+#include "common/error.h"
+
+#include "sweep/philox_lanes.h"
+#include "sweep/strata.h"
+
+namespace gtbake {
+
+namespace {
+constexpr int kMaxSpecularSpp = 1 << 16;
+}  // namespace
+
+std::vector<double> parseSpecularRoughness(const std::string& text) {
+  if (text == "none") return {};
+  std::vector<double> values;
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t end = text.find(',', begin);
+    const std::string item = text.substr(begin, end == std::string::npos ? end : end - begin);
+    char* stop = nullptr;
+    const double v = std::strtod(item.c_str(), &stop);
+    if (item.empty() || stop != item.c_str() + item.size() || !std::isfinite(v)) {
+      throw Error(
+          "--specular-roughness must be 'none' or comma-separated numbers in [0, 1], got '" + text +
+          "'");
+    }
+    values.push_back(v);
+    if (end == std::string::npos) break;
+    begin = end + 1;
+  }
+  return values;
+}
+
+void validateSpecularOptions(const std::vector<double>& roughness, int spp) {
+  std::set<long> names;
+  for (double r : roughness) {
+    if (!(r >= 0.0 && r <= 1.0)) {
+      throw Error("--specular-roughness values must be perceptual roughness in [0, 1], got " +
+                  specularRoughnessList({r}));
+    }
+    if (!names.insert(std::lround(r * 100.0)).second) {
+      throw Error("--specular-roughness values " + specularRoughnessList(roughness) +
+                  " give two channels of the same name (S + r_p x 100 on three digits)");
+    }
+  }
+  if (!roughness.empty() && (spp < 2 || spp > kMaxSpecularSpp || spp % 2 != 0)) {
+    throw Error("--specular-spp must be an even number in [2, " + std::to_string(kMaxSpecularSpp) +
+                "], got " + std::to_string(spp));
+  }
+}
+
+std::string specularRoughnessList(const std::vector<double>& roughness) {
+  if (roughness.empty()) return "none";
+  std::string list;
+  for (double r : roughness) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.9g", r);
+    list += (list.empty() ? "" : ",") + std::string(text);
+  }
+  return list;
+}
+
+VndfFrame makeVndfFrame(double alpha, const float wo_local[3]) {
+  VndfFrame f;
+  const double wo[3] = {wo_local[0], wo_local[1], wo_local[2]};
+  double vh[3] = {alpha * wo[0], alpha * wo[1], wo[2]};
+  const double vlen = std::sqrt(vh[0] * vh[0] + vh[1] * vh[1] + vh[2] * vh[2]);
+  for (double& v : vh) v /= vlen;
+  const double lensq = vh[0] * vh[0] + vh[1] * vh[1];
+  double t1[3] = {1.0, 0.0, 0.0};
+  if (lensq > 0.0) {
+    const double inv = 1.0 / std::sqrt(lensq);
+    t1[0] = -vh[1] * inv;
+    t1[1] = vh[0] * inv;
+    t1[2] = 0.0;
+  }
+  const double t2[3] = {vh[1] * t1[2] - vh[2] * t1[1], vh[2] * t1[0] - vh[0] * t1[2],
+                        vh[0] * t1[1] - vh[1] * t1[0]};
+  const double cos2 = wo[2] * wo[2];
+  double inv_lambda = 0.0;  // the horizon: Λ(ωo) = ∞
+  if (cos2 > 0.0) {
+    const double x = alpha * alpha * std::max(0.0, 1.0 - cos2) / cos2;
+    inv_lambda = 1.0 / (1.0 + x / (2.0 * (std::sqrt(1.0 + x) + 1.0)));
+  }
+  f.alpha = static_cast<float>(alpha);
+  f.alpha2 = static_cast<float>(alpha * alpha);
+  for (int c = 0; c < 3; ++c) {
+    f.wo[c] = wo_local[c];
+    f.vh[c] = static_cast<float>(vh[c]);
+    f.t1[c] = static_cast<float>(t1[c]);
+    f.t2[c] = static_cast<float>(t2[c]);
+  }
+  f.squash = static_cast<float>(0.5 * (1.0 + vh[2]));
+  f.inv_one_plus_lambda_o = static_cast<float>(inv_lambda);
+  return f;
+}
+
+namespace {
+
+void resizeScratch(SpecularScratch* w, int spp, const StratumGrid& grid) {
+  const std::size_t n = static_cast<std::size_t>(spp);
+  if (w->sample.size() != n) {
+    w->sample.resize(n);
+    for (int s = 0; s < spp; ++s) w->sample[s] = s;
+    for (auto& v : w->words) v.resize(n);
+    for (auto& v : w->u) v.resize(n);
+    for (auto& v : w->direction) v.resize(n);
+    w->cell[0].resize(n);
+    w->cell[1].resize(n);
+    for (int s = 0; s < spp; ++s) {
+      w->cell[0][s] = grid.column(s);
+      w->cell[1][s] = grid.row(s);
+    }
+    w->weight.resize(n);
+    w->traced.resize(n);
+    w->rays.assign(n, makeRayHit(Ray{Eigen::Vector3f::Zero(), Eigen::Vector3f::UnitZ()}, 0.0f));
+  }
+}
+
+// World directions and weights of m samples: the stratified uniforms through vndfReflect, then
+// the local frame (t, s, n) to world space.
+GTBAKE_AVX2_CLONES void specularKernel(int m, const VndfFrame& f, const float t[3],
+                                       const float s[3], const float n[3],
+                                       const float* __restrict u0, const float* __restrict u1,
+                                       float* __restrict dx, float* __restrict dy,
+                                       float* __restrict dz, float* __restrict weight) {
+  for (int i = 0; i < m; ++i) {
+    float wi[3];
+    vndfReflect(f, u0[i], u1[i], wi, &weight[i]);
+    dx[i] = wi[0] * t[0] + wi[1] * s[0] + wi[2] * n[0];
+    dy[i] = wi[0] * t[1] + wi[1] * s[1] + wi[2] * n[1];
+    dz[i] = wi[0] * t[2] + wi[1] * s[2] + wi[2] * n[2];
+  }
+}
+
+void setRay(RTCRayHit* rh, const float o[3], float dx, float dy, float dz, float tfar) {
+  rh->ray.org_x = o[0];
+  rh->ray.org_y = o[1];
+  rh->ray.org_z = o[2];
+  rh->ray.dir_x = dx;
+  rh->ray.dir_y = dy;
+  rh->ray.dir_z = dz;
+  rh->ray.tfar = tfar;
+}
+
+}  // namespace
+
+std::uint64_t traceSpecular(const EmbreeTracer& tracer, const SurfaceHit& start, const float wo[3],
+                            const WalkSettings& settings, std::uint64_t stream, double* sums,
+                            SpecularScratch* w) {
+  const int spp = settings.specular_spp;
+  const StratumGrid grid(std::max(1, spp / 2));
+  resizeScratch(w, spp, grid);
+  const float p0[3] = {start.position.x(), start.position.y(), start.position.z()};
+  const float n[3] = {start.normal.x(), start.normal.y(), start.normal.z()};
+  float origin[3];
+  offsetAlongNormal(p0, n, start.scale, origin);
+  float t[3];
+  float s[3];
+  tangentBasis(n[0], n[1], n[2], t, s);
+  const float wo_local[3] = {wo[0] * t[0] + wo[1] * t[1] + wo[2] * t[2],
+                             wo[0] * s[0] + wo[1] * s[1] + wo[2] * s[2],
+                             wo[0] * n[0] + wo[1] * n[1] + wo[2] * n[2]};
+  const PhiloxLanes philox(settings.seed, stream);
+  RTCRayHit* rays = w->rays.data();
+  std::uint64_t traced = 0;
+  for (std::size_t j = 0; j < settings.specular_roughness.size(); ++j) {
+    double* sum = sums + 4 * j;
+    const double r = settings.specular_roughness[j];
+    if (r == 0.0) {
+      // Mirror: ωr = 2(n·ωo)n − ωo, weight 1, the same value in both halves.
+      const float d = 2.0f * wo_local[2];
+      setRay(&rays[0], origin, d * n[0] - wo[0], d * n[1] - wo[1], d * n[2] - wo[2],
+             settings.radius);
+      tracer.occludedStream(rays, 1);
+      ++traced;
+      const double v = rays[0].ray.tfar >= 0.0f ? 1.0 : 0.0;
+      for (int h = 0; h < 2; ++h) {
+        sum[2 * h] += v;
+        sum[2 * h + 1] += 1.0;
+      }
+      continue;
+    }
+    const VndfFrame frame = makeVndfFrame(r * r, wo_local);
+    philox.words(w->sample.data(), spp, kSpecularBlock + static_cast<std::uint32_t>(j),
+                 w->words[0].data(), w->words[1].data(), w->words[2].data(), w->words[3].data());
+    for (int i = 0; i < spp; ++i) {
+      w->u[0][i] = stratum(w->cell[0][i], wordToUniform(w->words[0][i]), grid.columns());
+      w->u[1][i] = stratum(w->cell[1][i], wordToUniform(w->words[1][i]), grid.rows());
+    }
+    specularKernel(spp, frame, t, s, n, w->u[0].data(), w->u[1].data(), w->direction[0].data(),
+                   w->direction[1].data(), w->direction[2].data(), w->weight.data());
+    int m = 0;
+    for (int i = 0; i < spp; ++i) {
+      if (!(w->weight[i] > 0.0f)) continue;  // below the horizon: adds 0 to both sums
+      setRay(&rays[m], origin, w->direction[0][i], w->direction[1][i], w->direction[2][i],
+             settings.radius);
+      w->traced[m] = i;
+      ++m;
+    }
+    if (m == 0) continue;
+    tracer.occludedStream(rays, static_cast<unsigned>(m));
+    traced += static_cast<std::uint64_t>(m);
+    for (int k = 0; k < m; ++k) {
+      const int i = w->traced[k];
+      const double weight = w->weight[i];
+      const int h = i & 1;
+      if (rays[k].ray.tfar >= 0.0f) sum[2 * h] += weight;
+      sum[2 * h + 1] += weight;
+    }
+  }
+  return traced;
+}
+
+}  // namespace gtbake

@@ -1,0 +1,184 @@
+#include "sweep/sweep_output.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "common/image_io.h"
+#include "common/output_set.h"
+#include "common/sha256.h"
+
+namespace gtbake {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+nlohmann::ordered_json rate(double seconds, std::uint64_t rays) {
+  return seconds > 0.0 ? nlohmann::ordered_json(static_cast<double>(rays) / seconds)
+                       : nlohmann::ordered_json(nullptr);
+}
+
+struct SceneImage {
+  std::vector<ExrChannel> channels;
+  std::uint64_t unmasked = 0;
+  std::uint64_t rays = 0;
+};
+
+// Places every tile of scene s into whole-image channels, checking each tile belongs there.
+SceneImage assembleScene(const SweepIdentity& identity, const TilePlan& plan, int s,
+                         const std::function<TileData(int)>& load) {
+  SceneImage image;
+  const std::size_t pixels = static_cast<std::size_t>(plan.width) * plan.height;
+  const std::string& name = identity.scenes[s];
+  for (int index = 0; index < plan.tiles_of[s]; ++index) {
+    const int t = plan.find(s, index);
+    const Tile& planned = plan.tiles[t];
+    const TileData tile = load(t);
+    const std::string where = "tile " + name + ":" + std::to_string(index);
+    if (tile.key != identity.key) throw Error(where + " belongs to a different sweep");
+    if (tile.scene != name || tile.index != index || tile.rect.x0 != planned.rect.x0 ||
+        tile.rect.y0 != planned.rect.y0 || tile.rect.x1 != planned.rect.x1 ||
+        tile.rect.y1 != planned.rect.y1) {
+      throw Error(where + " holds other pixels than the plan's");
+    }
+    if (image.channels.empty()) {
+      for (const ExrChannel& c : tile.channels) {
+        image.channels.push_back({c.name, std::vector<float>(pixels, 0.0f)});
+      }
+    }
+    if (tile.channels.size() != image.channels.size()) throw Error(where + " has other channels");
+    for (std::size_t c = 0; c < tile.channels.size(); ++c) {
+      if (tile.channels[c].name != image.channels[c].name) {
+        throw Error(where + " has other channels");
+      }
+      const std::vector<float>& from = tile.channels[c].pixels;
+      std::vector<float>& to = image.channels[c].pixels;
+      for (int j = planned.rect.y0; j < planned.rect.y1; ++j) {
+        const std::size_t src =
+            static_cast<std::size_t>(j - planned.rect.y0) * planned.rect.width();
+        std::copy(from.begin() + src, from.begin() + src + planned.rect.width(),
+                  to.begin() + static_cast<std::size_t>(j) * plan.width + planned.rect.x0);
+      }
+    }
+    for (std::uint8_t m : tile.mask) image.unmasked += m;
+    image.rays += tile.rays;
+  }
+  return image;
+}
+
+}  // namespace
+
+void sealIdentity(SweepIdentity* identity) {
+  nlohmann::ordered_json j;
+  j["version"] = identity->version;
+  j["settings"] = identity->settings;
+  j["attributes"] = identity->attributes;
+  j["scenes"] = identity->scenes;
+  j["scene_sha256"] = identity->scene_sha256;
+  j["scene_triangles"] = identity->scene_triangles;
+  j["width"] = identity->width;
+  j["height"] = identity->height;
+  j["camera"] = identity->camera;
+  j["tile_side"] = kTileSide;
+  identity->key = sha256Hex(j.dump());
+}
+
+std::string sceneSha256(const fs::path& gltf) {
+  std::string bytes = readFile(gltf);
+  if (gltf.extension() == ".gltf") {
+    nlohmann::json document;
+    try {
+      document = nlohmann::json::parse(bytes);
+    } catch (const nlohmann::json::exception&) {
+      throw Error("scene " + gltf.string() + " is not valid JSON");
+    }
+    for (const auto& buffer : document.value("buffers", nlohmann::json::array())) {
+      const std::string uri = buffer.value("uri", "");
+      if (uri.empty() || uri.rfind("data:", 0) == 0) continue;
+      bytes += readFile(gltf.parent_path() / uri);
+    }
+  }
+  return sha256Hex(bytes);
+}
+
+SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity,
+                              const TilePlan& plan, const std::vector<SceneRun>& runs, int threads,
+                              const std::function<TileData(int)>& load) {
+  OutputSet output(out, "sweep");  // committed whole at the end (output_set.h)
+  SweepResult result;
+  nlohmann::ordered_json scene_entries = nlohmann::ordered_json::array();
+  std::printf("%-16s %9s %8s %9s %9s\n", "scene", "pixels", "mean A", "seconds", "Mrays/s");
+  for (std::size_t s = 0; s < identity.scenes.size(); ++s) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::string& name = identity.scenes[s];
+    const SceneImage image = assembleScene(identity, plan, static_cast<int>(s), load);
+    if (image.unmasked == 0) {
+      throw Error(
+          "scene " + runs[s].gltf.string() +
+          ": no pixel sees geometry (every camera ray escapes); aim the camera at the scene");
+    }
+    const std::string gltf = relativePath(runs[s].gltf, out);
+    std::map<std::string, std::string> attributes = identity.attributes;
+    attributes["gtbake.scene"] = gltf;
+    const fs::path exr = out / (name + ".exr");
+    output.add(exr.filename().string(),
+               encodeExr(plan.width, plan.height, image.channels, attributes));
+    for (const ExrChannel& c : image.channels) {
+      if (c.name == "A" || c.name == "G050") {
+        output.add(name + "_" + c.name + ".png",
+                   encodePng(plan.width, plan.height, 1, toGray8(c.pixels, 0.0f, 1.0f)));
+      }
+    }
+    const double write_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double trace_seconds = runs[s].trace_seconds;
+    const double seconds = runs[s].build_seconds + trace_seconds + write_seconds;
+
+    double sum_a = 0.0;
+    for (float a : image.channels.at(0).pixels) sum_a += a;
+    const double mean_a = image.unmasked > 0 ? sum_a / static_cast<double>(image.unmasked) : 0.0;
+    std::printf("%-16s %9llu %8.4f %9.2f %9.2f\n", name.c_str(),
+                static_cast<unsigned long long>(image.unmasked), mean_a, seconds,
+                trace_seconds > 0.0 ? 1e-6 * static_cast<double>(image.rays) / trace_seconds : 0.0);
+    std::fflush(stdout);
+
+    result.scenes.push_back({exr, seconds, image.rays});
+    result.seconds += seconds;
+    result.rays += image.rays;
+    nlohmann::ordered_json entry;
+    entry["name"] = name;
+    entry["file"] = exr.filename().string();
+    entry["gltf"] = gltf;
+    entry["width"] = plan.width;
+    entry["height"] = plan.height;
+    entry["triangles"] = identity.scene_triangles[s];
+    entry["unmasked_pixels"] = image.unmasked;
+    entry["mean_A"] = mean_a;
+    entry["seconds"] = seconds;
+    entry["build_seconds"] = runs[s].build_seconds;
+    entry["trace_seconds"] = trace_seconds;
+    entry["rays"] = image.rays;
+    entry["rays_per_second"] = rate(trace_seconds, image.rays);
+    scene_entries.push_back(std::move(entry));
+  }
+  std::printf(
+      "%-16s %9s %8s %9.2f %9.2f\n", "total", "", "", result.seconds,
+      result.seconds > 0.0 ? 1e-6 * static_cast<double>(result.rays) / result.seconds : 0.0);
+
+  nlohmann::ordered_json json;
+  json["gtbake_version"] = identity.version;
+  json["settings"] = identity.settings;
+  json["settings"]["threads"] = threads;
+  json["scenes"] = std::move(scene_entries);
+  json["totals"] = {{"seconds", result.seconds},
+                    {"rays", result.rays},
+                    {"rays_per_second", rate(result.seconds, result.rays)}};
+  output.setSettings(json["settings"]);
+  output.add("sweep.json", json.dump(2) + "\n");
+  output.commit();
+  return result;
+}
+
+}  // namespace gtbake

@@ -1,0 +1,53 @@
+// The outputs of a sweep, written from its tiles: one path for `gtbake sweep`, for a resumed
+// sweep and for `gtbake merge`, so the three write the same bytes (docs/reproducibility.md).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "sweep/sweep_command.h"
+#include "sweep/tile_plan.h"
+#include "sweep/tile_store.h"
+
+namespace gtbake {
+
+// What every shard of one sweep shares and what its outputs record besides pixels.
+struct SweepIdentity {
+  std::string version;                            // gtbake version that traced it
+  nlohmann::ordered_json settings;                // sweep.json "settings" without "threads"
+  std::map<std::string, std::string> attributes;  // EXR attributes without "gtbake.scene"
+  std::vector<std::string> scenes;                // names (glTF stems), in sweep order
+  std::vector<std::string> scene_sha256;          // of each glTF and its buffers
+  std::vector<std::uint64_t> scene_triangles;     // triangle count of each scene
+  int width = 0;
+  int height = 0;
+  std::string camera;  // --camera ("" = each glTF's first)
+  std::string key;     // SHA-256 of all of the above and kTileSide: equal keys, same tiles
+};
+
+// Fills `key` from the other fields.
+void sealIdentity(SweepIdentity* identity);
+
+// SHA-256 of a scene's contents: the .gltf/.glb bytes, then each external buffer's bytes in the
+// order of its "buffers" array.
+std::string sceneSha256(const std::filesystem::path& gltf);
+
+// Per scene, what the run that traced it measured (summed over shards by a merge).
+struct SceneRun {
+  std::filesystem::path gltf;  // the scene file (any form; recorded relative to the output)
+  double build_seconds = 0.0;
+  double trace_seconds = 0.0;
+};
+
+// Writes <out>/<scene>.exr, the previews and <out>/sweep.json from the tiles of every scene
+// (`load(t)` gives plan tile t), prints the summary table and returns the totals.
+SweepResult writeSweepOutputs(const std::filesystem::path& out, const SweepIdentity& identity,
+                              const TilePlan& plan, const std::vector<SceneRun>& runs, int threads,
+                              const std::function<TileData(int)>& load);
+
+}  // namespace gtbake
