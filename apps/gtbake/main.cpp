@@ -16,6 +16,7 @@
 #include "scene/scenes_command.h"
 #include "sweep/specular_occlusion.h"
 #include "sweep/sweep_command.h"
+#include "validate_gtso/validate_gtso_command.h"
 
 namespace {
 
@@ -98,6 +99,16 @@ int main(int argc, char** argv) {
                        "Also bake a reference with this many times the cells per axis and record "
                        "every texel's error in gtso.json (4 = 16x the samples; slow)");
 
+  ValidateGtsoOptions validate_gtso;
+  auto* validate_gtso_cmd = app.add_subcommand(
+      "validate-gtso", "Score GTSO tables, cone model and baselines against path-traced S; fit u");
+  validate_gtso_cmd->add_option("--sweep", validate_gtso.sweep, "Sweep with specular channels")
+      ->required();
+  validate_gtso_cmd->add_option("--luts", validate_gtso.luts, "Directory with gtso/ and gtso*.dds")
+      ->required();
+  validate_gtso_cmd->add_option("--u", validate_gtso.u, "Also score the cone model with this u");
+  validate_gtso_cmd->add_option("--out", validate_gtso.out, "Output directory (default: --luts)");
+
   ExportOptions exporter;
   auto* export_cmd = app.add_subcommand("export", "BC4 tables, DDS/KTX2 and the C++ header");
   export_cmd->add_option("--fit", exporter.fit, "fit.json from gtbake fit")->required();
@@ -144,6 +155,9 @@ int main(int argc, char** argv) {
     } else if (*gtso_cmd) {
       gtso.progress = progress;
       runGtso(gtso);
+    } else if (*validate_gtso_cmd) {
+      validate_gtso.progress = progress;
+      runValidateGtso(validate_gtso);
     } else if (*export_cmd) {
       exporter.command_line = joinArguments(argc, argv);
       exporter.progress = progress;
