@@ -115,6 +115,8 @@ int main(int argc, char** argv) {
   export_cmd->add_option("--gtso", exporter.gtso, "Directory from gtbake gtso")->required();
   export_cmd->add_option("--out", exporter.out, "Output directory")->required();
   export_cmd->add_option("--threads", exporter.threads, "Worker threads (0 = all cores)");
+  export_cmd->add_option("--validate-gtso", exporter.validate_gtso,
+                         "validate_gtso.json whose u (fitted to path-traced S) the header ships");
 
   AllOptions all;
   auto* all_cmd = app.add_subcommand("all", "scenes, sweep, fit, gtso and export with defaults");

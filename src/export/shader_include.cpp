@@ -117,9 +117,10 @@ std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage langu
     << "  float t1 = acos(clamp((c2 - cd * c1) / (sd * s1), -" << one << ", " << one << "));\n"
     << "  float t2 = acos(clamp((c1 - cd * c2) / (sd * s2), -" << one << ", " << one << "));\n"
     << "  return " << lit(d, 2.0) << " * (kGtsoPi - t0 - c1 * t1 - c2 * t2);\n}\n\n"
-    << "// Cone-to-cone specular occlusion (paper Eq. 19).\n"
-    << "float gtsoConeModel(float A, float cosBeta, float rp) {\n"
-    << "  float alpha = rp * rp;\n"
+    << "// Cone-to-cone specular occlusion (paper Eq. 19), cos(alpha_s) = u^(alpha^2/2), from the "
+       "GGX\n"
+    << "// width alpha (Filament, XeGTAO); gtsoConeModel takes perceptual roughness (HDRP).\n"
+    << "float gtsoConeModelFromAlpha(float A, float cosBeta, float alpha) {\n"
     << "  float cosS = pow(kConeApertureU, alpha * alpha * " << half << ");\n"
     << "  float alphaV = acos(sqrt(max(" << one << " - A, " << zero << ")));\n"
     << "  float beta = acos(clamp(cosBeta, -" << one << ", " << one << "));\n"
@@ -127,6 +128,9 @@ std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage langu
     << " : " << zero << ";  // mirror limit\n"
     << "  return coneCapIntersection(alphaV, acos(cosS), beta) / (" << lit(d, 2.0)
     << " * kGtsoPi * (" << one << " - cosS));\n}\n\n"
+    << "// The cone model for perceptual roughness rp (alpha = rp^2).\n"
+    << "float gtsoConeModel(float A, float cosBeta, float rp) {\n"
+    << "  return gtsoConeModelFromAlpha(A, cosBeta, rp * rp);\n}\n\n"
     << "#endif  // GTBAKE_TABLES_INCLUDED\n";
   std::string s = o.str();
   const std::string lerp = language == ShaderLanguage::kHlsl ? "lerp(" : "mix(";

@@ -154,9 +154,24 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
   }
   char u_raw[40];
   std::snprintf(u_raw, sizeof(u_raw), "%.17g", in.gtso->u);
-  o << "// Cone aperture u = " << u_raw << " (SE " << g9(in.gtso->u_se) << "), convention "
-    << jsonAt(gj, {"cone", "convention"}) << "\n"
-    << "//   errors of S_cone vs S3: " << jsonAt(gj, {"cone", "errors"}) << "\n"
+  if (in.gtso->validate_gtso.is_null()) {
+    o << "// Cone aperture u = " << u_raw << " (SE " << g9(in.gtso->u_se) << "), convention "
+      << jsonAt(gj, {"cone", "convention"}) << "\n";
+  } else {
+    const nlohmann::json& vj = in.gtso->validate_gtso;
+    o << "// Cone aperture u = " << u_raw << " from validate_gtso.json, 5% profile interval ["
+      << g9(in.gtso->u_low) << ", " << g9(in.gtso->u_high) << "], convention "
+      << jsonAt(vj, {"u_fit", "alpha", "convention"}) << "\n"
+      << "//   objective: " << jsonAt(vj, {"u_fit", "objective"}) << "\n"
+      << "//   data: " << jsonAt(vj, {"sweep"}) << "\n"
+      << "//   RMSE at u, 0.01, 0.244: " << jsonAt(vj, {"u_fit", "alpha", "all", "rmse"}) << ", "
+      << jsonAt(vj, {"u_fit", "alpha", "all", "rmse_u_0.01"}) << ", "
+      << jsonAt(vj, {"u_fit", "alpha", "all", "rmse_u_0.244"})
+      << "; perceptual reading u^(r_p^2/2): " << jsonAt(vj, {"u_fit", "perceptual", "all"}) << "\n"
+      << "//   diagnostic: u fitted to the 3D table (gtso.json) = " << jsonAt(gj, {"cone", "u"})
+      << "\n";
+  }
+  o << "//   errors of S_cone vs S3: " << jsonAt(gj, {"cone", "errors"}) << "\n"
     << "// BC4 vs the float tables (exact per-block optimum, D3D float decode): 3D RMSE "
     << g9(in.bc4_3d->rmse) << ", max " << g9(in.bc4_3d->max_abs) << "; 4D RMSE "
     << g9(in.bc4_4d->rmse) << ", max " << g9(in.bc4_4d->max_abs) << "\n"
@@ -312,9 +327,11 @@ std::string makeTablesHeader(const GeneratedCodeInput& in) {
     << "  return static_cast<float>(2.0 * (kPi - t0 - c1 * t1 - c2 * t2));\n}\n\n"
     << "// Cone-to-cone specular occlusion (paper Eq. 19): visibility cone cos(alpha_v) =\n"
     << "// sqrt(1 - A), specular cone cos(alpha_s) = u^(alpha^2/2), axes beta apart.\n"
-    << "inline float gtsoConeModel(float A, float cosBeta, float rp) {\n"
+    << "// Takes the GGX width alpha (what Filament and XeGTAO pass); gtsoConeModel below takes\n"
+    << "// perceptual roughness r_p (what Unity HDRP passes), alpha = r_p^2: the same cone.\n"
+    << "inline float gtsoConeModelFromAlpha(float A, float cosBeta, float alphaGgx) {\n"
     << "  const double kPi = 3.14159265358979323846;\n"
-    << "  const double alpha = static_cast<double>(rp) * rp;\n"
+    << "  const double alpha = static_cast<double>(alphaGgx);\n"
     << "  const double cosS = std::pow(static_cast<double>(kConeApertureU), alpha * alpha / 2.0);\n"
     << "  const double cosV = std::sqrt(A < 1.0f ? 1.0 - A : 0.0);\n"
     << "  const double beta = std::acos(cosBeta < -1.0f ? -1.0 : (cosBeta > 1.0f ? 1.0 : "
@@ -324,6 +341,9 @@ std::string makeTablesHeader(const GeneratedCodeInput& in) {
     << "                                          static_cast<float>(std::acos(cosS)),\n"
     << "                                          static_cast<float>(beta));\n"
     << "  return static_cast<float>(omega / (2.0 * kPi * (1.0 - cosS)));\n}\n\n"
+    << "// The cone model for perceptual roughness rp (alpha = rp^2).\n"
+    << "inline float gtsoConeModel(float A, float cosBeta, float rp) {\n"
+    << "  return gtsoConeModelFromAlpha(A, cosBeta, rp * rp);\n}\n\n"
     << "}  // namespace gtbake\n";
   return o.str();
 }
