@@ -22,6 +22,12 @@ constexpr int kBisections = 12;       // profile-interval bisections per side: 1
 // (all r_p, r_p ≥ 0.3) of one convention share the grid and the fixed-u evaluations.
 class Objective {
  public:
+  struct Entry {
+    double sse = 0.0;
+    std::size_t count = 0;
+    bool done = false;
+  };
+
   Objective(const std::vector<SpecularSample>& samples, bool perceptual)
       : samples_(&samples), perceptual_(perceptual) {
     for (std::size_t i = 0; i < samples.size(); ++i) {
@@ -35,34 +41,43 @@ class Objective {
   }
   const std::vector<float>& roughness() const { return roughness_; }
 
-  // [roughness index] -> (SSE, count) at u.
-  const std::vector<std::pair<double, std::size_t>>& perRoughness(double u) {
-    auto it = cache_.find(u);
-    if (it != cache_.end()) return it->second;
+  // [roughness index] -> (SSE, count) at u, computed for the roughness values ≥ rp_min not yet
+  // in the cache (the others keep count 0 until asked for).
+  const std::vector<Entry>& perRoughness(double u, double rp_min) {
+    std::vector<Entry>& entry = cache_[u];
+    if (entry.empty()) entry.assign(roughness_.size(), Entry{});
+    std::vector<char> wanted(roughness_.size(), 0);
+    bool any = false;
+    for (std::size_t j = 0; j < roughness_.size(); ++j) {
+      wanted[j] = roughness_[j] > 0.0f && roughness_[j] >= rp_min - 1e-9 && !entry[j].done;
+      any = any || wanted[j];
+    }
+    if (!any) return entry;
     std::vector<ConeAperture> apertures;
     for (float r : roughness_) {
       apertures.push_back(coneAperture(u, perceptual_ ? r : static_cast<double>(r) * r));
     }
     const std::size_t chunks = (index_.size() + kChunk - 1) / kChunk;
-    std::vector<std::vector<std::pair<double, std::size_t>>> partial(
-        chunks, std::vector<std::pair<double, std::size_t>>(roughness_.size(), {0.0, 0}));
+    std::vector<std::vector<Entry>> partial(chunks, std::vector<Entry>(roughness_.size()));
     tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
       const std::size_t end = std::min(index_.size(), (c + 1) * kChunk);
       for (std::size_t k = c * kChunk; k < end; ++k) {
         const SpecularSample& x = (*samples_)[index_[k]];
+        if (!wanted[x.roughness]) continue;
         const double d = coneAt(x, apertures[x.roughness]) - x.truth;
-        partial[c][x.roughness].first += d * d;
-        ++partial[c][x.roughness].second;
+        partial[c][x.roughness].sse += d * d;
+        ++partial[c][x.roughness].count;
       }
     });
-    std::vector<std::pair<double, std::size_t>> total(roughness_.size(), {0.0, 0});
-    for (const auto& p : partial) {
-      for (std::size_t j = 0; j < p.size(); ++j) {
-        total[j].first += p[j].first;
-        total[j].second += p[j].second;
+    for (std::size_t j = 0; j < roughness_.size(); ++j) {
+      if (!wanted[j]) continue;
+      for (const auto& p : partial) {
+        entry[j].sse += p[j].sse;
+        entry[j].count += p[j].count;
       }
+      entry[j].done = true;
     }
-    return cache_.emplace(u, std::move(total)).first->second;
+    return entry;
   }
 
  private:
@@ -70,7 +85,7 @@ class Objective {
   bool perceptual_;
   std::vector<float> roughness_;
   std::vector<std::size_t> index_;
-  std::map<double, std::vector<std::pair<double, std::size_t>>> cache_;
+  std::map<double, std::vector<Entry>> cache_;
 };
 
 struct Subset {
@@ -79,14 +94,14 @@ struct Subset {
 };
 
 std::pair<double, std::size_t> sseAndCount(const Subset& s, double u) {
-  const auto& per = s.objective->perRoughness(u);
+  const auto& per = s.objective->perRoughness(u, s.rp_min);
   double sum = 0.0;
   std::size_t count = 0;
   for (std::size_t j = 0; j < per.size(); ++j) {
     const float r = s.objective->roughness()[j];
     if (r > 0.0f && r >= s.rp_min - 1e-9) {
-      sum += per[j].first;
-      count += per[j].second;
+      sum += per[j].sse;
+      count += per[j].count;
     }
   }
   return {sum, count};
