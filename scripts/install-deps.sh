@@ -5,9 +5,11 @@ packages=(
   build-essential cmake pkg-config
   libceres-dev libembree-dev libopenexr-dev libeigen3-dev libtinygltf-dev libtbb-dev
   libcli11-dev nlohmann-json3-dev libstb-dev librandom123-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev
   libsquish-dev libnvtt-dev glslang-tools
   chromium
+  mesa-vulkan-drivers
+  libvulkan-dev
 )
 missing=()
 for p in "${packages[@]}"; do

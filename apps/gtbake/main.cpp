@@ -1,10 +1,18 @@
 // gtbake: the command-line shell. Parses into each stage's options struct, calls one library entry
 // point per subcommand, and turns failures into one line on stderr and a non-zero exit.
+//
+// Each subcommand is one add<Name>Command function: it registers the subcommand and its options
+// and returns the step that runs it once the command line has parsed. To add a subcommand, write
+// its function and list it in registerSubcommands.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <functional>
+#include <memory>
+#include <optional>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include "common/error.h"
 #include "export/export_command.h"
@@ -20,8 +28,21 @@
 
 namespace {
 
+using namespace gtbake;
+
 constexpr int kExitError = 1;  // bad input or a failed stage
 constexpr int kExitUsage = 2;  // the command line itself did not parse
+
+// What every subcommand's run step gets from the shell.
+struct RunContext {
+  bool progress = true;
+  std::string command_line;  // "gtbake <arguments>", for provenance
+};
+
+struct Subcommand {
+  CLI::App* parser = nullptr;
+  std::function<void(const RunContext&)> run;  // called only if this subcommand was given
+};
 
 std::string joinArguments(int argc, char** argv) {
   std::string line = "gtbake";
@@ -34,95 +55,165 @@ std::string firstLine(const std::string& text) {
   return text.substr(0, text.find('\n'));
 }
 
-}  // namespace
+// --threads, the same for every stage; ThreadLimit (common/threads.h) checks the value.
+void addThreadsOption(CLI::App* parser, int& threads) {
+  parser->add_option("--threads", threads, "Worker threads (0 = all cores)");
+}
 
-int main(int argc, char** argv) {
-  using namespace gtbake;
-  CLI::App app{"gtbake " GTBAKE_VERSION
-               ": regenerate GTAO/GTSO constants and tables from path-traced ground truth"};
-  app.require_subcommand(1);
-  app.fallthrough();  // --quiet is accepted after the subcommand too
-  app.set_version_flag("--version", GTBAKE_VERSION);
-  bool quiet = false;
-  app.add_flag("--quiet,-q", quiet, "No progress bars (results still go to stdout)");
+Subcommand addScenesCommand(CLI::App& app) {
+  auto options = std::make_shared<ScenesOptions>();
+  auto* parser = app.add_subcommand("scenes", "Write the seven procedural scene types as glTF");
+  parser->add_option("--out", options->out, "Output directory")->required();
+  parser->add_option("--seed", options->seed, "Seed of the clutter and terrain generators");
+  return {parser, [options](const RunContext& context) {
+            options->progress = context.progress;
+            runScenes(*options);
+          }};
+}
 
-  ScenesOptions scenes;
-  auto* scenes_cmd = app.add_subcommand("scenes", "Write the seven procedural scene types as glTF");
-  scenes_cmd->add_option("--out", scenes.out, "Output directory")->required();
-  scenes_cmd->add_option("--seed", scenes.seed, "Seed of the clutter and terrain generators");
-
-  SweepOptions sweep;
-  std::string resolution = std::to_string(sweep.width) + "x" + std::to_string(sweep.height);
-  auto* sweep_cmd = app.add_subcommand("sweep", "Path-trace A and G(rho) per pixel with Embree");
-  sweep_cmd->add_option("--scenes", sweep.scenes, "glTF files or directories of them")->required();
-  sweep_cmd->add_option("--out", sweep.out, "Output directory")->required();
-  sweep_cmd->add_option("--spp", sweep.spp, "Random walks per pixel (even)")->capture_default_str();
-  sweep_cmd->add_option("--res", resolution, "Resolution WxH")->capture_default_str();
-  sweep_cmd->add_option("--bounces", sweep.bounces, "Interreflections K counted in G")
+Subcommand addSweepCommand(CLI::App& app) {
+  auto options = std::make_shared<SweepOptions>();
+  auto resolution = std::make_shared<std::string>(std::to_string(options->width) + "x" +
+                                                  std::to_string(options->height));
+  auto* parser = app.add_subcommand("sweep", "Path-trace A and G(rho) per pixel with Embree");
+  parser->add_option("--scenes", options->scenes, "glTF files or directories of them")->required();
+  parser->add_option("--out", options->out, "Output directory")->required();
+  parser->add_option("--spp", options->spp, "Random walks per pixel (even)")->capture_default_str();
+  parser->add_option("--res", *resolution, "Resolution WxH")->capture_default_str();
+  parser->add_option("--bounces", options->bounces, "Interreflections K counted in G")
       ->capture_default_str();
-  sweep_cmd->add_option("--radius", sweep.radius, "Sky beyond this distance (default unbounded)");
-  sweep_cmd->add_option("--seed", sweep.seed, "Random seed")->capture_default_str();
-  sweep_cmd->add_option("--threads", sweep.threads, "Worker threads (0 = all cores)");
-  std::string specular_roughness = specularRoughnessList(sweep.specular_roughness);
-  sweep_cmd
-      ->add_option("--specular-roughness", specular_roughness,
+  parser->add_option("--radius", options->radius, "Sky beyond this distance (default unbounded)");
+  parser->add_option("--seed", options->seed, "Random seed")->capture_default_str();
+  addThreadsOption(parser, options->threads);
+  auto specular = std::make_shared<std::string>(specularRoughnessList(options->specular_roughness));
+  parser
+      ->add_option("--specular-roughness", *specular,
                    "Perceptual roughness values of the S channels, or none")
       ->capture_default_str();
-  sweep_cmd->add_option("--specular-spp", sweep.specular_spp, "VNDF samples per roughness (even)")
+  parser->add_option("--specular-spp", options->specular_spp, "VNDF samples per roughness (even)")
       ->capture_default_str();
+  return {parser, [options, resolution, specular](const RunContext& context) {
+            std::tie(options->width, options->height) = parseResolution(*resolution);
+            options->specular_roughness = parseSpecularRoughness(*specular);
+            options->progress = context.progress;
+            runSweep(*options);
+          }};
+}
 
-  FitOptions fit;
-  std::string fit_shipped;
-  auto* fit_cmd = app.add_subcommand("fit", "Fit Equation 10 to a sweep with Ceres");
-  fit_cmd->add_option("--sweep", fit.sweep, "Directory written by gtbake sweep")->required();
-  fit_cmd->add_option("--out", fit.out, "fit.json to write")->required();
-  fit_cmd->add_option("--report", fit.report, "HTML report directory (default: beside --out)");
-  fit_cmd->add_option("--shipped", fit_shipped,
-                      "Constants to compare against, a1,a0,b1,b0,c1,c0 (default: the paper's)");
+Subcommand addFitCommand(CLI::App& app) {
+  auto options = std::make_shared<FitOptions>();
+  auto shipped = std::make_shared<std::string>();
+  auto* parser = app.add_subcommand("fit", "Fit Equation 10 to a sweep with Ceres");
+  parser->add_option("--sweep", options->sweep, "Directory written by gtbake sweep")->required();
+  parser->add_option("--out", options->out, "fit.json to write")->required();
+  parser->add_option("--report", options->report, "HTML report directory (default: beside --out)");
+  parser->add_option("--shipped", *shipped,
+                     "Constants to compare against, a1,a0,b1,b0,c1,c0 (default: the paper's)");
+  return {parser, [options, shipped](const RunContext& context) {
+            if (!shipped->empty()) options->shipped = parseCoeffs(*shipped);
+            options->progress = context.progress;
+            runFit(*options);
+          }};
+}
 
-  ValidateOptions validate;
-  std::string validate_coeffs;
-  auto* validate_cmd =
+Subcommand addValidateCommand(CLI::App& app) {
+  auto options = std::make_shared<ValidateOptions>();
+  auto coeffs = std::make_shared<std::string>();
+  auto* parser =
       app.add_subcommand("validate", "Score shipped Equation 10 constants against a sweep");
-  validate_cmd->add_option("--sweep", validate.sweep, "Directory written by gtbake sweep")
-      ->required();
-  validate_cmd->add_option("--coeffs", validate_coeffs,
-                           "a1,a0,b1,b0,c1,c0 (default: the paper's Equation 10)");
+  parser->add_option("--sweep", options->sweep, "Directory written by gtbake sweep")->required();
+  parser->add_option("--coeffs", *coeffs, "a1,a0,b1,b0,c1,c0 (default: the paper's Equation 10)");
+  return {parser, [options, coeffs](const RunContext& context) {
+            if (!coeffs->empty()) options->coeffs = parseCoeffs(*coeffs);
+            options->progress = context.progress;
+            runValidate(*options);
+          }};
+}
 
-  GtsoOptions gtso;
-  auto* gtso_cmd = app.add_subcommand("gtso", "Bake the 3D and 4D GTSO tables and fit u");
-  gtso_cmd->add_option("--out", gtso.out, "Output directory")->required();
-  gtso_cmd->add_option("--size", gtso.size, "Texels per axis")->capture_default_str();
-  gtso_cmd->add_option("--samples", gtso.samples, "Lobe samples per line (0 = default)");
-  gtso_cmd->add_option("--threads", gtso.threads, "Worker threads (0 = all cores)");
-  gtso_cmd->add_option("--reference-factor", gtso.reference_factor,
-                       "Also bake a reference with this many times the cells per axis and record "
-                       "every texel's error in gtso.json (4 = 16x the samples; slow)");
+Subcommand addGtsoCommand(CLI::App& app) {
+  auto options = std::make_shared<GtsoOptions>();
+  auto* parser = app.add_subcommand("gtso", "Bake the 3D and 4D GTSO tables and fit u");
+  parser->add_option("--out", options->out, "Output directory")->required();
+  parser->add_option("--size", options->size, "Texels per axis")->capture_default_str();
+  parser->add_option("--lobe-cells", options->lobe_cells,
+                     "Lobe-grid phi cells N (psi gets 2N; 0 = default 96)");
+  parser
+      ->add_option("--error-lobes", options->error_lobes,
+                   "Random lobes per seed of the end-to-end error (16 points each)")
+      ->capture_default_str();
+  parser->add_option("--error-seeds", options->error_seeds, "Seeds of the end-to-end error")
+      ->capture_default_str();
+  addThreadsOption(parser, options->threads);
+  parser->add_option("--reference-factor", options->reference_factor,
+                     "Also bake a reference with this many times the cells per axis and record "
+                     "every texel's error in gtso.json (4 = 16x the samples; slow)");
+  return {parser, [options](const RunContext& context) {
+            options->progress = context.progress;
+            runGtso(*options);
+          }};
+}
 
-  ValidateGtsoOptions validate_gtso;
-  auto* validate_gtso_cmd = app.add_subcommand(
+Subcommand addValidateGtsoCommand(CLI::App& app) {
+  auto options = std::make_shared<ValidateGtsoOptions>();
+  auto* parser = app.add_subcommand(
       "validate-gtso", "Score GTSO tables, cone model and baselines against path-traced S; fit u");
-  validate_gtso_cmd->add_option("--sweep", validate_gtso.sweep, "Sweep with specular channels")
-      ->required();
-  validate_gtso_cmd->add_option("--luts", validate_gtso.luts, "Directory with gtso/ and gtso*.dds")
-      ->required();
-  validate_gtso_cmd->add_option("--u", validate_gtso.u, "Also score the cone model with this u");
-  validate_gtso_cmd->add_option("--out", validate_gtso.out, "Output directory (default: --luts)");
+  parser->add_option("--sweep", options->sweep, "Sweep with specular channels")->required();
+  parser->add_option("--luts", options->luts, "Directory with gtso/ and gtso*.dds")->required();
+  parser->add_option("--u", options->u, "Also score the cone model with this u");
+  parser->add_option("--out", options->out, "Output directory (default: --luts)");
+  return {parser, [options](const RunContext& context) {
+            options->progress = context.progress;
+            runValidateGtso(*options);
+          }};
+}
 
-  ExportOptions exporter;
-  auto* export_cmd = app.add_subcommand("export", "BC4 tables, DDS/KTX2 and the C++ header");
-  export_cmd->add_option("--fit", exporter.fit, "fit.json from gtbake fit")->required();
-  export_cmd->add_option("--gtso", exporter.gtso, "Directory from gtbake gtso")->required();
-  export_cmd->add_option("--out", exporter.out, "Output directory")->required();
-  export_cmd->add_option("--threads", exporter.threads, "Worker threads (0 = all cores)");
-  export_cmd->add_option("--validate-gtso", exporter.validate_gtso,
-                         "validate_gtso.json whose u (fitted to path-traced S) the header ships");
+Subcommand addExportCommand(CLI::App& app) {
+  auto options = std::make_shared<ExportOptions>();
+  auto* parser = app.add_subcommand("export", "BC4 tables, DDS/KTX2 and the C++ header");
+  parser->add_option("--fit", options->fit, "fit.json from gtbake fit")->required();
+  parser->add_option("--gtso", options->gtso, "Directory from gtbake gtso")->required();
+  parser->add_option("--out", options->out, "Output directory")->required();
+  parser->add_option("--validate-gtso", options->validate_gtso,
+                     "validate_gtso.json whose u (fitted to path-traced S) the header ships");
+  addThreadsOption(parser, options->threads);
+  return {parser, [options](const RunContext& context) {
+            options->command_line = context.command_line;
+            options->progress = context.progress;
+            runExport(*options);
+          }};
+}
 
-  AllOptions all;
-  auto* all_cmd = app.add_subcommand("all", "scenes, sweep, fit, gtso and export with defaults");
-  all_cmd->add_option("--out", all.out, "Output directory")->capture_default_str();
-  all_cmd->add_option("--threads", all.threads, "Worker threads (0 = all cores)");
+Subcommand addAllCommand(CLI::App& app) {
+  auto options = std::make_shared<AllOptions>();
+  auto* parser = app.add_subcommand("all", "scenes, sweep, fit, gtso and export with defaults");
+  parser->add_option("--out", options->out, "Output directory")->capture_default_str();
+  addThreadsOption(parser, options->threads);
+  return {parser, [options](const RunContext& context) {
+            // The output directory and thread count do not change a byte of the results, so the
+            // provenance records the canonical command and luts/ reproduces from any --out.
+            options->command_line = "gtbake all";
+            options->progress = context.progress;
+            runAll(*options);
+          }};
+}
 
+// The subcommands in the order --help lists them.
+std::vector<Subcommand> registerSubcommands(CLI::App& app) {
+  std::vector<Subcommand> subcommands;
+  subcommands.push_back(addScenesCommand(app));
+  subcommands.push_back(addSweepCommand(app));
+  subcommands.push_back(addFitCommand(app));
+  subcommands.push_back(addValidateCommand(app));
+  subcommands.push_back(addGtsoCommand(app));
+  subcommands.push_back(addValidateGtsoCommand(app));
+  subcommands.push_back(addExportCommand(app));
+  subcommands.push_back(addAllCommand(app));
+  return subcommands;
+}
+
+// Parses the command line. Returns the exit code if the shell should stop here (help, version,
+// or a parse error printed as one line), or nothing if a subcommand is to run.
+std::optional<int> parseCommandLine(CLI::App& app, int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -135,41 +226,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "gtbake: error: %s (see gtbake --help)\n", firstLine(e.what()).c_str());
     return kExitUsage;
   }
+  return std::nullopt;
+}
 
-  const bool progress = !quiet;
+// Runs the subcommand that was given; gtbake::Error is bad input, anything else a bug.
+int runSelectedSubcommand(const std::vector<Subcommand>& subcommands, const RunContext& context) {
   try {
-    if (*scenes_cmd) {
-      scenes.progress = progress;
-      runScenes(scenes);
-    } else if (*sweep_cmd) {
-      std::tie(sweep.width, sweep.height) = parseResolution(resolution);
-      sweep.specular_roughness = parseSpecularRoughness(specular_roughness);
-      sweep.progress = progress;
-      runSweep(sweep);
-    } else if (*fit_cmd) {
-      if (!fit_shipped.empty()) fit.shipped = parseCoeffs(fit_shipped);
-      fit.progress = progress;
-      runFit(fit);
-    } else if (*validate_cmd) {
-      if (!validate_coeffs.empty()) validate.coeffs = parseCoeffs(validate_coeffs);
-      validate.progress = progress;
-      runValidate(validate);
-    } else if (*gtso_cmd) {
-      gtso.progress = progress;
-      runGtso(gtso);
-    } else if (*validate_gtso_cmd) {
-      validate_gtso.progress = progress;
-      runValidateGtso(validate_gtso);
-    } else if (*export_cmd) {
-      exporter.command_line = joinArguments(argc, argv);
-      exporter.progress = progress;
-      runExport(exporter);
-    } else if (*all_cmd) {
-      // The output directory and thread count do not change a byte of the results, so the
-      // provenance records the canonical command and luts/ reproduces from any --out.
-      all.command_line = "gtbake all";
-      all.progress = progress;
-      runAll(all);
+    for (const Subcommand& subcommand : subcommands) {
+      if (*subcommand.parser) subcommand.run(context);
     }
   } catch (const gtbake::Error& e) {
     std::fprintf(stderr, "gtbake: error: %s\n", firstLine(e.what()).c_str());
@@ -179,4 +243,19 @@ int main(int argc, char** argv) {
     return kExitError;
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"gtbake " GTBAKE_VERSION
+               ": regenerate GTAO/GTSO constants and tables from path-traced ground truth"};
+  app.require_subcommand(1);
+  app.fallthrough();  // --quiet is accepted after the subcommand too
+  app.set_version_flag("--version", GTBAKE_VERSION);
+  bool quiet = false;
+  app.add_flag("--quiet,-q", quiet, "No progress bars (results still go to stdout)");
+  const std::vector<Subcommand> subcommands = registerSubcommands(app);
+  if (const std::optional<int> exit_code = parseCommandLine(app, argc, argv)) return *exit_code;
+  return runSelectedSubcommand(subcommands, {!quiet, joinArguments(argc, argv)});
 }

@@ -1,6 +1,6 @@
 // bench_bc4: gtbake's exact BC4 encoder beside stb_dxt, libsquish and NVTT on the GTSO tables.
 //
-// Usage: bench_bc4 [GTSO_DIR] [--threads T]   (default GTSO_DIR: /work/main/luts/gtso, then
+// Usage: bench_bc4 [GTSO_DIR] [--threads T]   (default GTSO_DIR: the source tree's luts/gtso, then
 // out/gtso) Reads GTSO_DIR/gtso3d.f32 (32×32×32) and gtso4d.f32 (32×32×1024); if they are missing
 // it uses a synthetic smooth table of the same size and says so. Peers get the table quantised to
 // UNORM8 (round(clamp(v)·255), the same byte in R, G, B and A); gtbake gets the floats. Every error
@@ -154,8 +154,9 @@ int main(int argc, char** argv) {
     }
   }
   if (dir.empty()) {
-    dir = std::filesystem::exists("/work/main/luts/gtso/gtso3d.f32") ? "/work/main/luts/gtso"
-                                                                     : "out/gtso";
+    const std::filesystem::path shipped =
+        std::filesystem::path(GTBAKE_SOURCE_DIR) / "luts" / "gtso";
+    dir = std::filesystem::exists(shipped / "gtso3d.f32") ? shipped : "out/gtso";
   }
   const gtbake::ThreadLimit limit(threads);
   Table t3{"3D", 32, 32, 32, readFloats(dir / "gtso3d.f32", 32 * 32 * 32)};

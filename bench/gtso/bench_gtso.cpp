@@ -6,7 +6,7 @@
 // max / RMS difference, the number of texels over the bar, and both bake times. Writes error maps
 // (max over the other axes, viridis, 0..bar) into --out if given.
 //
-// usage: bench_gtso [--cells N] [--factor F] [--threads T] [--size N] [--a4 QUANTITY] [--out DIR]
+// usage: bench_gtso [--cells N] [--factor F] [--threads T] [--size N] [--dims 3|4] [--out DIR]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -28,18 +28,16 @@ namespace {
 constexpr double kBar = 2.5e-4;  // SPEC §3
 
 struct Options {
-  int cells = kDefaultLobeCells, factor = 4, threads = 2, size = 32;
-  std::string a4 = "A", out;
+  int cells = kDefaultLobeCells, factor = 4, threads = 2, size = 32, dims = 0;  // 0: both
+  std::string out;
 };
 
 Table bake(int dims, const Options& o, int cells, double& seconds) {
-  Mapping m = Mapping::defaults(dims);
-  if (dims == 4 && o.a4 != "A") m = m.withAlternative(0);
   const auto t0 = std::chrono::steady_clock::now();
   Progress progress(
       "bench_gtso: " + std::to_string(dims) + "D at " + std::to_string(cells) + " cells",
       static_cast<std::uint64_t>(o.size) * o.size);
-  Table t = bakeTable(dims, m, o.size, cells, &progress);
+  Table t = bakeTable(dims, o.size, cells, &progress);
   progress.finish();
   seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return t;
@@ -72,8 +70,8 @@ int main(int argc, char** argv) {
       o.threads = std::atoi(v.c_str());
     else if (k == "--size")
       o.size = std::atoi(v.c_str());
-    else if (k == "--a4")
-      o.a4 = v;
+    else if (k == "--dims")
+      o.dims = std::atoi(v.c_str());
     else if (k == "--out")
       o.out = v;
     else {
@@ -88,6 +86,7 @@ int main(int argc, char** argv) {
               "rms_err", "over_bar", "texels");
   double bakeTotal = 0.0;
   for (int dims : {3, 4}) {
+    if (o.dims != 0 && dims != o.dims) continue;
     double tb = 0.0, tr = 0.0;
     const Table t = bake(dims, o, o.cells, tb);
     const Table r = bake(dims, o, o.cells * o.factor, tr);

@@ -24,10 +24,6 @@ Progress::~Progress() {
   finish();
 }
 
-double Progress::elapsedSeconds() const {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-}
-
 void Progress::add(std::uint64_t units) {
   const std::uint64_t done = done_.fetch_add(units, std::memory_order_relaxed) + units;
   if (!enabled_) return;

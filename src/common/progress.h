@@ -23,7 +23,6 @@ class Progress {
   void add(std::uint64_t units);
   // Draws the final state (100% and the elapsed time); called by the destructor if not before.
   void finish();
-  double elapsedSeconds() const;
 
  private:
   void draw(std::uint64_t done, bool final);

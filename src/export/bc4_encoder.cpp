@@ -110,9 +110,9 @@ double deltaOf(double best) {
 // with error ≤ best/j lies within r_j = deltaOf(best/j) of the ramp (or, with `has01`, of 0 or 1).
 // Removes from `mask` every hi for which at least j texels are outside their radius; the counts
 // are kept bit-sliced (counter[k] = "more than k texels outside").
-constexpr int kCountLevels[] = {
-    3};  // j: {3} ran fewest instructions of {2}, {3}, {4}, {2,4}, {2,8}
-constexpr int kMaxCountLevel = 3;
+// j = 3 ran fewest instructions of the level sets {2}, {3}, {4}, {2,4}, {2,8} (callgrind).
+constexpr int kCountLevel = 3;
+constexpr int kMaxCountLevel = kCountLevel;
 // The block's extreme texels (order[0], order[1]) are intersected at radius δ first; the counting
 // bound then covers all 16 texels. More radius-δ anchors cost more masks than they save.
 constexpr int kPlainAnchors = 2;
@@ -215,8 +215,8 @@ void Bc4Encoder::searchEightValueMode(Search& s) const {
     for (int i = 0; i < kPlainAnchors && !mask.empty(); ++i) {
       mask.intersect(anchorMask(u[s.order[i]], lo, 7, delta, mask.first(), mask.last()));
     }
-    for (const int j : kCountLevels) {
-      if (mask.count() > kDirectScoreCandidates) pruneByCount(mask, u, lo, 7, false, s.best, j);
+    if (mask.count() > kDirectScoreCandidates) {
+      pruneByCount(mask, u, lo, 7, false, s.best, kCountLevel);
     }
     mask.forEach([&](int hi) { consider(s, hi * 256 + lo); });
   }
@@ -259,8 +259,8 @@ void Bc4Encoder::searchSixValueMode(Search& s) const {
       if (!mask.empty()) {
         mask.intersect(anchorMask(u[last], lo, 5, delta, mask.first(), mask.last()));
       }
-      for (const int j : kCountLevels) {
-        if (mask.count() > kDirectScoreCandidates) pruneByCount(mask, u, lo, 5, true, s.best, j);
+      if (mask.count() > kDirectScoreCandidates) {
+        pruneByCount(mask, u, lo, 5, true, s.best, kCountLevel);
       }
     } else {
       const double e0 = palettes_[static_cast<std::size_t>(lo) * 256 * 8];  // lo/255.0f

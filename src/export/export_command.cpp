@@ -58,19 +58,30 @@ ExportResult runExport(const ExportOptions& options) {
   code.command_line = options.command_line.empty() ? "gtbake export" : options.command_line;
   code.version = GTBAKE_VERSION;
   const std::string writer = "gtbake " + code.version;
-  const auto& s3 = gtso.table3d.volume;
-  const auto& s4 = gtso.table4d.volume;
-  const Bc4VolumeImage image3{s3[0], s3[1], s3[2], &bc4_3d.bytes};
-  const Bc4VolumeImage image4{s4[0], s4[1], s4[2], &bc4_4d.bytes};
-  const std::pair<const char*, std::string> files[] = {
-      {"gtso3d.dds", makeDds(image3)},
-      {"gtso3d.ktx2", makeKtx2(image3, writer)},
-      {"gtso4d.dds", makeDds(image4)},
-      {"gtso4d.ktx2", makeKtx2(image4, writer)},
-      {"gtbake_tables.h", makeTablesHeader(code)},
-      {"gtbake_tables.hlsl", makeShaderInclude(code, ShaderLanguage::kHlsl)},
-      {"gtbake_tables.glsl", makeShaderInclude(code, ShaderLanguage::kGlsl)},
-  };
+  // BC4 from the exact encoder, R16 / R8 quantised; each in DDS and KTX2.
+  std::vector<std::pair<std::string, std::string>> files;
+  const std::pair<const char*, const GtsoTable*> tables[] = {{"gtso3d", &gtso.table3d},
+                                                             {"gtso4d", &gtso.table4d}};
+  std::vector<std::uint8_t> r16[2], r8[2];
+  for (int t = 0; t < 2; ++t) {
+    const GtsoTable& table = *tables[t].second;
+    const auto& s = table.volume;
+    r16[t] = quantizeUnorm(table.values.data(), table.values.size(), VolumeFormat::kR16);
+    r8[t] = quantizeUnorm(table.values.data(), table.values.size(), VolumeFormat::kR8);
+    const std::string base = tables[t].first;
+    const VolumeImage images[3] = {
+        {s[0], s[1], s[2], t == 0 ? &bc4_3d.bytes : &bc4_4d.bytes, VolumeFormat::kBc4},
+        {s[0], s[1], s[2], &r16[t], VolumeFormat::kR16},
+        {s[0], s[1], s[2], &r8[t], VolumeFormat::kR8}};
+    const char* suffix[3] = {"", "_r16", "_r8"};
+    for (int k = 0; k < 3; ++k) {
+      files.emplace_back(base + suffix[k] + ".dds", makeDds(images[k]));
+      files.emplace_back(base + suffix[k] + ".ktx2", makeKtx2(images[k], writer));
+    }
+  }
+  files.emplace_back("gtbake_tables.h", makeTablesHeader(code));
+  files.emplace_back("gtbake_tables.hlsl", makeShaderInclude(code, ShaderLanguage::kHlsl));
+  files.emplace_back("gtbake_tables.glsl", makeShaderInclude(code, ShaderLanguage::kGlsl));
   ensureDirectory(options.out);
   for (const auto& [name, bytes] : files) writeFileAtomically(options.out / name, bytes);
 
@@ -88,7 +99,7 @@ ExportResult runExport(const ExportOptions& options) {
                 extent.c_str(), v->rmse, v->max_abs, outsideUnitInterval(table->values),
                 v->seconds);
   }
-  std::printf("  wrote gtbake_tables.h/.hlsl/.glsl, gtso3d.dds/.ktx2, gtso4d.dds/.ktx2 in %.2f s\n",
+  std::printf("  wrote gtbake_tables.h/.hlsl/.glsl, gtso{3d,4d}{,_r16,_r8}.{dds,ktx2} in %.2f s\n",
               seconds);
   return {bc4_3d.rmse, bc4_3d.max_abs, bc4_4d.rmse, bc4_4d.max_abs};
 }

@@ -5,6 +5,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "export/runtime/gtso_lookup.h"
 
 namespace gtbake {
 namespace {
@@ -62,33 +63,20 @@ GtsoTable readTable(const std::filesystem::path& dir, const nlohmann::json& tabl
   if (!axes.is_array() || static_cast<int>(axes.size()) != rank) {
     throw Error(where + ": \"axes\" must list " + std::to_string(rank) + " axes");
   }
-  bool seen[4] = {false, false, false, false};
+  const GtsoAxisInfo* const* expected = rank == 3 ? kGtso3DAxisInfo : kGtso4DAxisInfo;
   for (int i = 0; i < rank; ++i) {
     const nlohmann::json& a = axes[i];
-    GtsoAxis axis;
     const nlohmann::json& name = member(a, "axis", where + ".axes");
     const nlohmann::json& quantity = member(a, "quantity", where + ".axes");
     if (!name.is_string() || name.get<std::string>() != kAxisNames[i]) {
       throw Error(where + ": axis " + std::to_string(i) + " must be named \"" + kAxisNames[i] +
                   "\"");
     }
-    if (!quantity.is_string() || !isAxisQuantity(quantity.get<std::string>())) {
-      throw Error(where + ": axis " + kAxisNames[i] + " has unknown quantity " + quantity.dump());
+    if (!quantity.is_string() || quantity.get<std::string>() != expected[i]->quantity) {
+      throw Error(where + ": axis " + kAxisNames[i] + " has quantity " + quantity.dump() +
+                  ", the runtime lookup expects \"" + expected[i]->quantity + "\"");
     }
-    axis.name = kAxisNames[i];
-    axis.quantity = quantity.get<std::string>();
-    axis.min = finiteNumber(a, "min", where + ".axes." + axis.name);
-    axis.max = finiteNumber(a, "max", where + ".axes." + axis.name);
-    if (axis.min == axis.max) throw Error(where + ": axis " + axis.name + " has min == max");
-    const int family = static_cast<int>(axisFamily(axis.quantity));
-    if (seen[family]) {
-      throw Error(where + ": two axes describe the same quantity family (" + axis.quantity + ")");
-    }
-    seen[family] = true;
-    table.axes.push_back(axis);
-  }
-  if (!seen[0] || !seen[1] || !seen[2] || (rank == 4 && !seen[3])) {
-    throw Error(where + ": axes must cover A, β, roughness" + (rank == 4 ? ", θo" : ""));
+    table.axes.push_back({kAxisNames[i], quantity.get<std::string>()});
   }
   table.volume = {table.dims[0], table.dims[1],
                   rank == 4 ? table.dims[2] * table.dims[3] : table.dims[2]};
@@ -115,20 +103,23 @@ GtsoTable readTable(const std::filesystem::path& dir, const nlohmann::json& tabl
   return table;
 }
 
+// The axis constants the tables were baked with must be the runtime's.
+void checkAxisConstants(const nlohmann::json& j, const std::string& where) {
+  const nlohmann::json& c = member(j, "axis_constants", where);
+  const std::pair<const char*, double> expected[] = {{"sigma_scale", kGtsoSigmaScale},
+                                                     {"sigma_floor", kGtsoSigmaFloor},
+                                                     {"theta_linear", kGtsoThetaLinear},
+                                                     {"rough_power", kGtsoRoughPower}};
+  for (const auto& [key, value] : expected) {
+    if (finiteNumber(c, key, where + " axis_constants") != value) {
+      throw Error(where + ": axis_constants." + key +
+                  " differs from this gtbake's runtime lookup (" + std::to_string(value) +
+                  "); re-run `gtbake gtso`");
+    }
+  }
+}
+
 }  // namespace
-
-bool isAxisQuantity(const std::string& q) {
-  return q == "A" || q == "cos_alpha_v" || q == "alpha_v" || q == "cos_beta" || q == "beta" ||
-         q == "r_p" || q == "alpha" || q == "cos_theta_o" || q == "theta_o";
-}
-
-AxisFamily axisFamily(const std::string& q) {
-  if (q == "A" || q == "cos_alpha_v" || q == "alpha_v") return AxisFamily::kAmbient;
-  if (q == "cos_beta" || q == "beta") return AxisFamily::kBeta;
-  if (q == "r_p" || q == "alpha") return AxisFamily::kRoughness;
-  if (q == "cos_theta_o" || q == "theta_o") return AxisFamily::kThetaO;
-  throw Error("unknown GTSO axis quantity \"" + q + "\"");
-}
 
 GtsoInput readGtsoInput(const std::filesystem::path& dir) {
   if (!std::filesystem::is_directory(dir)) {
@@ -137,6 +128,7 @@ GtsoInput readGtsoInput(const std::filesystem::path& dir) {
   GtsoInput in;
   in.json = parseJson(dir / "gtso.json");
   const std::string where = (dir / "gtso.json").string();
+  checkAxisConstants(in.json, where);
   const nlohmann::json& tables = member(in.json, "tables", where);
   in.table3d = readTable(dir, tables, "3d", 3);
   in.table4d = readTable(dir, tables, "4d", 4);

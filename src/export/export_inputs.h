@@ -10,18 +10,12 @@
 
 namespace gtbake {
 
-// The axis quantities a GTSO table may use; each axis is linear in its quantity between min and
-// max. Families: A ∈ {A, cos_alpha_v = √(1 − A), alpha_v}, β ∈ {cos_beta, beta},
-// roughness ∈ {r_p, alpha = r_p²}, θo ∈ {cos_theta_o, theta_o}; angles in radians.
-enum class AxisFamily { kAmbient, kBeta, kRoughness, kThetaO };
-bool isAxisQuantity(const std::string& quantity);
-AxisFamily axisFamily(const std::string& quantity);
-
+// A table axis as gtso.json lists it. The quantities and their maps are fixed by the runtime
+// lookup code (export/runtime/gtso_lookup.h) that the generated files carry; export rejects a
+// gtso.json whose axes or axis constants differ from it.
 struct GtsoAxis {
   std::string name;      // "x", "y", "z", "w"
-  std::string quantity;  // from the vocabulary above
-  double min = 0.0;      // quantity at texel 0
-  double max = 1.0;      // quantity at texel N − 1
+  std::string quantity;  // kGtso3DAxisInfo / kGtso4DAxisInfo
 };
 
 struct GtsoTable {

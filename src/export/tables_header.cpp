@@ -5,6 +5,8 @@
 
 #include "common/error.h"
 #include "export/generated_code.h"
+#include "export/runtime/gtso_lookup.h"
+#include "export/runtime_sources.h"
 
 namespace gtbake {
 namespace {
@@ -63,25 +65,118 @@ void emitBlocks(std::ostringstream& o, const char* name, const Bc4Volume& volume
     << ": one uint64 per 4x4 block\");\n\n";
 }
 
-// constexpr axis maps of one table: <prefix>Coord<X>(quantity) -> texture coordinate.
-void emitAxisMaps(std::ostringstream& o, const std::string& prefix, const GtsoTable& t) {
-  for (std::size_t i = 0; i < t.axes.size(); ++i) {
-    const GtsoAxis& a = t.axes[i];
-    std::string upper = a.name;
-    upper[0] = static_cast<char>(upper[0] - 'a' + 'A');
-    o << "// " << prefix << " axis " << a.name << ": " << a.quantity << " from " << g9(a.min)
-      << " (texel 0) to " << g9(a.max) << " (texel " << t.dims[i] - 1 << ").\n";
-    if (t.axes.size() == 4 && (a.name == "z" || a.name == "w")) {  // folded: see gtso4DTexCoord
-      o << "constexpr float " << prefix << "AxisT" << upper << "(float " << a.quantity
-        << ") { return gtsoAxisT(" << a.quantity << ", " << f(static_cast<float>(a.min)) << ", "
-        << f(static_cast<float>(a.max)) << "); }\n";
-      continue;
-    }
-    o << "constexpr float " << prefix << "Coord" << upper << "(float " << a.quantity
-      << ") {\n  return gtsoTexelRemap(gtsoAxisT(" << a.quantity << ", "
-      << f(static_cast<float>(a.min)) << ", " << f(static_cast<float>(a.max)) << "), " << t.dims[i]
-      << ");\n}\n";
+// The end-to-end error of one format from gtso.json, as "uniform max/RMS, stress max/RMS".
+std::string endToEnd(const nlohmann::json& gj, const char* table, const char* format) {
+  const nlohmann::json* p = &gj;
+  for (const char* key : {"end_to_end", table, "formats", format}) {
+    if (!p->is_object() || !p->contains(key)) return "n/a";
+    p = &p->at(key);
   }
+  auto pair = [&](const char* set) {
+    return jsonAt(*p, {set, "max"}) + " / " + jsonAt(*p, {set, "rms"});
+  };
+  return "uniform max/RMS " + pair("uniform") + ", stress " + pair("stress");
+}
+
+void emitConstants(std::ostringstream& o, const GeneratedCodeInput& in) {
+  const GtsoTable& t3 = in.gtso->table3d;
+  const GtsoTable& t4 = in.gtso->table4d;
+  const auto& c = in.fit->linear;
+  o << "inline constexpr char kGtbakeTablesVersion[] = \"" << in.version << "\";\n\n"
+    << "// Multi-bounce (paper Eq. 10), {slope, intercept}: a(rho) = kMultiBounceA[0]*rho +\n"
+    << "// kMultiBounceA[1], same for b and c; G = a*A^3 - b*A^2 + c*A.\n"
+    << "inline constexpr float kMultiBounceA[2] = {" << f(float(c[0])) << ", " << f(float(c[1]))
+    << "};\n"
+    << "inline constexpr float kMultiBounceB[2] = {" << f(float(c[2])) << ", " << f(float(c[3]))
+    << "};\n"
+    << "inline constexpr float kMultiBounceC[2] = {" << f(float(c[4])) << ", " << f(float(c[5]))
+    << "};\n\n"
+    << "// Cone-to-cone model: cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2 (paper Eq. 26).\n"
+    << "inline constexpr float kConeApertureU = " << f(float(in.gtso->u)) << ";\n"
+    << "inline constexpr float kConeApertureUStdError = " << f(float(in.gtso->u_se)) << ";\n\n"
+    << "// Texels per axis: 3D x = A (step-warped), y = theta_o, z = r_p; 4D x = A, y = beta,\n"
+    << "// z = r_p, w = theta_o (axis maps: gtso3DAxes / gtso4DAxes above).\n"
+    << "inline constexpr int kGtso3DSize[3] = {" << t3.dims[0] << ", " << t3.dims[1] << ", "
+    << t3.dims[2] << "};\n"
+    << "inline constexpr int kGtso4DSize[4] = {" << t4.dims[0] << ", " << t4.dims[1] << ", "
+    << t4.dims[2] << ", " << t4.dims[3] << "};\n"
+    << "// The folded 4D volume: depth = kGtso4DSize[2] * kGtso4DSize[3].\n"
+    << "inline constexpr int kGtso4DVolumeSize[3] = {" << t4.volume[0] << ", " << t4.volume[1]
+    << ", " << t4.volume[2] << "};\n"
+    << "// Largest |decoded BC4 texel - float table texel| and the RMSE over all texels.\n"
+    << "inline constexpr float kGtso3DBC4MaxAbsError = " << f(float(in.bc4_3d->max_abs)) << ";\n"
+    << "inline constexpr float kGtso3DBC4Rmse = " << f(float(in.bc4_3d->rmse)) << ";\n"
+    << "inline constexpr float kGtso4DBC4MaxAbsError = " << f(float(in.bc4_4d->max_abs)) << ";\n"
+    << "inline constexpr float kGtso4DBC4Rmse = " << f(float(in.bc4_4d->rmse)) << ";\n\n";
+}
+
+// The physical-input entry points: BC4 from the arrays above, and per-format variants reading
+// texels the caller loaded (gtso3d_r16.dds etc., x fastest) in the same layout.
+void emitEntryPoints(std::ostringstream& o) {
+  o << R"(// S3(A, beta, r_p): specular occlusion with bent normal = n, from the BC4 table above.
+inline float gtso3DLookup(float A, float cosBeta, float rp) {
+  const GtsoVolume v{GtsoTexelFormat::kBc4, kGtso3DBC4, kGtso3DSize[0], kGtso3DSize[1],
+                     kGtso3DSize[2]};
+  return gtso3DLookup(v, kGtso3DSize, A, cosBeta, rp);
+}
+// S4(A, beta, r_p, theta_o) from the folded BC4 table: two trilinear fetches and a lerp.
+inline float gtso4DLookup(float A, float cosBeta, float rp, float cosThetaO) {
+  const GtsoVolume v{GtsoTexelFormat::kBc4, kGtso4DBC4, kGtso4DVolumeSize[0],
+                     kGtso4DVolumeSize[1], kGtso4DVolumeSize[2]};
+  return gtso4DLookup(v, kGtso4DSize, A, cosBeta, rp, cosThetaO);
+}
+// The same lookups on R16_UNORM, R8_UNORM or float32 texels (gtso3d_r16.dds, gtso3d_r8.dds,
+// gtso3d.f32 payloads; x fastest), kGtso3DSize / kGtso4DVolumeSize texels.
+inline float gtso3DLookupR16(const std::uint16_t* texels, float A, float cosBeta, float rp) {
+  const GtsoVolume v{GtsoTexelFormat::kR16, texels, kGtso3DSize[0], kGtso3DSize[1],
+                     kGtso3DSize[2]};
+  return gtso3DLookup(v, kGtso3DSize, A, cosBeta, rp);
+}
+inline float gtso3DLookupR8(const std::uint8_t* texels, float A, float cosBeta, float rp) {
+  const GtsoVolume v{GtsoTexelFormat::kR8, texels, kGtso3DSize[0], kGtso3DSize[1],
+                     kGtso3DSize[2]};
+  return gtso3DLookup(v, kGtso3DSize, A, cosBeta, rp);
+}
+inline float gtso3DLookupFloat(const float* texels, float A, float cosBeta, float rp) {
+  const GtsoVolume v{GtsoTexelFormat::kFloat32, texels, kGtso3DSize[0], kGtso3DSize[1],
+                     kGtso3DSize[2]};
+  return gtso3DLookup(v, kGtso3DSize, A, cosBeta, rp);
+}
+inline float gtso4DLookupR16(const std::uint16_t* texels, float A, float cosBeta, float rp,
+                             float cosThetaO) {
+  const GtsoVolume v{GtsoTexelFormat::kR16, texels, kGtso4DVolumeSize[0], kGtso4DVolumeSize[1],
+                     kGtso4DVolumeSize[2]};
+  return gtso4DLookup(v, kGtso4DSize, A, cosBeta, rp, cosThetaO);
+}
+inline float gtso4DLookupR8(const std::uint8_t* texels, float A, float cosBeta, float rp,
+                            float cosThetaO) {
+  const GtsoVolume v{GtsoTexelFormat::kR8, texels, kGtso4DVolumeSize[0], kGtso4DVolumeSize[1],
+                     kGtso4DVolumeSize[2]};
+  return gtso4DLookup(v, kGtso4DSize, A, cosBeta, rp, cosThetaO);
+}
+inline float gtso4DLookupFloat(const float* texels, float A, float cosBeta, float rp,
+                               float cosThetaO) {
+  const GtsoVolume v{GtsoTexelFormat::kFloat32, texels, kGtso4DVolumeSize[0],
+                     kGtso4DVolumeSize[1], kGtso4DVolumeSize[2]};
+  return gtso4DLookup(v, kGtso4DSize, A, cosBeta, rp, cosThetaO);
+}
+
+// Cone-to-cone specular occlusion (paper Eq. 19) with the fitted aperture constant. Takes
+// perceptual roughness rp (what Unity HDRP passes); cos(alpha_s) = u^(alpha^2/2), alpha = rp^2.
+inline float gtsoConeModel(float A, float cosBeta, float rp) {
+  return gtsoConeModel(kConeApertureU, A, cosBeta, rp);
+}
+// The same cone for an engine that passes the GGX width alpha = rp^2 (Filament, XeGTAO).
+inline float gtsoConeModelFromAlpha(float A, float cosBeta, float alpha) {
+  return gtsoConeModel(kConeApertureU, A, cosBeta, std::sqrt(alpha));
+}
+
+// Multi-bounce G(A, rho) (paper Eq. 10), clamped below by A as in the paper's listing.
+inline float multiBounce(float A, float albedo) {
+  return gtsoMultiBounce(kMultiBounceA, kMultiBounceB, kMultiBounceC, A, albedo);
+}
+
+)";
 }
 
 }  // namespace
@@ -92,35 +187,6 @@ std::string floatLiteral(float value) {
   std::string s = buf;
   if (s.find_first_of(".eEni") == std::string::npos) s += ".0";
   return s;
-}
-
-std::string quantityExpression(const std::string& q, bool cpp) {
-  const std::string m = cpp ? "std::" : "";
-  const std::string one = cpp ? "1.0f" : "1.0";
-  const std::string zero = cpp ? "0.0f" : "0.0";
-  const std::string cos_av = m + "sqrt(" + m + "fmax(" + one + " - A, " + zero + "))";
-  auto acosClamped = [&](const std::string& x) {
-    return m + "acos(" + m + "fmin(" + m + "fmax(" + x + ", -" + one + "), " + one + "))";
-  };
-  std::string e;
-  if (q == "A") e = "A";
-  if (q == "cos_alpha_v") e = cos_av;
-  if (q == "alpha_v") e = acosClamped(cos_av);
-  if (q == "cos_beta") e = "cosBeta";
-  if (q == "beta") e = acosClamped("cosBeta");
-  if (q == "r_p") e = "rp";
-  if (q == "alpha") e = "rp * rp";
-  if (q == "cos_theta_o") e = "cosThetaO";
-  if (q == "theta_o") e = acosClamped("cosThetaO");
-  if (e.empty()) throw Error("unknown GTSO axis quantity \"" + q + "\"");
-  if (!cpp) {  // HLSL and GLSL spell fmin/fmax as min/max
-    for (const char* from : {"fmin(", "fmax("}) {
-      for (std::size_t p = e.find(from); p != std::string::npos; p = e.find(from)) {
-        e.replace(p, 5, std::string(from).substr(1));
-      }
-    }
-  }
-  return e;
 }
 
 std::string provenanceComment(const GeneratedCodeInput& in) {
@@ -145,12 +211,16 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
     << "\n";
   for (const GtsoTable* t : {&in.gtso->table3d, &in.gtso->table4d}) {
     const std::string reference_error = jsonAt(t->meta, {"max_abs_error_vs_reference"});
-    o << "//   " << t->file << ": samples " << jsonAt(t->meta, {"samples"})
-      << ", max |S - reference| "
+    const char* key = t == &in.gtso->table3d ? "3d" : "4d";
+    o << "//   " << t->file << ": lobe-grid rectangles "
+      << jsonAt(t->meta, {"lobe_grid_rectangles"}) << ", max |S - reference| "
       << (reference_error == "null"
               ? "not measured by this run (bench_gtso measures every texel: docs/gtso.md)"
               : reference_error)
-      << "\n";
+      << "\n//     end to end vs direct integration (max over seeds / mean RMS): BC4 "
+      << endToEnd(gj, key, "bc4") << "\n//       R16 " << endToEnd(gj, key, "r16")
+      << "\n//       R8 " << endToEnd(gj, key, "r8") << "; recommended "
+      << jsonAt(gj, {"end_to_end", key, "recommended"}) << "\n";
   }
   char u_raw[40];
   std::snprintf(u_raw, sizeof(u_raw), "%.17g", in.gtso->u);
@@ -176,16 +246,13 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
     << g9(in.bc4_3d->rmse) << ", max " << g9(in.bc4_3d->max_abs) << "; 4D RMSE "
     << g9(in.bc4_4d->rmse) << ", max " << g9(in.bc4_4d->max_abs) << "\n"
     << "// Roughness axes use perceptual roughness r_p, GGX alpha = r_p^2.\n"
-    << "// Texel i of an axis holds the value at i/(N-1) of its range; lookups remap by half a\n"
+    << "// Texel i of an axis holds the inverse axis map of i/(N-1); lookups remap by half a\n"
     << "// texel: u = (t*(N-1) + 0.5)/N. The 4D table is folded into a volume of depth\n"
     << "// N_z*N_w (z_texel = w_slice*N_z + z) and sampled as two trilinear fetches + a lerp.\n";
   return o.str();
 }
 
 std::string makeTablesHeader(const GeneratedCodeInput& in) {
-  const GtsoTable& t3 = in.gtso->table3d;
-  const GtsoTable& t4 = in.gtso->table4d;
-  const auto& c = in.fit->linear;
   std::ostringstream o;
   o << "// gtbake_tables.h: GTAO multi-bounce constants, the GTSO cone constant and BC4 tables.\n"
     << provenanceComment(in)
@@ -193,158 +260,14 @@ std::string makeTablesHeader(const GeneratedCodeInput& in) {
     << "// (byte j of the block = bits 8j..8j+7: red_0, red_1, then 48 index bits, texel 0 "
        "lowest),\n"
     << "// blocks in texture memory order: z slices, rows of blocks, blocks left to right.\n"
-    << "#pragma once\n\n#include <cmath>\n#include <cstdint>\n\nnamespace gtbake {\n\n"
-    << "inline constexpr char kGtbakeTablesVersion[] = \"" << in.version << "\";\n\n"
-    << "// Multi-bounce (paper Eq. 10), {slope, intercept}: a(rho) = kMultiBounceA[0]*rho +\n"
-    << "// kMultiBounceA[1], same for b and c; G = a*A^3 - b*A^2 + c*A.\n"
-    << "inline constexpr float kMultiBounceA[2] = {" << f(float(c[0])) << ", " << f(float(c[1]))
-    << "};\n"
-    << "inline constexpr float kMultiBounceB[2] = {" << f(float(c[2])) << ", " << f(float(c[3]))
-    << "};\n"
-    << "inline constexpr float kMultiBounceC[2] = {" << f(float(c[4])) << ", " << f(float(c[5]))
-    << "};\n\n"
-    << "// Cone-to-cone model: cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2 (paper Eq. 26).\n"
-    << "inline constexpr float kConeApertureU = " << f(float(in.gtso->u)) << ";\n"
-    << "inline constexpr float kConeApertureUStdError = " << f(float(in.gtso->u_se)) << ";\n\n"
-    << "inline constexpr int kGtso3DSize[3] = {" << t3.dims[0] << ", " << t3.dims[1] << ", "
-    << t3.dims[2] << "};\n"
-    << "inline constexpr int kGtso4DSize[4] = {" << t4.dims[0] << ", " << t4.dims[1] << ", "
-    << t4.dims[2] << ", " << t4.dims[3] << "};\n"
-    << "// The folded 4D volume: depth = kGtso4DSize[2] * kGtso4DSize[3].\n"
-    << "inline constexpr int kGtso4DVolumeSize[3] = {" << t4.volume[0] << ", " << t4.volume[1]
-    << ", " << t4.volume[2] << "};\n"
-    << "// Largest |decoded BC4 texel - float table texel| and the RMSE over all texels.\n"
-    << "inline constexpr float kGtso3DBC4MaxAbsError = " << f(float(in.bc4_3d->max_abs)) << ";\n"
-    << "inline constexpr float kGtso3DBC4Rmse = " << f(float(in.bc4_3d->rmse)) << ";\n"
-    << "inline constexpr float kGtso4DBC4MaxAbsError = " << f(float(in.bc4_4d->max_abs)) << ";\n"
-    << "inline constexpr float kGtso4DBC4Rmse = " << f(float(in.bc4_4d->rmse)) << ";\n\n"
-    << "constexpr float gtsoSaturate(float x) { return x < 0.0f ? 0.0f : (x > 1.0f ? 1.0f : x); }\n"
-    << "// Position t in [0, 1] along an axis (quantity linear between min and max).\n"
-    << "constexpr float gtsoAxisT(float q, float qmin, float qmax) {\n"
-    << "  return gtsoSaturate((q - qmin) / (qmax - qmin));\n}\n"
-    << "// Half-texel remap: t = 0 and t = 1 land on the centres of the first and last texels.\n"
-    << "constexpr float gtsoTexelRemap(float t, int n) {\n"
-    << "  return (t * static_cast<float>(n - 1) + 0.5f) / static_cast<float>(n);\n}\n\n";
-  emitAxisMaps(o, "gtso3D", t3);
-  emitAxisMaps(o, "gtso4D", t4);
-  o << "\nstruct GtsoTexCoord {\n  float u, v, w;\n};\n"
-    << "// The 4D lookup: two texture coordinates in the folded volume and the lerp weight.\n"
-    << "struct GtsoTexCoord4 {\n  GtsoTexCoord slice0, slice1;\n  float weight;\n};\n\n"
-    << "// 3D table coordinates from the runtime inputs (cosBeta: cosine of the angle between the\n"
-    << "// bent normal and the reflection vector; for the 3D table the bent normal is n).\n"
-    << "inline GtsoTexCoord gtso3DTexCoord(float A, float cosBeta, float rp) {\n"
-    << "  (void)A;\n  (void)cosBeta;\n  (void)rp;\n"
-    << "  return {gtso3DCoordX(" << quantityExpression(t3.axes[0].quantity, true)
-    << "), gtso3DCoordY(" << quantityExpression(t3.axes[1].quantity, true)
-    << "),\n          gtso3DCoordZ(" << quantityExpression(t3.axes[2].quantity, true)
-    << ")};\n}\n\n"
-    << "inline GtsoTexCoord4 gtso4DTexCoord(float A, float cosBeta, float rp, float cosThetaO) {\n"
-    << "  (void)A;\n  (void)cosBeta;\n  (void)rp;\n  (void)cosThetaO;\n"
-    << "  const float sw = gtso4DAxisTW(" << quantityExpression(t4.axes[3].quantity, true)
-    << ") * static_cast<float>(kGtso4DSize[3] - 1);\n"
-    << "  int s0 = static_cast<int>(sw);\n"
-    << "  if (s0 > kGtso4DSize[3] - 2) s0 = kGtso4DSize[3] - 2;\n"
-    << "  const float tz = gtso4DAxisTZ(" << quantityExpression(t4.axes[2].quantity, true) << ");\n"
-    << "  const float zin = tz * static_cast<float>(kGtso4DSize[2] - 1) + 0.5f;\n"
-    << "  const float depth = static_cast<float>(kGtso4DVolumeSize[2]);\n"
-    << "  const float u = gtso4DCoordX(" << quantityExpression(t4.axes[0].quantity, true) << ");\n"
-    << "  const float v = gtso4DCoordY(" << quantityExpression(t4.axes[1].quantity, true) << ");\n"
-    << "  return {{u, v, (static_cast<float>(s0 * kGtso4DSize[2]) + zin) / depth},\n"
-    << "          {u, v, (static_cast<float>((s0 + 1) * kGtso4DSize[2]) + zin) / depth},\n"
-    << "          sw - static_cast<float>(s0)};\n}\n\n";
-  o << "// BC4_UNORM decode of texel (4*row + col) of one block, D3D float arithmetic.\n"
-    << "constexpr float gtsoBc4DecodeTexel(std::uint64_t block, int texel) {\n"
-    << "  const int r0 = static_cast<int>(block & 0xFF);\n"
-    << "  const int r1 = static_cast<int>((block >> 8) & 0xFF);\n"
-    << "  const int code = static_cast<int>((block >> (16 + 3 * texel)) & 7);\n"
-    << "  const float e0 = static_cast<float>(r0) / 255.0f;\n"
-    << "  const float e1 = static_cast<float>(r1) / 255.0f;\n"
-    << "  if (code == 0) return e0;\n  if (code == 1) return e1;\n"
-    << "  if (r0 > r1) {\n"
-    << "    return (static_cast<float>(8 - code) * e0 + static_cast<float>(code - 1) * e1) / "
-       "7.0f;\n"
-    << "  }\n  if (code == 6) return 0.0f;\n  if (code == 7) return 1.0f;\n"
-    << "  return (static_cast<float>(6 - code) * e0 + static_cast<float>(code - 1) * e1) / 5.0f;\n"
-    << "}\n\n"
-    << "// Texel (x, y, z) of a BC4 volume of extent size[3] (x, y multiples of 4).\n"
-    << "constexpr float gtsoFetchTexel(const std::uint64_t* blocks, const int* size, int x, int "
-       "y,\n"
-    << "                               int z) {\n"
-    << "  const int block = (z * (size[1] / 4) + y / 4) * (size[0] / 4) + x / 4;\n"
-    << "  return gtsoBc4DecodeTexel(blocks[block], (y % 4) * 4 + x % 4);\n}\n\n"
-    << "// Reference trilinear filter with clamp-to-edge addressing, as a GPU samples a volume.\n"
-    << "inline float gtsoSampleTrilinear(const std::uint64_t* blocks, const int* size,\n"
-    << "                                 GtsoTexCoord c) {\n"
-    << "  const float coord[3] = {c.u, c.v, c.w};\n  int i0[3] = {0, 0, 0};\n"
-    << "  int i1[3] = {0, 0, 0};\n  float fr[3] = {0.0f, 0.0f, 0.0f};\n"
-    << "  for (int a = 0; a < 3; ++a) {\n"
-    << "    const float p = coord[a] * static_cast<float>(size[a]) - 0.5f;\n"
-    << "    const float fl = std::floor(p);\n"
-    << "    fr[a] = p - fl;\n    const int i = static_cast<int>(fl);\n"
-    << "    i0[a] = i < 0 ? 0 : (i > size[a] - 1 ? size[a] - 1 : i);\n"
-    << "    i1[a] = i + 1 < 0 ? 0 : (i + 1 > size[a] - 1 ? size[a] - 1 : i + 1);\n  }\n"
-    << "  float result = 0.0f;\n"
-    << "  for (int corner = 0; corner < 8; ++corner) {\n"
-    << "    const int x = corner & 1 ? i1[0] : i0[0];\n"
-    << "    const int y = corner & 2 ? i1[1] : i0[1];\n"
-    << "    const int z = corner & 4 ? i1[2] : i0[2];\n"
-    << "    const float w = (corner & 1 ? fr[0] : 1.0f - fr[0]) * (corner & 2 ? fr[1] : 1.0f - "
-       "fr[1]) *\n"
-    << "                    (corner & 4 ? fr[2] : 1.0f - fr[2]);\n"
-    << "    result += w * gtsoFetchTexel(blocks, size, x, y, z);\n  }\n  return result;\n}\n\n";
+    << "// The lookup code below the provenance is src/export/runtime/gtso_lookup.h verbatim.\n"
+    << "#pragma once\n\n"
+    << kRuntimeLookupHeader << "\nnamespace gtbake {\n\n";
+  emitConstants(o, in);
   emitBlocks(o, "kGtso3DBC4", *in.bc4_3d);
   emitBlocks(o, "kGtso4DBC4", *in.bc4_4d);
-  o << "// S3(A, beta, r_p): specular occlusion, bent normal = n (reference CPU lookup).\n"
-    << "inline float gtso3DLookup(float A, float cosBeta, float rp) {\n"
-    << "  return gtsoSampleTrilinear(kGtso3DBC4, kGtso3DSize, gtso3DTexCoord(A, cosBeta, "
-       "rp));\n}\n\n"
-    << "// S4(A, beta, r_p, theta_o): two trilinear fetches in the folded volume + a lerp.\n"
-    << "inline float gtso4DLookup(float A, float cosBeta, float rp, float cosThetaO) {\n"
-    << "  const GtsoTexCoord4 c = gtso4DTexCoord(A, cosBeta, rp, cosThetaO);\n"
-    << "  const float s0 = gtsoSampleTrilinear(kGtso4DBC4, kGtso4DVolumeSize, c.slice0);\n"
-    << "  const float s1 = gtsoSampleTrilinear(kGtso4DBC4, kGtso4DVolumeSize, c.slice1);\n"
-    << "  return s0 + (s1 - s0) * c.weight;\n}\n\n"
-    << "// Multi-bounce G(A, rho) (paper Eq. 10), clamped below by A as in the paper's listing.\n"
-    << "inline float multiBounce(float A, float albedo) {\n"
-    << "  const float a = kMultiBounceA[0] * albedo + kMultiBounceA[1];\n"
-    << "  const float b = kMultiBounceB[0] * albedo + kMultiBounceB[1];\n"
-    << "  const float c = kMultiBounceC[0] * albedo + kMultiBounceC[1];\n"
-    << "  const float g = ((a * A - b) * A + c) * A;\n  return g > A ? g : A;\n}\n\n"
-    << "// Solid angle of the intersection of two spherical caps of half-angles alphaV, alphaS\n"
-    << "// whose axes are beta apart (radians; exact, for half-angles up to pi/2).\n"
-    << "inline float coneCapIntersection(float alphaV, float alphaS, float beta) {\n"
-    << "  const double kPi = 3.14159265358979323846;\n"
-    << "  const double a1 = alphaV, a2 = alphaS, d = beta;\n"
-    << "  if (d >= a1 + a2) return 0.0f;\n"
-    << "  if (d <= std::fabs(a1 - a2)) {\n"
-    << "    return static_cast<float>(2.0 * kPi * (1.0 - std::cos(a1 < a2 ? a1 : a2)));\n  }\n"
-    << "  const double c1 = std::cos(a1), c2 = std::cos(a2), cd = std::cos(d);\n"
-    << "  const double s1 = std::sin(a1), s2 = std::sin(a2), sd = std::sin(d);\n"
-    << "  auto acosc = [](double x) { return std::acos(x < -1.0 ? -1.0 : (x > 1.0 ? 1.0 : x)); };\n"
-    << "  const double t0 = acosc((cd - c1 * c2) / (s1 * s2));\n"
-    << "  const double t1 = acosc((c2 - cd * c1) / (sd * s1));\n"
-    << "  const double t2 = acosc((c1 - cd * c2) / (sd * s2));\n"
-    << "  return static_cast<float>(2.0 * (kPi - t0 - c1 * t1 - c2 * t2));\n}\n\n"
-    << "// Cone-to-cone specular occlusion (paper Eq. 19): visibility cone cos(alpha_v) =\n"
-    << "// sqrt(1 - A), specular cone cos(alpha_s) = u^(alpha^2/2), axes beta apart.\n"
-    << "// Takes the GGX width alpha (what Filament and XeGTAO pass); gtsoConeModel below takes\n"
-    << "// perceptual roughness r_p (what Unity HDRP passes), alpha = r_p^2: the same cone.\n"
-    << "inline float gtsoConeModelFromAlpha(float A, float cosBeta, float alphaGgx) {\n"
-    << "  const double kPi = 3.14159265358979323846;\n"
-    << "  const double alpha = static_cast<double>(alphaGgx);\n"
-    << "  const double cosS = std::pow(static_cast<double>(kConeApertureU), alpha * alpha / 2.0);\n"
-    << "  const double cosV = std::sqrt(A < 1.0f ? 1.0 - A : 0.0);\n"
-    << "  const double beta = std::acos(cosBeta < -1.0f ? -1.0 : (cosBeta > 1.0f ? 1.0 : "
-       "cosBeta));\n"
-    << "  if (1.0 - cosS < 1e-12) return beta <= std::acos(cosV) ? 1.0f : 0.0f;  // mirror limit\n"
-    << "  const float omega = coneCapIntersection(static_cast<float>(std::acos(cosV)),\n"
-    << "                                          static_cast<float>(std::acos(cosS)),\n"
-    << "                                          static_cast<float>(beta));\n"
-    << "  return static_cast<float>(omega / (2.0 * kPi * (1.0 - cosS)));\n}\n\n"
-    << "// The cone model for perceptual roughness rp (alpha = rp^2).\n"
-    << "inline float gtsoConeModel(float A, float cosBeta, float rp) {\n"
-    << "  return gtsoConeModelFromAlpha(A, cosBeta, rp * rp);\n}\n\n"
-    << "}  // namespace gtbake\n";
+  emitEntryPoints(o);
+  o << "}  // namespace gtbake\n";
   return o.str();
 }
 

@@ -1,5 +1,8 @@
 #include "export/texture_containers.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "common/error.h"
 
 namespace gtbake {
@@ -8,20 +11,25 @@ namespace {
 // DDS constants (Microsoft "DDS_HEADER", "DDS_PIXELFORMAT", "DDS_HEADER_DXT10").
 constexpr std::uint32_t kDdsMagic = 0x20534444;  // "DDS "
 constexpr std::uint32_t kDdsdCaps = 0x1, kDdsdHeight = 0x2, kDdsdWidth = 0x4;
-constexpr std::uint32_t kDdsdPixelFormat = 0x1000, kDdsdLinearSize = 0x80000;
+constexpr std::uint32_t kDdsdPixelFormat = 0x1000, kDdsdLinearSize = 0x80000, kDdsdPitch = 0x8;
 constexpr std::uint32_t kDdsdDepth = 0x800000;
 constexpr std::uint32_t kDdpfFourCc = 0x4;
 constexpr std::uint32_t kFourCcDx10 = 0x30315844;  // "DX10"
 constexpr std::uint32_t kDdsCapsComplex = 0x8, kDdsCapsTexture = 0x1000;
 constexpr std::uint32_t kDdsCaps2Volume = 0x200000;
 constexpr std::uint32_t kDxgiFormatBc4Unorm = 80;
+constexpr std::uint32_t kDxgiFormatR16Unorm = 56;
+constexpr std::uint32_t kDxgiFormatR8Unorm = 61;
 constexpr std::uint32_t kD3d10ResourceDimensionTexture3d = 4;
 
 // KTX2 constants (KTX 2.0 specification; Khronos Data Format Specification 1.3).
 constexpr std::uint8_t kKtx2Identifier[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32,
                                               0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
 constexpr std::uint32_t kVkFormatBc4UnormBlock = 139;
+constexpr std::uint32_t kVkFormatR16Unorm = 70;
+constexpr std::uint32_t kVkFormatR8Unorm = 9;
 constexpr std::uint32_t kKhrDfModelBc4 = 131;
+constexpr std::uint32_t kKhrDfModelRgbsda = 1;
 constexpr std::uint32_t kKhrDfPrimariesBt709 = 1;
 constexpr std::uint32_t kKhrDfTransferLinear = 1;
 constexpr std::uint32_t kKhrDfVersion = 2;        // KDFS 1.3 basic descriptor block
@@ -41,15 +49,23 @@ void set32(std::string& s, std::size_t at, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) s[at + i] = static_cast<char>((v >> (8 * i)) & 0xFF);
 }
 
-std::size_t checkedSize(const Bc4VolumeImage& image) {
-  if (image.width <= 0 || image.height <= 0 || image.depth <= 0 || image.width % 4 != 0 ||
-      image.height % 4 != 0 || image.blocks == nullptr) {
-    throw Error("texture container: volume size must be positive multiples of 4 in x and y");
+// Bytes per texel of an uncompressed format (0 for BC4).
+std::uint32_t texelBytes(VolumeFormat f) {
+  return f == VolumeFormat::kR16 ? 2 : (f == VolumeFormat::kR8 ? 1 : 0);
+}
+
+std::size_t checkedSize(const VolumeImage& image) {
+  const bool bc4 = image.format == VolumeFormat::kBc4;
+  if (image.width <= 0 || image.height <= 0 || image.depth <= 0 || image.blocks == nullptr ||
+      (bc4 && (image.width % 4 != 0 || image.height % 4 != 0))) {
+    throw Error("texture container: volume size must be positive (multiples of 4 in x, y for BC4)");
   }
-  const std::size_t bytes =
-      static_cast<std::size_t>(image.width / 4) * (image.height / 4) * image.depth * kBc4BlockBytes;
+  const std::size_t bytes = bc4 ? static_cast<std::size_t>(image.width / 4) * (image.height / 4) *
+                                      image.depth * kBc4BlockBytes
+                                : static_cast<std::size_t>(image.width) * image.height *
+                                      image.depth * texelBytes(image.format);
   if (image.blocks->size() != bytes) {
-    throw Error("texture container: BC4 data has " + std::to_string(image.blocks->size()) +
+    throw Error("texture container: volume data has " + std::to_string(image.blocks->size()) +
                 " bytes, expected " + std::to_string(bytes));
   }
   return bytes;
@@ -57,17 +73,37 @@ std::size_t checkedSize(const Bc4VolumeImage& image) {
 
 }  // namespace
 
-std::string makeDds(const Bc4VolumeImage& image) {
+std::vector<std::uint8_t> quantizeUnorm(const float* values, std::size_t count,
+                                        VolumeFormat format) {
+  if (format == VolumeFormat::kBc4) throw Error("quantizeUnorm: BC4 is not an unorm format");
+  const std::uint32_t tb = texelBytes(format);
+  const double scale = tb == 2 ? 65535.0 : 255.0;
+  std::vector<std::uint8_t> out(count * tb);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double v = std::clamp(static_cast<double>(values[i]), 0.0, 1.0);
+    const auto q = static_cast<std::uint32_t>(std::lround(v * scale));
+    out[i * tb] = static_cast<std::uint8_t>(q & 0xFF);
+    if (tb == 2) out[i * tb + 1] = static_cast<std::uint8_t>(q >> 8);
+  }
+  return out;
+}
+
+std::string makeDds(const VolumeImage& image) {
   const std::size_t bytes = checkedSize(image);
-  const std::uint32_t slice_bytes =
-      static_cast<std::uint32_t>(image.width / 4) * (image.height / 4) * kBc4BlockBytes;
+  const bool bc4 = image.format == VolumeFormat::kBc4;
+  // dwPitchOrLinearSize: BC4 the bytes of one slice of the top level (DirectXTex), else the
+  // bytes of one row.
+  const std::uint32_t pitch =
+      bc4 ? static_cast<std::uint32_t>(image.width / 4) * (image.height / 4) * kBc4BlockBytes
+          : static_cast<std::uint32_t>(image.width) * texelBytes(image.format);
   std::string s;
   put32(s, kDdsMagic);
   put32(s, 124);  // DDS_HEADER.dwSize
-  put32(s, kDdsdCaps | kDdsdHeight | kDdsdWidth | kDdsdPixelFormat | kDdsdLinearSize | kDdsdDepth);
+  put32(s, kDdsdCaps | kDdsdHeight | kDdsdWidth | kDdsdPixelFormat | kDdsdDepth |
+               (bc4 ? kDdsdLinearSize : kDdsdPitch));
   put32(s, image.height);
   put32(s, image.width);
-  put32(s, slice_bytes);  // dwPitchOrLinearSize: bytes of one slice of the top level (DirectXTex)
+  put32(s, pitch);
   put32(s, image.depth);
   put32(s, 1);                               // dwMipMapCount
   for (int i = 0; i < 11; ++i) put32(s, 0);  // dwReserved1
@@ -80,7 +116,8 @@ std::string makeDds(const Bc4VolumeImage& image) {
   put32(s, 0);  // dwCaps3
   put32(s, 0);  // dwCaps4
   put32(s, 0);  // dwReserved2
-  put32(s, kDxgiFormatBc4Unorm);
+  put32(s, bc4 ? kDxgiFormatBc4Unorm
+               : (image.format == VolumeFormat::kR16 ? kDxgiFormatR16Unorm : kDxgiFormatR8Unorm));
   put32(s, kD3d10ResourceDimensionTexture3d);
   put32(s, 0);  // miscFlag
   put32(s, 1);  // arraySize
@@ -89,11 +126,14 @@ std::string makeDds(const Bc4VolumeImage& image) {
   return s;
 }
 
-std::string makeKtx2(const Bc4VolumeImage& image, const std::string& writer) {
+std::string makeKtx2(const VolumeImage& image, const std::string& writer) {
   const std::size_t bytes = checkedSize(image);
+  const bool bc4 = image.format == VolumeFormat::kBc4;
+  const std::uint32_t tb = texelBytes(image.format);
   std::string s(reinterpret_cast<const char*>(kKtx2Identifier), sizeof(kKtx2Identifier));
-  put32(s, kVkFormatBc4UnormBlock);
-  put32(s, 1);  // typeSize: block-compressed formats use 1
+  put32(s, bc4 ? kVkFormatBc4UnormBlock
+               : (image.format == VolumeFormat::kR16 ? kVkFormatR16Unorm : kVkFormatR8Unorm));
+  put32(s, bc4 ? 1 : tb);  // typeSize: block-compressed formats use 1, else the component size
   put32(s, image.width);
   put32(s, image.height);
   put32(s, image.depth);
@@ -113,14 +153,15 @@ std::string makeKtx2(const Bc4VolumeImage& image, const std::string& writer) {
   put32(s, 4 + kDfdBlockSize);
   put32(s, 0);  // vendorId KHR (0), descriptorType basic (0)
   put32(s, kKhrDfVersion | kDfdBlockSize << 16);
-  put32(s, kKhrDfModelBc4 | kKhrDfPrimariesBt709 << 8 | kKhrDfTransferLinear << 16);  // flags 0
-  put32(s, 3 | 3 << 8);      // texelBlockDimension 4×4×1×1 (stored minus 1)
-  put32(s, kBc4BlockBytes);  // bytesPlane0 = 8, bytesPlane1..3 = 0
-  put32(s, 0);               // bytesPlane4..7
-  put32(s, 0 | 63u << 16);   // bitOffset 0, bitLength 64 − 1, channel BC4_DATA
-  put32(s, 0);               // samplePosition 0,0,0,0
-  put32(s, 0);               // sampleLower
-  put32(s, 0xFFFFFFFFu);     // sampleUpper
+  put32(s, (bc4 ? kKhrDfModelBc4 : kKhrDfModelRgbsda) | kKhrDfPrimariesBt709 << 8 |
+               kKhrDfTransferLinear << 16);  // flags 0
+  put32(s, bc4 ? (3 | 3 << 8) : 0);     // texelBlockDimension 4×4×1×1 or 1×1×1×1 (minus 1)
+  put32(s, bc4 ? kBc4BlockBytes : tb);  // bytesPlane0, bytesPlane1..3 = 0
+  put32(s, 0);                          // bytesPlane4..7
+  put32(s, 0 | (bc4 ? 63u : 8 * tb - 1) << 16);  // bitOffset 0, bitLength − 1, channel 0
+  put32(s, 0);                                   // samplePosition 0,0,0,0
+  put32(s, 0);                                   // sampleLower
+  put32(s, bc4 ? 0xFFFFFFFFu : (tb == 2 ? 0xFFFFu : 0xFFu));  // sampleUpper
   const std::size_t dfd_bytes = s.size() - dfd_at;
 
   // Key/value data: one entry, value NUL-terminated, padded to 4 bytes.
@@ -131,8 +172,8 @@ std::string makeKtx2(const Bc4VolumeImage& image, const std::string& writer) {
   while (s.size() % 4 != 0) s.push_back('\0');
   const std::size_t kvd_bytes = s.size() - kvd_at;
 
-  // Level data aligned to lcm(texel block size 8, 4) = 8.
-  while (s.size() % kBc4BlockBytes != 0) s.push_back('\0');
+  // Level data aligned to lcm(texel block size, 4): 8 for BC4, 4 for R16/R8.
+  while (s.size() % (bc4 ? kBc4BlockBytes : 4) != 0) s.push_back('\0');
   const std::size_t data_at = s.size();
   s.append(reinterpret_cast<const char*>(image.blocks->data()), bytes);
 

@@ -1,8 +1,9 @@
-// DDS and KTX2 containers for BC4_UNORM volume textures (SPEC §1.5).
+// DDS and KTX2 containers for BC4_UNORM, R16_UNORM and R8_UNORM volume textures (SPEC §1.5).
 //
-// Both files hold one mip level of a width × height × depth volume whose BC4 blocks are in the
-// texture's memory order: z slices, in each slice rows of blocks top to bottom, blocks left to
-// right (what encodeBc4Volume produces). Field-by-field layouts are in docs/export.md.
+// Both files hold one mip level of a width × height × depth volume in the texture's memory
+// order: BC4 blocks by z slices, in each slice rows of blocks top to bottom, blocks left to right
+// (what encodeBc4Volume produces); R16/R8 texels x fastest, little-endian. Field-by-field
+// layouts are in docs/export.md.
 #pragma once
 
 #include <cstdint>
@@ -11,19 +12,30 @@
 
 namespace gtbake {
 
-struct Bc4VolumeImage {
-  int width = 0;                                      // texels; multiple of 4
-  int height = 0;                                     // texels; multiple of 4
-  int depth = 0;                                      // slices
-  const std::vector<std::uint8_t>* blocks = nullptr;  // (width/4)·(height/4)·depth·8 bytes
+enum class VolumeFormat { kBc4, kR16, kR8 };
+
+struct VolumeImage {
+  int width = 0;   // texels; BC4: multiple of 4
+  int height = 0;  // texels; BC4: multiple of 4
+  int depth = 0;   // slices
+  // BC4: (width/4)·(height/4)·depth·8 bytes; R16: width·height·depth·2; R8: ·1.
+  const std::vector<std::uint8_t>* blocks = nullptr;
+  VolumeFormat format = VolumeFormat::kBc4;
 };
 
-// "DDS " + DDS_HEADER (DDPF_FOURCC "DX10", DDSCAPS2_VOLUME) + DDS_HEADER_DXT10
-// (DXGI_FORMAT_BC4_UNORM = 80, D3D10_RESOURCE_DIMENSION_TEXTURE3D = 4, arraySize 1) + blocks.
-std::string makeDds(const Bc4VolumeImage& image);
+// R16_UNORM / R8_UNORM texels of float values: round(clamp(v, 0, 1) * (2^bits - 1)),
+// little-endian, same order as `values`.
+std::vector<std::uint8_t> quantizeUnorm(const float* values, std::size_t count,
+                                        VolumeFormat format);
 
-// KTX 2.0 with vkFormat VK_FORMAT_BC4_UNORM_BLOCK (139), a KHR_DF_MODEL_BC4 data format
-// descriptor, key/value "KTXwriter" = `writer`, one level at an 8-byte aligned offset.
-std::string makeKtx2(const Bc4VolumeImage& image, const std::string& writer);
+// "DDS " + DDS_HEADER (DDPF_FOURCC "DX10", DDSCAPS2_VOLUME) + DDS_HEADER_DXT10
+// (DXGI_FORMAT_BC4_UNORM = 80, R16_UNORM = 56 or R8_UNORM = 61,
+// D3D10_RESOURCE_DIMENSION_TEXTURE3D = 4, arraySize 1) + data.
+std::string makeDds(const VolumeImage& image);
+
+// KTX 2.0 with vkFormat VK_FORMAT_BC4_UNORM_BLOCK (139), VK_FORMAT_R16_UNORM (70) or
+// VK_FORMAT_R8_UNORM (9), a KHR_DF_MODEL_BC4 / KHR_DF_MODEL_RGBSDA data format descriptor,
+// key/value "KTXwriter" = `writer`, one level at an aligned offset.
+std::string makeKtx2(const VolumeImage& image, const std::string& writer);
 
 }  // namespace gtbake

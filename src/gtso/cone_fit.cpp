@@ -11,14 +11,14 @@ namespace gtbake::gtso {
 
 namespace {
 
-constexpr double kInitialZ =
-    -2.0;  // u = 0.12 to start: between Uludag's 0.244 and the paper's 0.01
+// u = 0.12 to start: between Uludag's 0.244 and the paper's 0.01.
+constexpr double kInitialZ = -2.0;
 
 double uFromZ(double z) {
   return 1.0 / (1.0 + std::exp(-z));
 }
 
-// One texel's residual S_cone(u(z)) - S3; numeric (central) derivative in z.
+// One sample's residual S_cone(u(z)) - S3; numeric (central) derivative in z.
 struct ConeResidual {
   GtsoPoint p;
   double target;
@@ -30,14 +30,11 @@ struct ConeResidual {
 };
 
 template <typename F>
-void forEachFitTexel(const Table& s3, double rpMin, F&& f) {
-  for (int r = 0; r < s3.size; ++r)
-    for (int b = 0; b < s3.size; ++b)
-      for (int a = 0; a < s3.size; ++a) {
-        const std::array<int, 4> i = {a, b, r, 0};
-        const GtsoPoint p = s3.point(i);
-        if (p.r_p > 0.0 && p.r_p >= rpMin - 1e-12) f(p, s3.values[s3.index(i)]);
-      }
+void forEachFitSample(const S3Samples& s3, double rpMin, F&& f) {
+  for (std::size_t i = 0; i < s3.points.size(); ++i) {
+    const GtsoPoint& p = s3.points[i];
+    if (p.r_p > 0.0 && p.r_p >= rpMin - 1e-12) f(p, s3.values[i]);
+  }
 }
 
 }  // namespace
@@ -48,10 +45,10 @@ double coneModel(const GtsoPoint& p, double u, RoughnessConvention convention) {
   return coneSpecularOcclusion(alphaV, specularConeAperture(u, w), p.thetaO);
 }
 
-ConeErrors coneErrors(const Table& s3, double u, RoughnessConvention convention, double rpMin) {
+ConeErrors coneErrors(const S3Samples& s3, double u, RoughnessConvention convention, double rpMin) {
   ConeErrors e;
   double sum = 0.0;
-  forEachFitTexel(s3, rpMin, [&](const GtsoPoint& p, double s) {
+  forEachFitSample(s3, rpMin, [&](const GtsoPoint& p, double s) {
     const double d = coneModel(p, u, convention) - s;
     sum += d * d;
     e.max_abs = std::max(e.max_abs, std::abs(d));
@@ -61,10 +58,10 @@ ConeErrors coneErrors(const Table& s3, double u, RoughnessConvention convention,
   return e;
 }
 
-ConeFit fitConeU(const Table& s3, RoughnessConvention convention, double rpMin) {
+ConeFit fitConeU(const S3Samples& s3, RoughnessConvention convention, double rpMin) {
   double z = kInitialZ;
   ceres::Problem problem;
-  forEachFitTexel(s3, rpMin, [&](const GtsoPoint& p, double s) {
+  forEachFitSample(s3, rpMin, [&](const GtsoPoint& p, double s) {
     problem.AddResidualBlock(new ceres::NumericDiffCostFunction<ConeResidual, ceres::CENTRAL, 1, 1>(
                                  new ConeResidual{p, s, convention}),
                              nullptr, &z);

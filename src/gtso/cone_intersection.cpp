@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/math_constants.h"
+
 namespace gtbake::gtso {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 double clampedAcos(double x) {
   return std::acos(std::clamp(x, -1.0, 1.0));

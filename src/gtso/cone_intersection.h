@@ -1,16 +1,18 @@
 // The cone-to-cone specular occlusion of the paper (Eq. 19, Appendix B).
 //
-// Omega_cap(a)            = 2 pi (1 - cos a)             solid angle of a spherical cap, 0 <= a <=
-// pi Omega_i(a1, a2, beta)   = solid angle of the intersection of two caps with half-angles a1, a2
+// clang-format off
+// Omega_cap(a)            = 2 pi (1 - cos a)             solid angle of a spherical cap, 0 <= a <= pi
+// Omega_i(a1, a2, beta)   = solid angle of the intersection of two caps with half-angles a1, a2
 //                           whose axes are beta apart (0 <= beta <= pi); four cases:
-//   disjoint               beta >= a1 + a2                       -> 0
-//   nested                 beta <= |a1 - a2|                      -> Omega_cap(min(a1, a2))
-//   complements disjoint   a1 + a2 + beta >= 2 pi (union = sphere) -> Omega_cap(a1) + Omega_cap(a2)
-//   - 4 pi partial overlap        otherwise (Tovchigrechko & Vakser 2001; Mazonka 2012, Eq. 12):
+//   disjoint               beta >= a1 + a2                          -> 0
+//   nested                 beta <= |a1 - a2|                        -> Omega_cap(min(a1, a2))
+//   complements disjoint   a1 + a2 + beta >= 2 pi (union = sphere)  -> Omega_cap(a1) + Omega_cap(a2) - 4 pi
+//   partial overlap        otherwise (Tovchigrechko & Vakser 2001; Mazonka 2012, Eq. 12):
 //     Omega_i = 2 [ pi - acos((cos b - cos a1 cos a2) / (sin a1 sin a2))
 //                      - cos a1 acos((cos a2 - cos b cos a1) / (sin b sin a1))
 //                      - cos a2 acos((cos a1 - cos b cos a2) / (sin b sin a2)) ]
 //   (Gauss-Bonnet on the lens: 2 pi minus the turning of its two circle arcs and two corners.)
+// clang-format on
 //
 // S_cone(alpha_v, alpha_s, beta) = Omega_i(alpha_v, alpha_s, beta) / Omega_cap(alpha_s)  (Eq. 19),
 // with cos(alpha_v) = sqrt(1 - A) (Eq. 18) and cos(alpha_s) = u^(alpha^2 / 2), alpha = r_p^2 the

@@ -2,10 +2,11 @@
 
 #include <algorithm>
 
+#include "common/math_constants.h"
+
 namespace gtbake::gtso {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kPiOver4 = kPi / 4.0;
 }  // namespace
 

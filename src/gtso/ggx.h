@@ -3,11 +3,13 @@
 // Conventions: shading frame with the normal n = +z. Roughness is the perceptual roughness r_p and
 // the GGX width is alpha = r_p^2 everywhere in gtbake; functions here take alpha (the width).
 //
-//   D(wm)        = 1 / (pi alpha^2 cos^4(theta_m) (1 + tan^2(theta_m)/alpha^2)^2)
-//   (Trowbridge-Reitz) Lambda(w)    = (sqrt(1 + alpha^2 tan^2(theta)) - 1) / 2 G1(w)        = 1 /
-//   (1 + Lambda(w)) G2(wo, wi)   = 1 / (1 + Lambda(wo) + Lambda(wi))        (height-correlated
-//   Smith) fr(wo, wi)   = D(wm) G2(wo, wi) / (4 cos(theta_o) cos(theta_i)),  wm = normalize(wo +
-//   wi)
+// clang-format off
+//   D(wm)        = 1 / (pi alpha^2 cos^4(theta_m) (1 + tan^2(theta_m)/alpha^2)^2)   (Trowbridge-Reitz)
+//   Lambda(w)    = (sqrt(1 + alpha^2 tan^2(theta)) - 1) / 2
+//   G1(w)        = 1 / (1 + Lambda(w))
+//   G2(wo, wi)   = 1 / (1 + Lambda(wo) + Lambda(wi))                               (height-correlated Smith)
+//   fr(wo, wi)   = D(wm) G2(wo, wi) / (4 cos(theta_o) cos(theta_i)),  wm = normalize(wo + wi)
+// clang-format on
 //
 // Sampler (pbrt-v4 style sample / pdf / inverse): the distribution of visible normals
 // D_wo(wm) = G1(wo) max(0, wo.wm) D(wm) / cos(theta_o) (Heitz 2018, "Sampling the GGX
@@ -58,7 +60,6 @@ Point2 invertUniformDiskConcentric(Point2 p);
 class GgxDistribution {
  public:
   explicit GgxDistribution(double alpha) : alpha_(alpha) {}
-  static GgxDistribution fromPerceptualRoughness(double r_p) { return GgxDistribution(r_p * r_p); }
   double alpha() const { return alpha_; }
 
   double D(Vec3 wm) const;
@@ -78,7 +79,6 @@ class GgxDistribution {
   // Reflected direction wi = reflect(wo, wm(u)); pdf(wi) = D(wo, wm) / (4 wo.wm) per solid angle.
   Vec3 sampleWi(Vec3 wo, Point2 u) const { return reflect(wo, sampleWm(wo, u)); }
   double pdfWi(Vec3 wo, Vec3 wi) const;
-  Point2 invertWi(Vec3 wo, Vec3 wi) const { return invertWm(wo, normalize(wo + wi)); }
 
   // The estimator weight fr(wo,wi) cos(theta_i) / pdfWi(wo,wi) = G2(wo,wi) / G1(wo), written as
   // 1 / (1 + Lambda(wi) / (1 + Lambda(wo))) so that the grazing limit cos(theta_o) -> 0 gives 1;

@@ -1,8 +1,10 @@
-// `gtbake gtso`: bakes S3 and S4 (SPEC §1.4), picks the axis mapping and the BC4 block axes by
-// measurement, fits the cone-aperture constant u, and writes gtso3d.f32, gtso4d.f32, gtso.json
-// and PNG previews. See docs/gtso.md for every definition and the measured numbers.
+// `gtbake gtso`: bakes S3 and S4 (SPEC §1.4) on the warped axes of export/runtime/gtso_lookup.h,
+// measures what the runtime reads (float32, BC4, R16, R8 through the shipped lookup code) against
+// direct integration at random and stress points over several seeds, fits the cone-aperture
+// constant u, and writes gtso3d.f32, gtso4d.f32, gtso.json and PNG previews. See docs/gtso.md.
 #include "gtso/gtso_command.h"
 
+#include <tbb/parallel_invoke.h>
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -16,6 +18,7 @@
 #include "common/image_io.h"
 #include "common/progress.h"
 #include "common/threads.h"
+#include "export/runtime/gtso_lookup.h"
 #include "gtso/cone_fit.h"
 #include "gtso/gtso_integrator.h"
 #include "gtso/gtso_tables.h"
@@ -25,98 +28,231 @@ namespace gtbake {
 namespace {
 
 using gtso::ErrorStats;
-using gtso::Mapping;
 using gtso::Table;
+using gtso::TexelFormat;
 using Json = nlohmann::json;
 
-constexpr int kMappingCells = 16;  // integrator cells while comparing mappings: the same
-                                   // discretisation for table and direct values, 16x cheaper
-constexpr int kInterpolationPoints = 1024;  // random off-grid points per interpolation measurement
-constexpr std::uint64_t kSeed = 0x67'74'73'6f;  // "gtso": seed of the off-grid points
-constexpr double kRoughRp = 0.3;                // the "rough lobes" subset of the cone errors
-constexpr double kPaperU = 0.01;                // paper Appendix B
-constexpr double kUludagU = 0.244;              // Uludag 2014, quoted in Appendix B
-constexpr int kPreviewScale = 8;                // PNG pixels per texel
+constexpr int kPointsPerLobe = 16;             // (A, beta) points per random lobe of the error sets
+constexpr int kStressLobeDivisor = 4;          // the stress set has a quarter of the uniform lobes
+constexpr std::uint64_t kFirstReportSeed = 1;  // seed 0 chose the axis constants (bench_gtso_axes)
+constexpr double kRoughRp = 0.3;               // the "rough lobes" subset of the cone errors
+constexpr double kPaperU = 0.01;               // paper Appendix B
+constexpr double kUludagU = 0.244;             // Uludag 2014, quoted in Appendix B
+constexpr int kPreviewScale = 8;               // PNG pixels per texel
+constexpr TexelFormat kFormats[] = {TexelFormat::kFloat32, TexelFormat::kBc4, TexelFormat::kR16,
+                                    TexelFormat::kR8};
+// SPEC §3 / issue 12 bars for what the runtime reads: uniform max, stress max (3D, 4D).
+constexpr double kUniformBar[2] = {0.03, 0.06};
+constexpr double kStressBar[2] = {0.05, 0.10};
+constexpr double kRecommendRatio = 1.5;  // a format's error vs float32's for the recommendation
 
 double seconds(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-Json axesJson(const Table& t, const std::array<int, 4>& layout) {
+void validateOptions(const GtsoOptions& o) {
+  if (o.out.empty()) throw Error("gtso: --out DIR is required");
+  try {
+    gtso::validateTableSize(o.size);
+  } catch (const Error& e) {
+    throw Error(std::string("gtso: ") + e.what());
+  }
+  if (o.lobe_cells != 0 && (o.lobe_cells < 4 || o.lobe_cells > 1024)) {
+    throw Error("gtso: --lobe-cells must be 0 (default) or in [4, 1024]");
+  }
+  if (o.error_lobes < 1 || o.error_lobes > 1 << 20) {
+    throw Error("gtso: --error-lobes must be in [1, 1048576]");
+  }
+  if (o.error_seeds < 1 || o.error_seeds > 64)
+    throw Error("gtso: --error-seeds must be in [1, 64]");
+  if (o.reference_factor < 0 || o.reference_factor > 8) {
+    throw Error("gtso: --reference-factor must be in [0, 8]");
+  }
+}
+
+Json axesJson(int dims) {
   static const char* names[4] = {"x", "y", "z", "w"};
   Json axes = Json::array();
-  for (int d = 0; d < t.dims; ++d) {
-    const gtso::Axis& a = t.mapping.axes[layout[d]];
-    axes.push_back({{"axis", names[d]}, {"quantity", a.quantity}, {"min", a.min}, {"max", a.max}});
+  const auto& defs = gtso::axisDefinitions(dims);
+  for (int d = 0; d < dims; ++d) {
+    axes.push_back({{"axis", names[d]},
+                    {"quantity", defs[d].quantity},
+                    {"forward", defs[d].forward},
+                    {"alu", defs[d].alu}});
   }
   return axes;
 }
 
-// Measures the default mapping and each single-axis alternative (and the combination of the
-// improving ones) and returns the one with the smallest RMS interpolation error.
-Mapping chooseMapping(int dims, int size, Json& report, bool showProgress) {
-  const Mapping base = Mapping::defaults(dims);
-  std::vector<Mapping> candidates = {base};
-  for (int a = 0; a < dims; ++a) candidates.push_back(base.withAlternative(a));
-  std::vector<ErrorStats> errors;
-  Progress progress("gtso: comparing " + std::to_string(dims) + "D axis mappings",
-                    static_cast<std::uint64_t>(dims + 2), showProgress);
-  auto measure = [&](const Mapping& m) {
-    const Table t = gtso::bakeTable(dims, m, size, kMappingCells, nullptr);
-    errors.push_back(gtso::interpolationError(t, kInterpolationPoints, kMappingCells, kSeed));
-    progress.add(1);
-  };
-  for (const Mapping& m : candidates) measure(m);
-  Mapping combined = base;
-  int improving = 0;
-  for (int a = 0; a < dims; ++a) {
-    if (errors[a + 1].rms < errors[0].rms) {
-      combined = combined.withAlternative(a);
-      ++improving;
-    }
-  }
-  if (improving > 1) {
-    candidates.push_back(combined);
-    measure(combined);
-  }
-  std::size_t best = 0;
-  for (std::size_t c = 1; c < candidates.size(); ++c)
-    if (errors[c].rms < errors[best].rms) best = c;
-  report = Json::array();
-  for (std::size_t c = 0; c < candidates.size(); ++c) {
-    report.push_back({{"mapping", candidates[c].name()},
-                      {"max", errors[c].max},
-                      {"rms", errors[c].rms},
-                      {"integrator_cells", kMappingCells},
-                      {"chosen", c == best}});
-  }
-  return candidates[best];
+Json pointJson(const gtso::GtsoPoint& p) {
+  return {{"A", p.A}, {"beta", p.beta}, {"r_p", p.r_p}, {"theta_o", p.thetaO}};
 }
 
-// Tries every unordered pair of logical axes as the BC4 block plane (x, y); the rest follow in
-// logical order. Returns the layout with the smallest proxy RMS error.
-std::array<int, 4> chooseLayout(const Table& t, Json& report) {
-  report = Json::array();
-  std::array<int, 4> best = {0, 1, 2, 3};
-  double bestRms = HUGE_VAL;
-  for (int p = 0; p < t.dims; ++p) {
-    for (int q = p + 1; q < t.dims; ++q) {
-      std::array<int, 4> layout = {p, q, 0, 0};
-      int d = 2;
-      for (int r = 0; r < t.dims; ++r)
-        if (r != p && r != q) layout[d++] = r;
-      const ErrorStats e = gtso::bc4ProxyError(gtso::toLayout(t, layout), t.dims, t.size);
-      report.push_back({{"x", t.mapping.axes[p].quantity},
-                        {"y", t.mapping.axes[q].quantity},
-                        {"rms", e.rms},
-                        {"max", e.max}});
-      if (e.rms < bestRms) {
-        bestRms = e.rms;
-        best = layout;
-      }
-    }
+// Max / RMS of one format over the seeds: worst max, mean RMS, and their spread.
+Json seedSummary(const std::vector<ErrorStats>& perSeed, std::uint64_t firstSeed) {
+  Json seeds = Json::array();
+  double maxMax = 0.0, minMax = HUGE_VAL, rmsSum = 0.0, minRms = HUGE_VAL, maxRms = 0.0;
+  std::size_t worst = 0;
+  for (std::size_t s = 0; s < perSeed.size(); ++s) {
+    const ErrorStats& e = perSeed[s];
+    seeds.push_back({{"seed", firstSeed + s}, {"max", e.max}, {"rms", e.rms}});
+    if (e.max > maxMax) worst = s;
+    maxMax = std::max(maxMax, e.max);
+    minMax = std::min(minMax, e.max);
+    rmsSum += e.rms;
+    minRms = std::min(minRms, e.rms);
+    maxRms = std::max(maxRms, e.rms);
   }
-  return best;
+  return {{"max", maxMax},
+          {"max_lowest_seed", minMax},
+          {"rms", rmsSum / static_cast<double>(perSeed.size())},
+          {"rms_lowest_seed", minRms},
+          {"rms_highest_seed", maxRms},
+          {"worst_point", pointJson(perSeed[worst].worst)},
+          {"per_seed", seeds}};
+}
+
+struct EndToEnd {
+  Json json;
+  gtso::S3Samples coneSamples;  // the first seed's uniform 3D points with their exact S
+};
+
+// |runtime lookup - exact S| for every format at fresh uniform and stress points, several seeds.
+EndToEnd measureEndToEnd(const Table& s3, const Table& s4, const GtsoOptions& o, int cells) {
+  EndToEnd out;
+  const int stressLobes = std::max(1, o.error_lobes / kStressLobeDivisor);
+  Json j;
+  j["points"] = {
+      {"uniform", o.error_lobes * kPointsPerLobe},
+      {"stress", stressLobes * kPointsPerLobe},
+      {"lobes_uniform", o.error_lobes},
+      {"lobes_stress", stressLobes},
+      {"points_per_lobe", kPointsPerLobe},
+      {"seeds", o.error_seeds},
+      {"first_seed", kFirstReportSeed},
+      {"axis_selection_seed", 0},
+      {"exact", "the integrator at the bake's cells (texel error vs 16x reference <= 1.6e-4)"},
+      {"uniform_distribution",
+       "per lobe r_p, cos theta_o uniform in [0, 1]; per point A uniform in [0, 1]; 4D cos beta "
+       "uniform over the bent normals above the horizon"},
+      {"stress_distribution",
+       "half the lobes grazing (cos theta_o in [0, 0.1]); alpha_v uniform within 6 alpha + 0.02 "
+       "rad of the mirror step alpha_v = beta (3D: theta_o); 4D beta <= pi/2"}};
+  Progress progress("gtso: end-to-end error", 2ull * o.error_seeds, o.progress);
+  const Table* tables[2] = {&s3, &s4};
+  for (int t = 0; t < 2; ++t) {
+    const Table& table = *tables[t];
+    const char* key = t == 0 ? "3d" : "4d";
+    std::vector<gtso::EncodedTable> encoded;
+    for (TexelFormat f : kFormats) encoded.push_back(gtso::encodeTable(table, f));
+    std::vector<std::vector<ErrorStats>> uniform(encoded.size()), stress(encoded.size());
+    for (int s = 0; s < o.error_seeds; ++s) {
+      const std::uint64_t seed = kFirstReportSeed + static_cast<std::uint64_t>(s);
+      const gtso::ErrorPoints u = gtso::makeErrorPoints(table.dims, gtso::PointSet::kUniform,
+                                                        o.error_lobes, kPointsPerLobe, seed, cells);
+      const gtso::ErrorPoints st = gtso::makeErrorPoints(table.dims, gtso::PointSet::kStress,
+                                                         stressLobes, kPointsPerLobe, seed, cells);
+      for (std::size_t f = 0; f < encoded.size(); ++f) {
+        uniform[f].push_back(gtso::lookupError(table, encoded[f], u));
+        stress[f].push_back(gtso::lookupError(table, encoded[f], st));
+      }
+      if (t == 0 && s == 0) out.coneSamples = {u.points, u.exact};
+      progress.add(1);
+    }
+    Json formats;
+    // Recommendation: the smallest format whose quantisation does not dominate: uniform max,
+    // uniform RMS and stress max each within 1.5x those of the float32 table.
+    const Json floatUniform = seedSummary(uniform[0], kFirstReportSeed);
+    const Json floatStress = seedSummary(stress[0], kFirstReportSeed);
+    std::size_t best = 0;
+    for (std::size_t f = 0; f < encoded.size(); ++f) {
+      const Json us = seedSummary(uniform[f], kFirstReportSeed);
+      const Json ss = seedSummary(stress[f], kFirstReportSeed);
+      formats[gtso::formatName(encoded[f].format)] = {{"bytes", encoded[f].bytes.size()},
+                                                      {"texel_max_error", encoded[f].texel_max},
+                                                      {"texel_rms_error", encoded[f].texel_rms},
+                                                      {"uniform", us},
+                                                      {"stress", ss}};
+      auto within = [](const Json& a, const Json& b, const char* k) {
+        return a[k].get<double>() <= kRecommendRatio * b[k].get<double>();
+      };
+      const bool ok = within(us, floatUniform, "max") && within(us, floatUniform, "rms") &&
+                      within(ss, floatStress, "max");
+      if (ok && encoded[f].bytes.size() < encoded[best].bytes.size()) best = f;
+    }
+    j[key] = {{"formats", formats},
+              {"recommended", gtso::formatName(encoded[best].format)},
+              {"bars", {{"uniform_max", kUniformBar[t]}, {"stress_max", kStressBar[t]}}}};
+  }
+  j["recommendation_rule"] =
+      "smallest format whose uniform max, uniform RMS and stress max are each within 1.5x those of "
+      "the float32 table (quantisation does not dominate the interpolation error)";
+  progress.finish();
+  out.json = j;
+  return out;
+}
+
+// Optional converged reference: every texel's error.
+std::optional<std::pair<ErrorStats, ErrorStats>> referenceErrors(const Table& s3, const Table& s4,
+                                                                 const GtsoOptions& o, int cells) {
+  if (o.reference_factor == 0) return std::nullopt;
+  const int refCells = cells * o.reference_factor;
+  Progress progress("gtso: reference tables", 2ull * o.size * o.size, o.progress);
+  auto compare = [&](const Table& t) {
+    const Table r = gtso::bakeTable(t.dims, t.size, refCells, &progress);
+    ErrorStats e;
+    for (std::size_t i = 0; i < t.values.size(); ++i) {
+      const double d = std::abs(t.values[i] - r.values[i]);
+      e.max = std::max(e.max, d);
+      e.rms += d * d;
+    }
+    e.rms = std::sqrt(e.rms / static_cast<double>(t.values.size()));
+    return e;
+  };
+  return std::pair{compare(s3), compare(s4)};
+}
+
+Json coneErrorsJson(const gtso::ConeErrors& e) {
+  return {{"rmse", e.rmse}, {"max_abs", e.max_abs}, {"samples", e.count}};
+}
+
+Json coneFitJson(const gtso::ConeFit& f) {
+  return {{"u", f.u},
+          {"u_se", f.u_se},
+          {"rmse", f.errors.rmse},
+          {"max_abs", f.errors.max_abs},
+          {"samples", f.errors.count}};
+}
+
+// The four cone fits (two conventions, all r_p and r_p >= 0.3), two at a time.
+Json fitCone(const gtso::S3Samples& samples, gtso::ConeFit& fit) {
+  using gtso::RoughnessConvention;
+  gtso::ConeFit rough, alt, altRough;
+  tbb::parallel_invoke(
+      [&] { fit = gtso::fitConeU(samples, RoughnessConvention::kAlpha); },
+      [&] { rough = gtso::fitConeU(samples, RoughnessConvention::kAlpha, kRoughRp); },
+      [&] { alt = gtso::fitConeU(samples, RoughnessConvention::kPerceptual); },
+      [&] { altRough = gtso::fitConeU(samples, RoughnessConvention::kPerceptual, kRoughRp); });
+  auto fixedU = [&](double u, RoughnessConvention c) {
+    return Json{{"all", coneErrorsJson(gtso::coneErrors(samples, u, c))},
+                {"r_p_ge_0.3", coneErrorsJson(gtso::coneErrors(samples, u, c, kRoughRp))}};
+  };
+  return {{"u", fit.u},
+          {"u_se", fit.u_se},
+          {"convention", "cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2 (GGX width)"},
+          {"fit_samples", "the first seed's uniform random S3 points (exact S), r_p > 0"},
+          {"errors",
+           {{"fitted", coneErrorsJson(fit.errors)},
+            {"fitted_r_p_ge_0.3", coneErrorsJson(gtso::coneErrors(
+                                      samples, fit.u, RoughnessConvention::kAlpha, kRoughRp))},
+            {"u_0.01", fixedU(kPaperU, RoughnessConvention::kAlpha)},
+            {"u_0.244", fixedU(kUludagU, RoughnessConvention::kAlpha)}}},
+          {"fit_r_p_ge_0.3", coneFitJson(rough)},
+          {"alternative_convention",
+           {{"convention", "cos(alpha_s) = u^(r_p^2/2) (paper's r read as perceptual roughness)"},
+            {"fit", coneFitJson(alt)},
+            {"fit_r_p_ge_0.3", coneFitJson(altRough)},
+            {"u_0.01", fixedU(kPaperU, RoughnessConvention::kPerceptual)},
+            {"u_0.244", fixedU(kUludagU, RoughnessConvention::kPerceptual)}}}};
 }
 
 std::string floatBytes(const std::vector<float>& v) {
@@ -130,9 +266,9 @@ std::string floatBytes(const std::vector<float>& v) {
   return bytes;
 }
 
-// One x-y slice of a file-order table as an upscaled viridis PNG (row 0 = largest y).
+// One x-y slice of a texture-order table as an upscaled viridis PNG (row 0 = largest y).
 void writeSlice(const std::filesystem::path& path, const std::vector<float>& v, int size,
-                std::size_t sliceOffset, float lo, float hi) {
+                std::size_t sliceOffset) {
   const int w = size * kPreviewScale;
   std::vector<float> img(static_cast<std::size_t>(w) * w);
   for (int y = 0; y < w; ++y)
@@ -140,199 +276,119 @@ void writeSlice(const std::filesystem::path& path, const std::vector<float>& v, 
       img[static_cast<std::size_t>(y) * w + x] =
           v[sliceOffset + static_cast<std::size_t>(size - 1 - y / kPreviewScale) * size +
             x / kPreviewScale];
-  writePng(path, w, w, 3, toViridis8(img, lo, hi));
+  writePng(path, w, w, 3, toViridis8(img, 0.f, 1.f));
 }
 
-Json coneFitJson(const gtso::ConeFit& f) {
-  return {{"u", f.u},
-          {"u_se", f.u_se},
-          {"rmse", f.errors.rmse},
-          {"max_abs", f.errors.max_abs},
-          {"texels", f.errors.count}};
+// Previews: S3 over (x, y) at a few z slices; S4 at a few (z, w).
+void writePreviews(const std::filesystem::path& out, const std::vector<float>& f3,
+                   const std::vector<float>& f4, int n) {
+  const std::size_t plane = static_cast<std::size_t>(n) * n;
+  for (int z : {0, n / 4, n / 2, 3 * n / 4, n - 1}) {
+    writeSlice(out / ("gtso3d_z" + std::to_string(z) + ".png"), f3, n, z * plane);
+    for (int w : {0, n / 2, n - 1}) {
+      writeSlice(out / ("gtso4d_z" + std::to_string(z) + "_w" + std::to_string(w) + ".png"), f4, n,
+                 (static_cast<std::size_t>(w) * n + z) * plane);
+    }
+  }
 }
 
-Json coneErrorsJson(const gtso::ConeErrors& e) {
-  return {{"rmse", e.rmse}, {"max_abs", e.max_abs}, {"texels", e.count}};
+Json tableJson(const Table& t, const std::string& file, int cells, int referenceFactor,
+               const std::optional<ErrorStats>& ref) {
+  const int n = t.size;
+  Json tj = {{"file", file},
+             {"dims", t.dims == 3 ? Json{n, n, n} : Json{n, n, n, n}},
+             {"axes", axesJson(t.dims)},
+             {"lobe_grid_rectangles", 2 * cells * cells},
+             {"reference_lobe_grid_rectangles",
+              ref ? Json(2 * cells * cells * referenceFactor * referenceFactor) : Json(nullptr)},
+             {"max_abs_error_vs_reference", ref ? Json(ref->max) : Json(nullptr)},
+             {"rms_error_vs_reference", ref ? Json(ref->rms) : Json(nullptr)},
+             {"error_vs_reference_note",
+              "null unless reference_factor > 0; bench_gtso measures the same (docs/gtso.md)"}};
+  if (t.dims == 4) tj["folded"] = "texture z = w*size + z";
+  return tj;
 }
 
 }  // namespace
 
 GtsoResult runGtso(const GtsoOptions& options) {
-  if (options.out.empty()) throw Error("gtso: --out DIR is required");
-  if (options.size < 2 || options.size > 256) throw Error("gtso: --size must be in [2, 256]");
-  if (options.samples < 0) throw Error("gtso: --samples must be >= 0 (0 = default)");
-  if (options.reference_factor < 0 || options.reference_factor > 8) {
-    throw Error("gtso: --reference-factor must be in [0, 8]");
-  }
-  const int cells =
-      options.samples == 0
-          ? gtso::kDefaultLobeCells
-          : std::max(4, static_cast<int>(std::lround(std::sqrt(options.samples / 2.0))));
+  validateOptions(options);
+  const int cells = options.lobe_cells == 0 ? gtso::kDefaultLobeCells : options.lobe_cells;
   ensureDirectory(options.out);
   const ThreadLimit limit(options.threads);
   const auto start = std::chrono::steady_clock::now();
   const int n = options.size;
 
-  Json mapping3, mapping4;
   auto t0 = std::chrono::steady_clock::now();
-  const Mapping m3 = chooseMapping(3, n, mapping3, options.progress);
-  const Mapping m4 = chooseMapping(4, n, mapping4, options.progress);
-  const double mappingSeconds = seconds(t0);
-
-  t0 = std::chrono::steady_clock::now();
   Table s3, s4;
   {
     Progress progress("gtso: baking S3 and S4", 2ull * n * n, options.progress);
-    s3 = gtso::bakeTable(3, m3, n, cells, &progress);
-    s4 = gtso::bakeTable(4, m4, n, cells, &progress);
+    s3 = gtso::bakeTable(3, n, cells, &progress);
+    s4 = gtso::bakeTable(4, n, cells, &progress);
   }
   const double bakeSeconds = seconds(t0);
 
-  // Optional converged reference: every texel's error.
-  ErrorStats ref3, ref4;
-  double refSeconds = 0.0;
-  if (options.reference_factor > 0) {
-    t0 = std::chrono::steady_clock::now();
-    const int refCells = cells * options.reference_factor;
-    Progress progress("gtso: reference tables", 2ull * n * n, options.progress);
-    auto compare = [&](const Table& t, int dims, const Mapping& m) {
-      const Table r = gtso::bakeTable(dims, m, n, refCells, &progress);
-      ErrorStats e;
-      for (std::size_t i = 0; i < t.values.size(); ++i) {
-        const double d = std::abs(t.values[i] - r.values[i]);
-        e.max = std::max(e.max, d);
-        e.rms += d * d;
-      }
-      e.rms = std::sqrt(e.rms / static_cast<double>(t.values.size()));
-      return e;
-    };
-    ref3 = compare(s3, 3, m3);
-    ref4 = compare(s4, 4, m4);
-    refSeconds = seconds(t0);
-  }
+  t0 = std::chrono::steady_clock::now();
+  const auto ref = referenceErrors(s3, s4, options, cells);
+  const double refSeconds = seconds(t0);
 
   t0 = std::chrono::steady_clock::now();
-  Progress interpProgress("gtso: interpolation error", 4, options.progress);
-  auto interp = [&](const Table& t, double rpMin) {
-    const ErrorStats e = gtso::interpolationError(t, kInterpolationPoints, cells, kSeed, rpMin);
-    interpProgress.add(1);
-    return e;
-  };
-  const ErrorStats interp3 = interp(s3, 0.0), interp4 = interp(s4, 0.0);
-  const ErrorStats interp3r = interp(s3, kRoughRp), interp4r = interp(s4, kRoughRp);
-  interpProgress.finish();
-  const double interpSeconds = seconds(t0);
-
-  Json bc43, bc44;
-  const std::array<int, 4> layout3 = chooseLayout(s3, bc43);
-  const std::array<int, 4> layout4 = chooseLayout(s4, bc44);
-  const std::vector<float> f3 = gtso::toLayout(s3, layout3), f4 = gtso::toLayout(s4, layout4);
+  const EndToEnd e2e = measureEndToEnd(s3, s4, options, cells);
+  const double errorSeconds = seconds(t0);
 
   t0 = std::chrono::steady_clock::now();
-  using gtso::RoughnessConvention;
-  const gtso::ConeFit fit = gtso::fitConeU(s3, RoughnessConvention::kAlpha);
-  const gtso::ConeFit fitRough = gtso::fitConeU(s3, RoughnessConvention::kAlpha, kRoughRp);
-  const gtso::ConeFit fitAlt = gtso::fitConeU(s3, RoughnessConvention::kPerceptual);
-  const gtso::ConeFit fitAltRough = gtso::fitConeU(s3, RoughnessConvention::kPerceptual, kRoughRp);
+  gtso::ConeFit fit;
+  const Json cone = fitCone(e2e.coneSamples, fit);
   const double fitSeconds = seconds(t0);
 
-  auto fixedU = [&](double u, RoughnessConvention c) {
-    return Json{{"all", coneErrorsJson(gtso::coneErrors(s3, u, c))},
-                {"r_p_ge_0.3", coneErrorsJson(gtso::coneErrors(s3, u, c, kRoughRp))}};
-  };
+  const std::vector<float> f3 = gtso::toFloats(s3), f4 = gtso::toFloats(s4);
+  writePreviews(options.out, f3, f4, n);
 
-  // Previews: S3 over (x, y) at a few slices of the third axis; S4 at a few (z, w).
-  const std::size_t plane = static_cast<std::size_t>(n) * n;
-  for (int z : {0, n / 4, n / 2, 3 * n / 4, n - 1}) {
-    writeSlice(options.out / ("gtso3d_z" + std::to_string(z) + ".png"), f3, n, z * plane, 0.f, 1.f);
-    for (int w : {0, n / 2, n - 1}) {
-      writeSlice(options.out / ("gtso4d_z" + std::to_string(z) + "_w" + std::to_string(w) + ".png"),
-                 f4, n, (static_cast<std::size_t>(w) * n + z) * plane, 0.f, 1.f);
-    }
-  }
-
-  const double total = seconds(start);
   Json j;
-  j["version"] = 1;
+  j["version"] = 2;
   j["size"] = n;
   j["roughness_convention"] = "perceptual roughness r_p; GGX alpha = r_p^2";
-  j["texel_rule"] = "texel i holds the value at i/(N-1) of the axis range";
+  j["texel_rule"] = "texel i holds the value at the inverse axis map of i/(N-1)";
+  j["axis_constants"] = {{"sigma_scale", kGtsoSigmaScale},
+                         {"sigma_floor", kGtsoSigmaFloor},
+                         {"theta_linear", kGtsoThetaLinear},
+                         {"rough_power", kGtsoRoughPower}};
   j["integrator"] = {{"method",
                       "piecewise-linear quadrature over the stretched visible-normal "
                       "hemisphere, cone step clipped exactly per triangle"},
                      {"cells", cells},
                      {"cells_psi_by_phi", {2 * cells, cells}}};
-  auto refOf = [&](const ErrorStats& e) {
-    return options.reference_factor > 0 ? std::optional<ErrorStats>(e) : std::nullopt;
-  };
-  const Json refSamples =
-      options.reference_factor > 0
-          ? Json(2 * cells * cells * options.reference_factor * options.reference_factor)
-          : Json(nullptr);
-  auto tableJson = [&](const Table& t, const std::string& file, const std::array<int, 4>& layout,
-                       const ErrorStats& interp, const ErrorStats& interpRough,
-                       const Json& alternatives, const Json& bc4, std::optional<ErrorStats> ref) {
-    Json tj = {
-        {"file", file},
-        {"dims", t.dims == 3 ? Json{n, n, n} : Json{n, n, n, n}},
-        {"axes", axesJson(t, layout)},
-        {"samples", 2 * cells * cells},
-        {"reference_samples", refSamples},
-        {"max_abs_error_vs_reference", ref ? Json(ref->max) : Json(nullptr)},
-        {"rms_error_vs_reference", ref ? Json(ref->rms) : Json(nullptr)},
-        {"error_vs_reference_note",
-         "null unless reference_factor > 0; bench_gtso measures the same (docs/gtso.md)"},
-        {"interpolation_error",
-         {{"shipped", {{"mapping", t.mapping.name()}, {"max", interp.max}, {"rms", interp.rms}}},
-          {"shipped_r_p_ge_0.3", {{"max", interpRough.max}, {"rms", interpRough.rms}}},
-          {"points", kInterpolationPoints},
-          {"point_distribution", "uniform in A, cos beta, r_p, cos theta_o"},
-          {"alternatives", alternatives}}},
-        {"bc4_proxy_by_block_axes", bc4}};
-    if (t.dims == 4) tj["folded"] = "texture z = w*size + z";
-    return tj;
-  };
-  j["tables"] = {
-      {"3d", tableJson(s3, "gtso3d.f32", layout3, interp3, interp3r, mapping3, bc43, refOf(ref3))},
-      {"4d", tableJson(s4, "gtso4d.f32", layout4, interp4, interp4r, mapping4, bc44, refOf(ref4))}};
-  j["cone"] = {
-      {"u", fit.u},
-      {"u_se", fit.u_se},
-      {"convention", "cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2 (GGX width)"},
-      {"fit_texels", "all S3 texels with r_p > 0"},
-      {"errors",
-       {{"fitted", coneErrorsJson(fit.errors)},
-        {"fitted_r_p_ge_0.3",
-         coneErrorsJson(gtso::coneErrors(s3, fit.u, RoughnessConvention::kAlpha, kRoughRp))},
-        {"u_0.01", fixedU(kPaperU, RoughnessConvention::kAlpha)},
-        {"u_0.244", fixedU(kUludagU, RoughnessConvention::kAlpha)}}},
-      {"fit_r_p_ge_0.3", coneFitJson(fitRough)},
-      {"alternative_convention",
-       {{"convention", "cos(alpha_s) = u^(r_p^2/2) (paper's r read as perceptual roughness)"},
-        {"fit", coneFitJson(fitAlt)},
-        {"fit_r_p_ge_0.3", coneFitJson(fitAltRough)},
-        {"u_0.01", fixedU(kPaperU, RoughnessConvention::kPerceptual)},
-        {"u_0.244", fixedU(kUludagU, RoughnessConvention::kPerceptual)}}}};
-  j["timings"] = {{"threads", limit.threads()},
-                  {"mapping_selection_s", mappingSeconds},
-                  {"bake_s", bakeSeconds},
-                  {"interpolation_error_s", interpSeconds},
-                  {"cone_fit_s", fitSeconds},
-                  {"reference_s", refSeconds},
-                  {"total_s", total}};
+  j["tables"] = {{"3d", tableJson(s3, "gtso3d.f32", cells, options.reference_factor,
+                                  ref ? std::optional(ref->first) : std::nullopt)},
+                 {"4d", tableJson(s4, "gtso4d.f32", cells, options.reference_factor,
+                                  ref ? std::optional(ref->second) : std::nullopt)}};
+  j["end_to_end"] = e2e.json;
+  j["cone"] = cone;
+  j["timings"] = {{"threads", limit.threads()},         {"bake_s", bakeSeconds},
+                  {"end_to_end_error_s", errorSeconds}, {"cone_fit_s", fitSeconds},
+                  {"reference_s", refSeconds},          {"total_s", seconds(start)}};
 
   writeFileAtomically(options.out / "gtso3d.f32", floatBytes(f3));
   writeFileAtomically(options.out / "gtso4d.f32", floatBytes(f4));
   writeFileAtomically(options.out / "gtso.json", j.dump(2) + "\n");
 
-  std::printf("gtso: S3 %s, S4 %s baked in %.1f s (%d threads, %d x %d cells per lobe)\n",
-              s3.mapping.name().c_str(), s4.mapping.name().c_str(), bakeSeconds, limit.threads(),
-              2 * cells, cells);
-  std::printf("gtso: interpolation error S3 max %.2e rms %.2e, S4 max %.2e rms %.2e\n", interp3.max,
-              interp3.rms, interp4.max, interp4.rms);
-  std::printf("gtso: u = %.5f +- %.5f (alpha = r_p^2): rmse %.4f max %.4f; u = %.5f under r_p\n",
-              fit.u, fit.u_se, fit.errors.rmse, fit.errors.max_abs, fitAlt.u);
-  return {fit.u, fit.u_se, total};
+  std::printf("gtso: S3 and S4 (%d^3, %d^4) baked in %.1f s (%d threads, %d x %d cells per lobe)\n",
+              n, n, bakeSeconds, limit.threads(), 2 * cells, cells);
+  {
+    for (const char* key : {"3d", "4d"}) {
+      const Json& fm = e2e.json[key]["formats"];
+      std::printf("gtso: %s end to end (max over %d seeds / mean RMS):", key, options.error_seeds);
+      for (TexelFormat f : kFormats) {
+        const Json& u = fm[gtso::formatName(f)]["uniform"];
+        std::printf(" %s %.4f/%.5f", gtso::formatName(f), u["max"].get<double>(),
+                    u["rms"].get<double>());
+      }
+      std::printf("; recommended %s\n", e2e.json[key]["recommended"].get<std::string>().c_str());
+    }
+    std::printf("gtso: u = %.5g +- %.2g (alpha = r_p^2): rmse %.4f max %.4f\n", fit.u, fit.u_se,
+                fit.errors.rmse, fit.errors.max_abs);
+  }
+  return {fit.u, fit.u_se, seconds(start)};
 }
 
 }  // namespace gtbake

@@ -1,4 +1,5 @@
-// `gtbake gtso`: the 3D and 4D GTSO tables and the cone-aperture constant u (SPEC §1.4).
+// `gtbake gtso`: the 3D and 4D GTSO tables, their end-to-end error per texel format, and the
+// cone-aperture constant u (SPEC §1.4).
 #pragma once
 
 #include <filesystem>
@@ -7,10 +8,15 @@ namespace gtbake {
 
 struct GtsoOptions {
   std::filesystem::path out;  // gtso3d.f32, gtso4d.f32, gtso.json, slice images
-  int size = 32;              // texels per axis
-  int samples = 0;            // lobe samples per (r_p, θo, β) line; 0 = the documented default
+  int size = 32;              // texels per axis: a multiple of 4 in [4, 256]
+  int lobe_cells = 0;         // phi cells of the lobe grid (psi gets 2x); 0 = the default 96
   int threads = 0;            // 0 = all cores
   bool progress = true;
+  // End-to-end error measurement: lobes per seed of the uniform set (16 points each; the stress
+  // set has a quarter as many) and the number of seeds; the cone fit uses the first seed's
+  // uniform 3D points.
+  int error_lobes = 1024;
+  int error_seeds = 3;
   // > 0: also bake both tables with reference_factor x the cells per axis (reference_factor^2 x
   // the lobe samples; 4 gives the SPEC's 16x) and record every texel's error against them in
   // gtso.json. Slow (about reference_factor^2 x the bake); bench_gtso measures the same.

@@ -6,13 +6,14 @@
 #include <functional>
 #include <numeric>
 
+#include "common/math_constants.h"
+
 namespace gtbake::gtso {
 
 namespace {
 
 constexpr double kMirrorTie = 1e-9;  // |wr.b - cos(alpha_v)| below this is "on the boundary"
-constexpr double kHalfPi = 1.57079632679489661923;
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kHalfPi = kPi / 2.0;
 // psi rows per phi column: psi spans pi/2 and phi pi (the lobe is symmetric in y), so this makes
 // psi steps 4x finer than phi steps; t varies fastest along psi (the lobe's tails), and at a
 // fixed triangle count 2:1 gave 4x lower max error than 1:2 (docs/gtso.md).
@@ -72,30 +73,38 @@ double integrate(const Polygon& p, const Linear& f) {
   return sum;
 }
 
-// The quadrature of the header for a lobe of GGX width alpha. cs: thresholds cos(alpha_v),
-// sorted descending. Returns S[k * M + j] in the sorted order.
-std::vector<double> lobeIntegral(double alpha, double cosThetaO, const std::vector<Vec3>& b,
-                                 const std::vector<double>& cs, int cells) {
+// The lobe grid of the header: vertex values of Q, z = wi.n and wi over the (zeta, phi)
+// rectangle, 2*cells psi rows by cells phi columns.
+struct LobeGrid {
+  int nPsi = 0, nPhi = 0;
+  std::vector<double> weight, height;
+  std::vector<Vec3> dir;
+  std::size_t vertices() const { return weight.size(); }
+};
+
+LobeGrid buildLobeGrid(double alpha, double cosThetaO, int cells) {
   const GgxDistribution ggx(alpha);
   const Vec3 wo = viewDirection(cosThetaO);
   const Vec3 vh = normalize({alpha * wo.x, alpha * wo.y, wo.z});
-  const int nPsi = kPsiCellsPerPhiCell * cells, nPhi = cells;
-  const int n1 = nPhi + 1;
-  const std::size_t nv = static_cast<std::size_t>(n1) * (nPsi + 1);
-  const std::size_t K = b.size(), M = cs.size();
+  LobeGrid g;
+  g.nPsi = kPsiCellsPerPhiCell * cells;
+  g.nPhi = cells;
+  const int n1 = g.nPhi + 1;
+  const std::size_t nv = static_cast<std::size_t>(n1) * (g.nPsi + 1);
+  g.weight.resize(nv);
+  g.height.resize(nv);
+  g.dir.resize(nv);
   // psi = (pi/2)(1 - (1 - zeta)^p), p = 1 + sin^2(theta_o): uniform at normal view; toward
   // grazing the visible normals crowd at psi -> pi/2 (steep microfacets seen edge-on), where
   // tan(theta_m) = alpha tan(psi) varies fastest, so the grid is refined there.
   const double power = 1.0 + (1.0 - cosThetaO * cosThetaO);
-  std::vector<double> weight(nv), height(nv), t(K * nv);
-  std::vector<Vec3> dir(nv);
   std::vector<double> cosPhi(n1), sinPhi(n1);
   for (int i = 0; i < n1; ++i) {
-    cosPhi[i] = std::cos(kPi * i / nPhi);
-    sinPhi[i] = std::sin(kPi * i / nPhi);
+    cosPhi[i] = std::cos(kPi * i / g.nPhi);
+    sinPhi[i] = std::sin(kPi * i / g.nPhi);
   }
-  for (int j = 0; j <= nPsi; ++j) {
-    const double zeta = static_cast<double>(j) / nPsi;
+  for (int j = 0; j <= g.nPsi; ++j) {
+    const double zeta = static_cast<double>(j) / g.nPsi;
     const double psi = kHalfPi * (1.0 - std::pow(1.0 - zeta, power));
     const double dpsi = power * std::pow(1.0 - zeta, power - 1.0);
     const double sinPsi = std::sin(psi), cosPsi = std::cos(psi);
@@ -103,106 +112,152 @@ std::vector<double> lobeIntegral(double alpha, double cosThetaO, const std::vect
       const std::size_t v = static_cast<std::size_t>(j) * n1 + i;
       const Vec3 nh = {sinPsi * cosPhi[i], sinPsi * sinPhi[i], cosPsi};
       const Vec3 wi = reflect(wo, normalize({alpha * nh.x, alpha * nh.y, nh.z}));
-      weight[v] = ggx.weight(wo, wi) * std::max(0.0, dot(vh, nh)) * sinPsi * dpsi;
-      height[v] = wi.z;
-      dir[v] = wi;
-      for (std::size_t k = 0; k < K; ++k) t[v * K + k] = dot(wi, b[k]);  // vertex-major
+      g.weight[v] = ggx.weight(wo, wi) * std::max(0.0, dot(vh, nh)) * sinPsi * dpsi;
+      g.height[v] = wi.z;
+      g.dir[v] = wi;
     }
   }
-  std::vector<double> cumulative(K * (M + 1), 0.0), partial(K * M, 0.0);
-  double denominator = 0.0;
+  return g;
+}
 
-  // A triangle clipped by the horizon (rare): general polygon clipping.
-  auto clippedTriangle = [&](std::size_t va, std::size_t vb, std::size_t vc, const Linear& z) {
-    Polygon poly;
-    poly.n = 3;
-    poly.l1 = {0.0, 1.0, 0.0};
-    poly.l2 = {0.0, 0.0, 1.0};
-    poly = clip(poly, z, 0.0);
-    const Linear w(weight[va], weight[vb], weight[vc]);
-    const double full = integrate(poly, w);
-    denominator += full;
-    for (std::size_t k = 0; k < K; ++k) {
-      const Linear tl(t[va * K + k], t[vb * K + k], t[vc * K + k]);
-      double tmin = tl(poly, 0), tmax = tmin;
-      for (int m = 1; m < poly.n; ++m) {
-        tmin = std::min(tmin, tl(poly, m));
-        tmax = std::max(tmax, tl(poly, m));
-      }
-      const std::size_t jFull = firstBelow(cs, tmin);
-      cumulative[k * (M + 1) + jFull] += full;
-      for (std::size_t j = jFull; j-- > 0 && cs[j] < tmax;) {
-        partial[k * M + j] += integrate(clip(poly, tl, cs[j]), w);
+// Accumulates, for every bent normal k and each of its cone thresholds cs[k] (descending), the
+// cumulative-sum bins and the clipped partial triangles; S follows from finish().
+class ConeAccumulator {
+ public:
+  ConeAccumulator(const LobeGrid& grid, const std::vector<Vec3>& b,
+                  const std::vector<std::vector<double>>& cs)
+      : g_(grid), cs_(cs), K_(b.size()), t_(K_ * grid.vertices()) {
+    for (std::size_t v = 0; v < grid.vertices(); ++v)
+      for (std::size_t k = 0; k < K_; ++k) t_[v * K_ + k] = dot(grid.dir[v], b[k]);
+    cumulative_.resize(K_);
+    partial_.resize(K_);
+    for (std::size_t k = 0; k < K_; ++k) {
+      cumulative_[k].assign(cs[k].size() + 1, 0.0);
+      partial_[k].assign(cs[k].size(), 0.0);
+    }
+  }
+
+  void addGrid() {
+    const int n1 = g_.nPhi + 1;
+    for (int j = 0; j < g_.nPsi; ++j) {
+      for (int i = 0; i < g_.nPhi; ++i) {
+        const std::size_t v00 = static_cast<std::size_t>(j) * n1 + i, v10 = v00 + 1;
+        const std::size_t v01 = v00 + n1, v11 = v01 + 1;
+        triangle(v00, v10, v11);
+        triangle(v00, v11, v01);
       }
     }
-  };
+  }
 
+  std::vector<std::vector<double>> finish() const {
+    std::vector<std::vector<double>> s(K_);
+    for (std::size_t k = 0; k < K_; ++k) {
+      double running = 0.0;
+      s[k].assign(cs_[k].size(), 0.0);
+      for (std::size_t j = 0; j < cs_[k].size(); ++j) {
+        running += cumulative_[k][j];
+        s[k][j] = denominator_ > 0.0
+                      ? std::clamp((running + partial_[k][j]) / denominator_, 0.0, 1.0)
+                      : 0.0;
+      }
+    }
+    return s;
+  }
+
+ private:
   // A triangle above the horizon: with its vertices sorted by t (t0 <= t1 <= t2), the part
   // below a threshold c <= t1 is the corner triangle at vertex 0 with edge fractions
   // s01 = (c - t0)/(t1 - t0), s02 = (c - t0)/(t2 - t0), and the part above c > t1 is the corner
   // triangle at vertex 2; the integral of the linear W over a corner triangle is its area times
   // the mean of W at its corners.
-  auto triangle = [&](std::size_t va, std::size_t vb, std::size_t vc) {
-    const Linear z(height[va], height[vb], height[vc]);
+  void triangle(std::size_t va, std::size_t vb, std::size_t vc) {
+    const Linear z(g_.height[va], g_.height[vb], g_.height[vc]);
     const double zb = z.f0 + z.d1, zc = z.f0 + z.d2;
-    if (z.f0 <= 0.0 && zb <= 0.0 && zc <= 0.0) return;                        // W = 0 everywhere
-    if (weight[va] == 0.0 && weight[vb] == 0.0 && weight[vc] == 0.0) return;  // Q = 0: invisible
+    if (z.f0 <= 0.0 && zb <= 0.0 && zc <= 0.0) return;  // W = 0 everywhere
+    const double wa = g_.weight[va], wb = g_.weight[vb], wc = g_.weight[vc];
+    if (wa == 0.0 && wb == 0.0 && wc == 0.0) return;  // Q = 0: invisible
     if (z.f0 < 0.0 || zb < 0.0 || zc < 0.0) return clippedTriangle(va, vb, vc, z);
-    const double full = (weight[va] + weight[vb] + weight[vc]) / 6.0;
-    denominator += full;
+    const double full = (wa + wb + wc) / 6.0;
+    denominator_ += full;
     // Curvature correction: the linear interpolant of the unit vectors wi has length
     // |wi_lin| = sqrt(1 - sum_{k<l} l_k l_l |w_k - w_l|^2), whose mean over the triangle is
     // ~ 1 - sum |w_k - w_l|^2 / 24, so t_lin underestimates t = wi.b by that factor and would
     // shrink every cone by O(h^2) (the dominant error for small cones). Dividing the vertex t by
     // the mean length removes the bias to leading order.
-    const Vec3 dab = dir[va] - dir[vb], dbc = dir[vb] - dir[vc], dca = dir[vc] - dir[va];
+    const Vec3 dab = g_.dir[va] - g_.dir[vb], dbc = g_.dir[vb] - g_.dir[vc];
+    const Vec3 dca = g_.dir[vc] - g_.dir[va];
     const double scale = 1.0 / (1.0 - (dot(dab, dab) + dot(dbc, dbc) + dot(dca, dca)) / 24.0);
-    const double *ta = &t[va * K], *tb = &t[vb * K], *tc = &t[vc * K];
-    for (std::size_t k = 0; k < K; ++k) {
+    const double *ta = &t_[va * K_], *tb = &t_[vb * K_], *tc = &t_[vc * K_];
+    for (std::size_t k = 0; k < K_; ++k) {
       std::array<std::pair<double, double>, 3> v = {
-          {{scale * ta[k], weight[va]}, {scale * tb[k], weight[vb]}, {scale * tc[k], weight[vc]}}};
+          {{scale * ta[k], wa}, {scale * tb[k], wb}, {scale * tc[k], wc}}};
       if (v[1].first < v[0].first) std::swap(v[0], v[1]);
       if (v[2].first < v[1].first) std::swap(v[1], v[2]);
       if (v[1].first < v[0].first) std::swap(v[0], v[1]);
       const auto [t0, w0] = v[0];
       const auto [t1, w1] = v[1];
       const auto [t2, w2] = v[2];
+      const std::vector<double>& cs = cs_[k];
       const std::size_t jFull = firstBelow(cs, t0);
-      cumulative[k * (M + 1) + jFull] += full;
+      cumulative_[k][jFull] += full;
       for (std::size_t j = jFull; j-- > 0 && cs[j] < t2;) {
         const double c = cs[j];
         if (c <= t1) {
           const double s01 = (c - t0) / (t1 - t0), s02 = (c - t0) / (t2 - t0);
           const double below = s01 * s02 * (3.0 * w0 + s01 * (w1 - w0) + s02 * (w2 - w0)) / 6.0;
-          partial[k * M + j] += full - below;
+          partial_[k][j] += full - below;
         } else {
           const double s20 = (t2 - c) / (t2 - t0), s21 = (t2 - c) / (t2 - t1);
-          partial[k * M + j] += s20 * s21 * (3.0 * w2 + s20 * (w0 - w2) + s21 * (w1 - w2)) / 6.0;
+          partial_[k][j] += s20 * s21 * (3.0 * w2 + s20 * (w0 - w2) + s21 * (w1 - w2)) / 6.0;
         }
       }
     }
-  };
+  }
 
-  for (int j = 0; j < nPsi; ++j) {
-    for (int i = 0; i < nPhi; ++i) {
-      const std::size_t v00 = static_cast<std::size_t>(j) * n1 + i, v10 = v00 + 1;
-      const std::size_t v01 = v00 + n1, v11 = v01 + 1;
-      triangle(v00, v10, v11);
-      triangle(v00, v11, v01);
+  // A triangle clipped by the horizon (rare): general polygon clipping.
+  void clippedTriangle(std::size_t va, std::size_t vb, std::size_t vc, const Linear& z) {
+    Polygon poly;
+    poly.n = 3;
+    poly.l1 = {0.0, 1.0, 0.0};
+    poly.l2 = {0.0, 0.0, 1.0};
+    poly = clip(poly, z, 0.0);
+    const Linear w(g_.weight[va], g_.weight[vb], g_.weight[vc]);
+    const double full = integrate(poly, w);
+    denominator_ += full;
+    for (std::size_t k = 0; k < K_; ++k) {
+      const Linear tl(t_[va * K_ + k], t_[vb * K_ + k], t_[vc * K_ + k]);
+      double tmin = tl(poly, 0), tmax = tmin;
+      for (int m = 1; m < poly.n; ++m) {
+        tmin = std::min(tmin, tl(poly, m));
+        tmax = std::max(tmax, tl(poly, m));
+      }
+      const std::vector<double>& cs = cs_[k];
+      const std::size_t jFull = firstBelow(cs, tmin);
+      cumulative_[k][jFull] += full;
+      for (std::size_t j = jFull; j-- > 0 && cs[j] < tmax;) {
+        partial_[k][j] += integrate(clip(poly, tl, cs[j]), w);
+      }
     }
   }
 
-  std::vector<double> s(K * M, 0.0);
-  for (std::size_t k = 0; k < K; ++k) {
-    double running = 0.0;
-    for (std::size_t j = 0; j < M; ++j) {
-      running += cumulative[k * (M + 1) + j];
-      s[k * M + j] = denominator > 0.0
-                         ? std::clamp((running + partial[k * M + j]) / denominator, 0.0, 1.0)
-                         : 0.0;
-    }
-  }
-  return s;
+  const LobeGrid& g_;
+  const std::vector<std::vector<double>>& cs_;
+  std::size_t K_;
+  std::vector<double> t_;  // vertex-major: t_[v * K + k] = wi(v).b[k]
+  std::vector<std::vector<double>> cumulative_, partial_;
+  double denominator_ = 0.0;
+};
+
+// The quadrature of the header for a lobe of GGX width alpha. cs[k]: thresholds cos(alpha_v) of
+// bent normal k, sorted descending. Returns S[k][j] in the sorted order.
+std::vector<std::vector<double>> lobeIntegral(double alpha, double cosThetaO,
+                                              const std::vector<Vec3>& b,
+                                              const std::vector<std::vector<double>>& cs,
+                                              int cells) {
+  const LobeGrid grid = buildLobeGrid(alpha, cosThetaO, cells);
+  ConeAccumulator acc(grid, b, cs);
+  acc.addGrid();
+  return acc.finish();
 }
 
 }  // namespace
@@ -216,23 +271,29 @@ Vec3 bentNormal(double thetaO, double beta) {
   return {-std::sin(thetaO - beta), 0.0, std::cos(thetaO - beta)};
 }
 
-std::vector<double> specularOcclusion(double r_p, double cosThetaO, const std::vector<Vec3>& b,
-                                      const std::vector<double>& cosAlphaV, int cells) {
-  const std::size_t K = b.size(), M = cosAlphaV.size();
-  std::vector<std::size_t> order(M);
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t x, std::size_t y) { return cosAlphaV[x] > cosAlphaV[y]; });
-  std::vector<double> cs(M);
-  for (std::size_t j = 0; j < M; ++j) cs[j] = cosAlphaV[order[j]];
-
-  std::vector<double> out(K * M, 0.0);
+std::vector<std::vector<double>> specularOcclusion(
+    double r_p, double cosThetaO, const std::vector<Vec3>& b,
+    const std::vector<std::vector<double>>& cosAlphaV, int cells) {
+  const std::size_t K = b.size();
+  std::vector<std::vector<double>> out(K);
   if (r_p > 0.0) {
-    const std::vector<double> s = lobeIntegral(r_p * r_p, cosThetaO, b, cs, cells);
+    std::vector<std::vector<std::size_t>> order(K);
+    std::vector<std::vector<double>> cs(K);
+    for (std::size_t k = 0; k < K; ++k) {
+      const std::vector<double>& c = cosAlphaV[k];
+      order[k].resize(c.size());
+      std::iota(order[k].begin(), order[k].end(), std::size_t{0});
+      std::stable_sort(order[k].begin(), order[k].end(),
+                       [&](std::size_t x, std::size_t y) { return c[x] > c[y]; });
+      for (std::size_t j : order[k]) cs[k].push_back(c[j]);
+    }
+    const std::vector<std::vector<double>> s = lobeIntegral(r_p * r_p, cosThetaO, b, cs, cells);
     // A cone of zero aperture (A = 0) holds no solid angle: exactly 0, whatever the curvature
     // correction does to t near 1.
     for (std::size_t k = 0; k < K; ++k) {
-      for (std::size_t j = 0; j < M; ++j) out[k * M + order[j]] = cs[j] >= 1.0 ? 0.0 : s[k * M + j];
+      out[k].assign(cs[k].size(), 0.0);
+      for (std::size_t j = 0; j < cs[k].size(); ++j)
+        out[k][order[k][j]] = cs[k][j] >= 1.0 ? 0.0 : s[k][j];
     }
     return out;
   }
@@ -243,11 +304,18 @@ std::vector<double> specularOcclusion(double r_p, double cosThetaO, const std::v
   const Vec3 wr = {-wo.x, 0.0, wo.z};
   for (std::size_t k = 0; k < K; ++k) {
     const double tr = dot(wr, b[k]);
-    for (std::size_t j = 0; j < M; ++j) {
-      const double c = cosAlphaV[j];
-      out[k * M + j] = (c < 1.0 && tr >= c - kMirrorTie) ? 1.0 : 0.0;
-    }
+    for (const double c : cosAlphaV[k])
+      out[k].push_back((c < 1.0 && tr >= c - kMirrorTie) ? 1.0 : 0.0);
   }
+  return out;
+}
+
+std::vector<double> specularOcclusion(double r_p, double cosThetaO, const std::vector<Vec3>& b,
+                                      const std::vector<double>& cosAlphaV, int cells) {
+  const std::vector<std::vector<double>> s = specularOcclusion(
+      r_p, cosThetaO, b, std::vector<std::vector<double>>(b.size(), cosAlphaV), cells);
+  std::vector<double> out;
+  for (const auto& row : s) out.insert(out.end(), row.begin(), row.end());
   return out;
 }
 

@@ -49,6 +49,10 @@ constexpr int kDefaultLobeCells = 96;  // phi cells (psi gets 2x): 2*96*192 tria
 std::vector<double> specularOcclusion(double r_p, double cosThetaO, const std::vector<Vec3>& b,
                                       const std::vector<double>& cosAlphaV,
                                       int cells = kDefaultLobeCells);
+// The same with cones of their own per bent normal: returns S[k][j] for cosAlphaV[k][j].
+std::vector<std::vector<double>> specularOcclusion(
+    double r_p, double cosThetaO, const std::vector<Vec3>& b,
+    const std::vector<std::vector<double>>& cosAlphaV, int cells = kDefaultLobeCells);
 
 // The view direction of SPEC §1.4 and the 4D table's bent normal (beta from wr toward n).
 Vec3 viewDirection(double cosThetaO);

@@ -6,78 +6,52 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/math_constants.h"
 #include "common/progress.h"
 #include "common/rng.h"
+#include "export/bc4_encoder.h"
+#include "export/runtime/gtso_lookup.h"
+#include "export/texture_containers.h"
 #include "gtso/gtso_integrator.h"
 
 namespace gtbake::gtso {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kHalfPi = kPi / 2.0;
 
-double betaMax(int dims) {
-  return dims == 3 ? kPi / 2.0 : kPi;
-}  // 3D: beta = theta_o
+// Stress set: half-width of the band around the mirror step, 3 lobe widths of ~2 alpha each,
+// plus a floor for the mirror-like lobes; grazing lobes have cos theta_o below kGrazingCos.
+constexpr double kStressLobeWidths = 6.0;
+constexpr double kStressFloor = 0.02;
+constexpr double kGrazingCos = 0.1;
+constexpr int kBentNormalsPerLobe = 4;  // 4D error points: bent normals per random lobe
 
-std::array<int, 4> unflatten(std::size_t flat, int dims, int size) {
-  std::array<int, 4> i = {0, 0, 0, 0};
-  for (int d = 0; d < dims; ++d) {
-    i[d] = static_cast<int>(flat % size);
-    flat /= size;
-  }
-  return i;
+std::array<int, 4> sizes(int dims, int size) {
+  return {size, size, size, dims == 4 ? size : 1};
+}
+
+double sinSq(double a) {
+  const double s = std::sin(a);
+  return s * s;
 }
 }  // namespace
 
-Mapping Mapping::defaults(int dims) {
-  Mapping m;
-  m.axes = {Axis{"A", 0.0, 1.0}, Axis{"cos_beta", std::cos(betaMax(dims)), 1.0},
-            Axis{"r_p", 0.0, 1.0}, Axis{"cos_theta_o", 0.0, 1.0}};
-  if (dims == 3) m.axes[1].min = 0.0;  // cos(pi/2) written exactly
-  return m;
+const std::vector<AxisDefinition>& axisDefinitions(int dims) {
+  static const auto convert = [](const auto& infos) {
+    std::vector<AxisDefinition> out;
+    for (const GtsoAxisInfo* i : infos) out.push_back({i->quantity, i->forward, i->alu});
+    return out;
+  };
+  static const std::vector<AxisDefinition> three = convert(kGtso3DAxisInfo);
+  static const std::vector<AxisDefinition> four = convert(kGtso4DAxisInfo);
+  return dims == 3 ? three : four;
 }
 
-Mapping Mapping::withAlternative(int axis) const {
-  Mapping m = *this;
-  const double bmax = axes[1].min < -0.5 || axes[1].max > 3.0 ? kPi : kPi / 2.0;
-  switch (axis) {
-    case 0:
-      m.axes[0] = {"cos_alpha_v", 0.0, 1.0};
-      break;
-    case 1:
-      m.axes[1] = {"beta", 0.0, bmax};
-      break;
-    case 2:
-      m.axes[2] = {"alpha", 0.0, 1.0};
-      break;
-    default:
-      m.axes[3] = {"theta_o", 0.0, kPi / 2.0};
-      break;
+void validateTableSize(int size) {
+  if (size < 4 || size > 256 || size % 4 != 0) {
+    throw Error("--size must be a multiple of 4 in [4, 256] (BC4 blocks are 4x4), got " +
+                std::to_string(size));
   }
-  return m;
-}
-
-std::string Mapping::name() const {
-  return axes[0].quantity + "," + axes[1].quantity + "," + axes[2].quantity + "," +
-         axes[3].quantity;
-}
-
-double axisToPhysical(const std::string& q, double v) {
-  if (q == "A" || q == "beta" || q == "r_p" || q == "theta_o") return v;
-  if (q == "cos_alpha_v") return 1.0 - v * v;
-  if (q == "alpha_v") return std::sin(v) * std::sin(v);
-  if (q == "cos_beta" || q == "cos_theta_o") return std::acos(std::clamp(v, -1.0, 1.0));
-  if (q == "alpha") return std::sqrt(std::max(0.0, v));
-  throw Error("unknown GTSO axis quantity '" + q + "'");
-}
-
-double physicalToAxis(const std::string& q, double p) {
-  if (q == "A" || q == "beta" || q == "r_p" || q == "theta_o") return p;
-  if (q == "cos_alpha_v") return std::sqrt(std::max(0.0, 1.0 - p));
-  if (q == "alpha_v") return std::asin(std::sqrt(std::clamp(p, 0.0, 1.0)));
-  if (q == "cos_beta" || q == "cos_theta_o") return std::cos(p);
-  if (q == "alpha") return p * p;
-  throw Error("unknown GTSO axis quantity '" + q + "'");
 }
 
 std::size_t Table::index(const std::array<int, 4>& i) const {
@@ -87,80 +61,51 @@ std::size_t Table::index(const std::array<int, 4>& i) const {
 }
 
 GtsoPoint Table::point(const std::array<int, 4>& i) const {
-  GtsoPoint p;
-  p.A = axisToPhysical(mapping.axes[0].quantity, mapping.axes[0].value(i[0], size));
-  p.beta = axisToPhysical(mapping.axes[1].quantity, mapping.axes[1].value(i[1], size));
-  p.r_p = axisToPhysical(mapping.axes[2].quantity, mapping.axes[2].value(i[2], size));
-  p.thetaO = dims == 3
-                 ? p.beta
-                 : axisToPhysical(mapping.axes[3].quantity, mapping.axes[3].value(i[3], size));
-  return p;
+  const std::array<int, 4> n = sizes(dims, size);
+  const GtsoPhysical<double> p = gtsoTexelPhysical<double>(dims, i.data(), n.data());
+  return {p.A, p.beta, p.rp, p.thetaO};
 }
 
-double Table::lookup(const GtsoPoint& p) const {
-  const double params[4] = {p.A, p.beta, p.r_p, p.thetaO};
-  int i0[4] = {0, 0, 0, 0};
-  double f[4] = {0, 0, 0, 0};
-  for (int d = 0; d < dims; ++d) {
-    const Axis& a = mapping.axes[d];
-    const double q = physicalToAxis(a.quantity, params[d]);
-    const double x = std::clamp((q - a.min) / (a.max - a.min), 0.0, 1.0) * (size - 1);
-    i0[d] = std::min(static_cast<int>(x), size - 2);
-    f[d] = x - i0[d];
-  }
-  double sum = 0.0;
-  for (int corner = 0; corner < (1 << dims); ++corner) {
-    std::array<int, 4> i = {0, 0, 0, 0};
-    double w = 1.0;
-    for (int d = 0; d < dims; ++d) {
-      const int bit = (corner >> d) & 1;
-      i[d] = i0[d] + bit;
-      w *= bit ? f[d] : 1.0 - f[d];
-    }
-    sum += w * values[index(i)];
-  }
-  return sum;
+std::array<int, 3> Table::volume() const {
+  return {size, size, dims == 4 ? size * size : size};
 }
 
-Table bakeTable(int dims, const Mapping& mapping, int size, int cells, Progress* progress) {
+Table bakeTable(int dims, int size, int cells, Progress* progress) {
+  validateTableSize(size);
   Table table;
   table.dims = dims;
   table.size = size;
-  table.mapping = mapping;
   std::size_t total = 1;
   for (int d = 0; d < dims; ++d) total *= static_cast<std::size_t>(size);
   table.values.assign(total, 0.0);
-  std::vector<double> cosAlphaV(size);
-  for (int a = 0; a < size; ++a) {
-    const double A = axisToPhysical(mapping.axes[0].quantity, mapping.axes[0].value(a, size));
-    cosAlphaV[a] = std::sqrt(std::clamp(1.0 - A, 0.0, 1.0));
-  }
-  // 3D line (r_p, beta): theta_o = beta, b = n. 4D line (r_p, theta_o): every beta.
+  // Line (r_p, theta_o): 3D one bent normal b = n (texels y = theta_o), 4D every beta texel.
   const std::size_t lines = static_cast<std::size_t>(size) * size;
   tbb::parallel_for(std::size_t{0}, lines, [&](std::size_t line) {
-    const int outer = static_cast<int>(line / size), inner = static_cast<int>(line % size);
-    std::array<int, 4> i = {0, 0, outer, 0};
+    const int r = static_cast<int>(line / size), th = static_cast<int>(line % size);
+    std::array<int, 4> i = {0, th, r, 0};
+    if (dims == 4) i = {0, 0, r, th};
+    const int betas = dims == 3 ? 1 : size;
     std::vector<Vec3> b;
-    double thetaO = 0.0;
-    if (dims == 3) {
-      i[1] = inner;
-      thetaO = table.point(i).beta;
-      b.push_back({0.0, 0.0, 1.0});
-    } else {
-      i[3] = inner;
-      thetaO = table.point(i).thetaO;
-      for (int k = 0; k < size; ++k) {
-        i[1] = k;
-        b.push_back(bentNormal(thetaO, table.point(i).beta));
-      }
-    }
-    const double r_p = table.point(i).r_p;
-    const std::vector<double> s = specularOcclusion(r_p, std::cos(thetaO), b, cosAlphaV, cells);
-    for (std::size_t k = 0; k < b.size(); ++k) {
-      if (dims == 4) i[1] = static_cast<int>(k);
+    std::vector<std::vector<double>> cones(betas);
+    double thetaO = 0.0, rp = 0.0;
+    for (int k = 0; k < betas; ++k) {
+      if (dims == 4) i[1] = k;
       for (int a = 0; a < size; ++a) {
         i[0] = a;
-        table.values[table.index(i)] = s[k * size + a];
+        const GtsoPoint p = table.point(i);
+        thetaO = p.thetaO;
+        rp = p.r_p;
+        if (a == 0) b.push_back(dims == 3 ? Vec3{0.0, 0.0, 1.0} : bentNormal(p.thetaO, p.beta));
+        cones[k].push_back(std::sqrt(std::clamp(1.0 - p.A, 0.0, 1.0)));
+      }
+    }
+    const std::vector<std::vector<double>> s =
+        specularOcclusion(rp, std::cos(thetaO), b, cones, cells);
+    for (int k = 0; k < betas; ++k) {
+      if (dims == 4) i[1] = k;
+      for (int a = 0; a < size; ++a) {
+        i[0] = a;
+        table.values[table.index(i)] = s[k][a];
       }
     }
     if (progress) progress->add(1);
@@ -170,74 +115,143 @@ Table bakeTable(int dims, const Mapping& mapping, int size, int cells, Progress*
 
 double evaluateS(int dims, const GtsoPoint& p, int cells) {
   const double c = std::sqrt(std::clamp(1.0 - p.A, 0.0, 1.0));
+  const std::vector<double> cone = {c};
   if (dims == 3)
-    return specularOcclusion(p.r_p, std::cos(p.beta), {{0.0, 0.0, 1.0}}, {c}, cells)[0];
-  return specularOcclusion(p.r_p, std::cos(p.thetaO), {bentNormal(p.thetaO, p.beta)}, {c},
+    return specularOcclusion(p.r_p, std::cos(p.beta), {{0.0, 0.0, 1.0}}, cone, cells)[0];
+  return specularOcclusion(p.r_p, std::cos(p.thetaO), {bentNormal(p.thetaO, p.beta)}, cone,
                            cells)[0];
 }
 
-ErrorStats interpolationError(const Table& table, int count, int cells, std::uint64_t seed,
-                              double rpMin) {
-  const CounterRng rng(seed, static_cast<std::uint64_t>(table.dims));
-  std::vector<double> err(count);
-  const double cosBetaMin = std::cos(betaMax(table.dims));
-  tbb::parallel_for(0, count, [&](int n) {
-    const auto u = rng.uniform4(static_cast<std::uint64_t>(n), 0);
-    GtsoPoint p;
-    p.A = u[0];
-    p.beta = std::acos(cosBetaMin + (1.0 - cosBetaMin) * u[1]);
-    p.r_p = rpMin + (1.0 - rpMin) * u[2];
-    p.thetaO = table.dims == 3 ? p.beta : std::acos(static_cast<double>(u[3]));
-    err[n] = std::abs(table.lookup(p) - evaluateS(table.dims, p, cells));
-  });
-  ErrorStats s;
-  for (double e : err) {
-    s.max = std::max(s.max, e);
-    s.rms += e * e;
+const char* formatName(TexelFormat f) {
+  switch (f) {
+    case TexelFormat::kFloat32:
+      return "float32";
+    case TexelFormat::kBc4:
+      return "bc4";
+    case TexelFormat::kR16:
+      return "r16";
+    case TexelFormat::kR8:
+      return "r8";
   }
-  s.rms = std::sqrt(s.rms / std::max(count, 1));
-  return s;
+  return "?";
 }
 
-std::vector<float> toLayout(const Table& table, const std::array<int, 4>& layout) {
-  std::vector<float> out(table.values.size());
-  for (std::size_t flat = 0; flat < out.size(); ++flat) {
-    const std::array<int, 4> f = unflatten(flat, table.dims, table.size);
-    std::array<int, 4> logical = {0, 0, 0, 0};
-    for (int d = 0; d < table.dims; ++d) logical[layout[d]] = f[d];
-    out[flat] = static_cast<float>(table.values[table.index(logical)]);
+std::vector<float> toFloats(const Table& t) {
+  return std::vector<float>(t.values.begin(), t.values.end());
+}
+
+EncodedTable encodeTable(const Table& t, TexelFormat format) {
+  EncodedTable e;
+  e.format = format;
+  const std::vector<float> f = toFloats(t);
+  const std::size_t n = f.size();
+  std::vector<float> decoded(n);
+  if (format == TexelFormat::kFloat32) {
+    e.bytes.resize(n * 4);
+    std::copy(reinterpret_cast<const std::uint8_t*>(f.data()),
+              reinterpret_cast<const std::uint8_t*>(f.data()) + n * 4, e.bytes.begin());
+    decoded = f;
+  } else if (format == TexelFormat::kBc4) {
+    static const Bc4Encoder encoder;
+    const std::array<int, 3> v = t.volume();
+    e.bytes = encodeBc4Volume(encoder, f.data(), v[0], v[1], v[2], nullptr).bytes;
+    decoded = decodeBc4Volume(e.bytes.data(), v[0], v[1], v[2]);
+  } else {
+    const bool r16 = format == TexelFormat::kR16;
+    e.bytes = quantizeUnorm(f.data(), n, r16 ? VolumeFormat::kR16 : VolumeFormat::kR8);
+    for (std::size_t i = 0; i < n; ++i) {
+      decoded[i] = r16 ? static_cast<float>(e.bytes[2 * i] | e.bytes[2 * i + 1] << 8) / 65535.0f
+                       : static_cast<float>(e.bytes[i]) / 255.0f;
+    }
   }
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = std::abs(decoded[i] - t.values[i]);
+    e.texel_max = std::max(e.texel_max, d);
+    e.texel_rms += d * d;
+  }
+  e.texel_rms = std::sqrt(e.texel_rms / static_cast<double>(n));
+  return e;
+}
+
+float runtimeLookup(const Table& t, const EncodedTable& e, const GtsoPoint& p) {
+  static_assert(static_cast<int>(GtsoTexelFormat::kR8) == static_cast<int>(TexelFormat::kR8));
+  const std::array<int, 3> v = t.volume();
+  const GtsoVolume vol{static_cast<GtsoTexelFormat>(e.format), e.bytes.data(), v[0], v[1], v[2]};
+  const std::array<int, 4> n = sizes(t.dims, t.size);
+  const float A = static_cast<float>(p.A), cb = static_cast<float>(std::cos(p.beta));
+  const float rp = static_cast<float>(p.r_p);
+  if (t.dims == 3) return gtso3DLookup(vol, n.data(), A, cb, rp);
+  return gtso4DLookup(vol, n.data(), A, cb, rp, static_cast<float>(std::cos(p.thetaO)));
+}
+
+const char* pointSetName(PointSet s) {
+  return s == PointSet::kUniform ? "uniform" : "stress";
+}
+
+ErrorPoints makeErrorPoints(int dims, PointSet set, int lobes, int perLobe, std::uint64_t seed,
+                            int cells) {
+  if (perLobe % kBentNormalsPerLobe != 0) throw Error("error points: perLobe must divide by 4");
+  const CounterRng rng(seed, static_cast<std::uint64_t>(dims * 2 + (set == PointSet::kStress)));
+  ErrorPoints out;
+  out.points.resize(static_cast<std::size_t>(lobes) * perLobe);
+  out.exact.resize(out.points.size());
+  tbb::parallel_for(0, lobes, [&](int l) {
+    const auto u = rng.uniform4(static_cast<std::uint64_t>(l), 0);
+    const double rp = u[0];
+    const bool grazing = set == PointSet::kStress && l % 2 == 1;
+    const double cosO = grazing ? kGrazingCos * u[1] : u[1];
+    const double thetaO = std::acos(cosO);
+    // 3D: one bent normal (n) with perLobe cones; 4D: kBentNormalsPerLobe bent normals with
+    // perLobe / kBentNormalsPerLobe cones each (the lobe grid and each normal's t are shared).
+    const int normals = dims == 3 ? 1 : kBentNormalsPerLobe;
+    const int conesPer = perLobe / normals;
+    std::vector<Vec3> b;
+    std::vector<std::vector<double>> cones(normals);
+    for (int k = 0; k < perLobe; ++k) {
+      const int group = k / conesPer;
+      const auto v = rng.uniform4(static_cast<std::uint64_t>(l), 1 + k);
+      const auto vb = rng.uniform4(static_cast<std::uint64_t>(l), 1 + perLobe + group);
+      GtsoPoint p{v[0], thetaO, rp, thetaO};
+      // 4D: cos beta uniform over the bent normals above the horizon (cos beta >= -sin theta_o);
+      // the stress set keeps beta <= pi/2, where the mirror step lies inside the A range.
+      const double cosBetaMin = set == PointSet::kStress ? 0.0 : -std::sin(thetaO);
+      if (dims == 4) p.beta = std::acos(1.0 - (1.0 - cosBetaMin) * vb[0]);
+      if (set == PointSet::kStress) {
+        // alpha_v uniform over the part of [s - h, s + h] inside [0, pi/2] (no mass piled up
+        // at the ends by clamping).
+        const double half = kStressLobeWidths * rp * rp + kStressFloor;
+        const double lo = std::clamp(p.beta - half, 0.0, kHalfPi);
+        const double hi = std::clamp(p.beta + half, 0.0, kHalfPi);
+        p.A = sinSq(lo + (hi - lo) * v[1]);
+      }
+      out.points[static_cast<std::size_t>(l) * perLobe + k] = p;
+      if (k % conesPer == 0) {
+        b.push_back(dims == 3 ? Vec3{0.0, 0.0, 1.0} : bentNormal(thetaO, p.beta));
+      }
+      cones[group].push_back(std::sqrt(std::clamp(1.0 - p.A, 0.0, 1.0)));
+    }
+    const auto s = specularOcclusion(rp, cosO, b, cones, cells);
+    for (int k = 0; k < perLobe; ++k) {
+      out.exact[static_cast<std::size_t>(l) * perLobe + k] = s[k / conesPer][k % conesPer];
+    }
+  });
   return out;
 }
 
-ErrorStats bc4ProxyError(const std::vector<float>& v, int dims, int size) {
-  std::size_t slices = 1;
-  for (int d = 2; d < dims; ++d) slices *= static_cast<std::size_t>(size);
-  const std::size_t plane = static_cast<std::size_t>(size) * size;
+ErrorStats lookupError(const Table& t, const EncodedTable& e, const ErrorPoints& pts) {
+  std::vector<double> err(pts.points.size());
+  tbb::parallel_for(std::size_t{0}, err.size(), [&](std::size_t i) {
+    err[i] = std::abs(runtimeLookup(t, e, pts.points[i]) - pts.exact[i]);
+  });
   ErrorStats s;
-  for (std::size_t sl = 0; sl < slices; ++sl) {
-    for (int by = 0; by < size; by += 4) {
-      for (int bx = 0; bx < size; bx += 4) {
-        double lo = 1.0, hi = 0.0;
-        for (int y = by; y < std::min(by + 4, size); ++y)
-          for (int x = bx; x < std::min(bx + 4, size); ++x) {
-            lo = std::min(lo, static_cast<double>(v[sl * plane + y * size + x]));
-            hi = std::max(hi, static_cast<double>(v[sl * plane + y * size + x]));
-          }
-        const double e0 = std::floor(std::clamp(lo, 0.0, 1.0) * 255.0) / 255.0;
-        const double e1 = std::ceil(std::clamp(hi, 0.0, 1.0) * 255.0) / 255.0;
-        for (int y = by; y < std::min(by + 4, size); ++y)
-          for (int x = bx; x < std::min(bx + 4, size); ++x) {
-            const double val = v[sl * plane + y * size + x];
-            const double k = e1 > e0 ? std::round((val - e0) / (e1 - e0) * 7.0) : 0.0;
-            const double e = std::abs(e0 + std::clamp(k, 0.0, 7.0) / 7.0 * (e1 - e0) - val);
-            s.max = std::max(s.max, e);
-            s.rms += e * e;
-          }
-      }
+  for (std::size_t i = 0; i < err.size(); ++i) {
+    if (err[i] > s.max) {
+      s.max = err[i];
+      s.worst = pts.points[i];
     }
+    s.rms += err[i] * err[i];
   }
-  s.rms = std::sqrt(s.rms / static_cast<double>(v.size()));
+  s.rms = std::sqrt(s.rms / std::max<std::size_t>(err.size(), 1));
   return s;
 }
 

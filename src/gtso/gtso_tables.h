@@ -1,11 +1,10 @@
-// The 3D and 4D GTSO tables: axis mappings, baking, multilinear lookup and a BC4 error proxy.
+// The 3D and 4D GTSO tables: baking on the warped axes of export/runtime/gtso_lookup.h, the
+// texel formats an engine reads (float32, BC4_UNORM, R16_UNORM, R8_UNORM), and the end-to-end
+// error of what the runtime reads against direct integration at random and stress points.
 //
-// Logical axes (SPEC §1.4): A (ambient occlusion), beta (angle between bent normal and wr),
-// r_p (perceptual roughness, GGX alpha = r_p^2) and, in 4D, theta_o. Each axis is linear in one
-// quantity of the export vocabulary between min and max; texel i of N holds the value at
-// i/(N-1) of the range (end values on texel centres). The 3D table has b = n, so theta_o = beta.
-// Values are stored in logical order (A fastest, then beta, r_p, theta_o); `layout` permutes
-// them into the file's x, y, z(, w) order.
+// Axes and texel order (SPEC §1.4): x = A (step-warped), y = beta (3D: theta_o), z = r_p,
+// w = theta_o (4D), x fastest; the 4D table is folded into a volume of depth N_z * N_w. The axis
+// maps themselves live in gtso_lookup.h (one definition for bake, lookup and generated code).
 #pragma once
 
 #include <array>
@@ -19,61 +18,78 @@ class Progress;
 
 namespace gtbake::gtso {
 
-struct Axis {
-  std::string quantity;  // "A", "cos_alpha_v", "alpha_v", "cos_beta", "beta", "r_p", "alpha",
-                         // "cos_theta_o", "theta_o"
-  double min = 0.0, max = 1.0;
-  double value(int i, int n) const { return min + (max - min) * i / (n - 1); }
-};
-
-// The physical parameters of one table entry.
+// The physical parameters of one table entry (angles in radians).
 struct GtsoPoint {
   double A, beta, r_p, thetaO;
 };
 
-struct Mapping {
-  std::array<Axis, 4> axes;           // logical order: A, beta, roughness, theta_o (unused in 3D)
-  static Mapping defaults(int dims);  // A, cos_beta, r_p, cos_theta_o
-  // Axis swapped to its alternative quantity (logical axis index 0..3), same physical range.
-  Mapping withAlternative(int axis) const;
-  std::string name() const;  // e.g. "A,cos_beta,r_p,cos_theta_o"
+// One table axis as gtso.json names it: its quantity, the forward map a shader evaluates and its
+// ALU cost (the code is gtso_lookup.h and its shader ports).
+struct AxisDefinition {
+  const char* quantity;
+  const char* forward;
+  const char* alu;
 };
-
-// Axis quantity -> physical parameter and back.
-double axisToPhysical(const std::string& quantity, double q);  // A, beta, r_p or theta_o
-double physicalToAxis(const std::string& quantity, double p);
+// The axes of the 3D (x, y, z) and 4D (x, y, z, w) tables.
+const std::vector<AxisDefinition>& axisDefinitions(int dims);
 
 struct Table {
   int dims = 3, size = 32;
-  Mapping mapping;
-  std::vector<double> values;  // logical order, A fastest
+  std::vector<double> values;  // x fastest
   std::size_t index(const std::array<int, 4>& i) const;
   GtsoPoint point(const std::array<int, 4>& i) const;  // physical parameters of a texel
-  // Multilinear interpolation at physical parameters (clamped to the axis ranges).
-  double lookup(const GtsoPoint& p) const;
+  std::array<int, 3> volume() const;                   // texture extent (4D folded)
 };
 
-// Bakes S over every texel: one integrator line per (r_p, beta) in 3D, per (r_p, theta_o) in 4D
-// (all beta and A of a line from one lobe); TBB-parallel over lines, deterministic.
-Table bakeTable(int dims, const Mapping& mapping, int size, int cells, Progress* progress);
+// Bakes S over every texel: one integrator lobe per (r_p, theta_o) line (3D: b = n; 4D: every
+// beta of the line from the same lobe, each bent normal with its own warped A cones);
+// TBB-parallel over lines, deterministic. size in [4, 256], a multiple of 4 (BC4 blocks).
+Table bakeTable(int dims, int size, int cells, Progress* progress);
+void validateTableSize(int size);  // throws gtbake::Error with a one-line reason
 
 // Direct evaluation of S at physical parameters (3D: thetaO is ignored and taken = beta).
 double evaluateS(int dims, const GtsoPoint& p, int cells);
 
+// ---- texel formats ----
+enum class TexelFormat { kFloat32, kBc4, kR16, kR8 };
+const char* formatName(TexelFormat f);  // "float32", "bc4", "r16", "r8"
+
+// A table as one texture format: raw texel bytes in texture memory order (BC4: blocks).
+struct EncodedTable {
+  TexelFormat format = TexelFormat::kFloat32;
+  std::vector<std::uint8_t> bytes;
+  double texel_max = 0.0, texel_rms = 0.0;  // decoded texels vs the float64 table
+};
+// R16/R8: round(clamp(v, 0, 1) * (2^bits - 1)); BC4: the exact encoder of src/export.
+EncodedTable encodeTable(const Table& t, TexelFormat format);
+// The runtime lookup (gtso_lookup.h) on an encoded table at physical parameters.
+float runtimeLookup(const Table& t, const EncodedTable& e, const GtsoPoint& p);
+
+// ---- end-to-end error ----
 struct ErrorStats {
   double max = 0.0, rms = 0.0;
+  GtsoPoint worst{};
 };
+enum class PointSet { kUniform, kStress };
+const char* pointSetName(PointSet s);
+// Random points grouped by lobe: `lobes` random (r_p, theta_o), `perLobe` random points each
+// (4D: 4 random beta with perLobe/4 random A each; 3D: perLobe random A),
+// with their exact S (integrator at `cells`), deterministic in seed.
+// Uniform: A, r_p, cos theta_o uniform in [0, 1]; 3D beta = theta_o; 4D cos beta uniform over the
+// bent normals above the horizon, beta in [0, theta_o + pi/2]. Stress: half the lobes at grazing
+// views (cos theta_o in [0, 0.1]), and every point within 3 lobe widths of the mirror step:
+// alpha_v uniform in [s - h, s + h] intersected with [0, pi/2], h = 6 alpha + 0.02 rad (3 widths
+// of ~2 alpha plus a floor), s = beta (3D: theta_o); 4D stress beta in [0, pi/2] (cos beta
+// uniform).
+struct ErrorPoints {
+  std::vector<GtsoPoint> points;
+  std::vector<double> exact;
+};
+ErrorPoints makeErrorPoints(int dims, PointSet set, int lobes, int perLobe, std::uint64_t seed,
+                            int cells);
+ErrorStats lookupError(const Table& t, const EncodedTable& e, const ErrorPoints& pts);
 
-// Interpolation error |lookup - direct| at `count` seeded random points, uniform in
-// (A, cos beta, r_p, cos theta_o) over the table's physical ranges (r_p in [rpMin, 1]).
-ErrorStats interpolationError(const Table& table, int count, int cells, std::uint64_t seed,
-                              double rpMin = 0.0);
-
-// Values of the table in file order: file axis d (x, y, z, w) is logical axis layout[d].
-std::vector<float> toLayout(const Table& table, const std::array<int, 4>& layout);
-
-// BC4-like proxy: per 4x4 block over x, y: 8-bit endpoints at the block's floor(min) / ceil(max),
-// 8-level palette between them, nearest index. Returns the error of the decoded values.
-ErrorStats bc4ProxyError(const std::vector<float>& fileOrder, int dims, int size);
+// Values of the table as float32, texture order.
+std::vector<float> toFloats(const Table& t);
 
 }  // namespace gtbake::gtso

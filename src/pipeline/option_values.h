@@ -8,7 +8,8 @@
 
 namespace gtbake {
 
-// "WxH" with 1 ≤ W, H ≤ 8192, e.g. "256x256". Throws gtbake::Error otherwise.
+// "WxH", e.g. "256x256", with up to six digits per side. Throws gtbake::Error otherwise; the
+// sweep's own option check owns the allowed range.
 std::pair<int, int> parseResolution(const std::string& text);
 
 // "a1,a0,b1,b0,c1,c0": exactly six finite numbers. Throws gtbake::Error otherwise.

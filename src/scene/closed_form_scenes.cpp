@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/math_constants.h"
 #include "scene/holed_ground.h"
 #include "scene/mesh_builder.h"
 #include "scene/procedural_scenes.h"
@@ -68,8 +69,7 @@ Scene makeSphereOnPlaneScene(double R, int segments) {
 
 Scene makeVGrooveScene(double opening, double depth) {
   requirePositive(depth, "the groove depth");
-  const double pi = std::acos(-1.0);
-  if (!(opening > 0.0 && opening < pi)) throw Error("the groove opening angle must lie in (0, π)");
+  if (!(opening > 0.0 && opening < kPi)) throw Error("the groove opening angle must lie in (0, π)");
   const double half = depth * std::tan(0.5 * opening);
   std::vector<double> xs = gradedAxis(0.0, half, kGroundExtent);
   std::vector<double> ys(xs.size(), 0.0);

@@ -3,6 +3,8 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "common/math_constants.h"
+
 namespace gtbake {
 
 std::uint32_t MeshBuilder::vertex(const Eigen::Vector3d& p) {
@@ -77,14 +79,13 @@ std::vector<double> gradedAxis(double inner, double step, double extent) {
 
 void addSphere(MeshBuilder& mesh, const Eigen::Vector3d& centre, double radius, int segments) {
   const int rings = segments / 2;
-  const double pi = std::acos(-1.0);
   const std::uint32_t south = mesh.vertex(centre - radius * Eigen::Vector3d::UnitY());
   const std::uint32_t north = mesh.vertex(centre + radius * Eigen::Vector3d::UnitY());
   std::vector<std::vector<std::uint32_t>> ring(rings - 1);
   for (int r = 1; r < rings; ++r) {
-    const double polar = pi * r / rings;  // from the south pole
+    const double polar = kPi * r / rings;  // from the south pole
     for (int s = 0; s < segments; ++s) {
-      const double azimuth = 2.0 * pi * s / segments;
+      const double azimuth = 2.0 * kPi * s / segments;
       const Eigen::Vector3d d(std::sin(polar) * std::cos(azimuth), -std::cos(polar),
                               std::sin(polar) * std::sin(azimuth));
       ring[r - 1].push_back(mesh.vertex(centre + radius * d));
@@ -105,14 +106,13 @@ void addSphere(MeshBuilder& mesh, const Eigen::Vector3d& centre, double radius, 
 
 void addCylinder(MeshBuilder& mesh, const Eigen::Vector3d& base, double radius, double height,
                  int segments) {
-  const double pi = std::acos(-1.0);
   const Eigen::Vector3d top_centre = base + height * Eigen::Vector3d::UnitY();
   const std::uint32_t bottom = mesh.vertex(base);
   const std::uint32_t top = mesh.vertex(top_centre);
   std::vector<std::uint32_t> low;
   std::vector<std::uint32_t> high;
   for (int s = 0; s < segments; ++s) {
-    const double azimuth = 2.0 * pi * s / segments;
+    const double azimuth = 2.0 * kPi * s / segments;
     const Eigen::Vector3d d(radius * std::cos(azimuth), 0.0, radius * std::sin(azimuth));
     low.push_back(mesh.vertex(base + d));
     high.push_back(mesh.vertex(top_centre + d));

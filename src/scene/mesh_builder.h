@@ -33,7 +33,6 @@ class MeshBuilder {
   void quad(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d,
             const Eigen::Vector3d& front);
 
-  std::size_t triangleCount() const { return triangles_.size(); }
   Scene finish(std::string name, const PerspectiveCamera& camera) const;
 
  private:

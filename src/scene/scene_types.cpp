@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/math_constants.h"
 #include "common/rng.h"
 #include "scene/holed_ground.h"
 #include "scene/mesh_builder.h"
@@ -12,7 +13,6 @@
 namespace gtbake {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Vertical field of view of every camera, rad (≈ 46°): a normal lens, little distortion.
 constexpr double kFov = 0.8;
 // Ground grid step near the features, m: small enough to keep the flat cells well shaped.

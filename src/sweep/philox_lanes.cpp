@@ -100,7 +100,7 @@ __attribute__((target("avx2"))) void philoxAvx2(const std::int32_t* index, int c
 #endif  // __x86_64__
 
 bool cpuHasAvx2() {
-#if defined(__x86_64__)
+#if defined(__x86_64__) && !defined(GTBAKE_PORTABLE_KERNELS)
   return __builtin_cpu_supports("avx2");
 #else
   return false;

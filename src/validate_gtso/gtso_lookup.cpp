@@ -11,6 +11,7 @@
 #include "export/bc4_block.h"
 #include "export/bc4_encoder.h"
 #include "export/export_inputs.h"
+#include "export/runtime/gtso_lookup.h"
 
 namespace gtbake {
 
@@ -18,142 +19,62 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// One volume texture (x fastest) whose texels are floats or BC4 blocks.
-struct Volume {
-  int size[3] = {0, 0, 0};
-  std::vector<float> texels;  // decoded once: BC4 decode is exact per texel, so decoding at
-                              // load gives the bits a per-fetch decode gives
-  float fetch(int x, int y, int z) const {
-    return texels[(static_cast<std::size_t>(z) * size[1] + y) * size[0] + x];
-  }
-};
-
-struct AxisMap {
-  std::string quantity;
-  float min = 0.0f;
-  float max = 1.0f;
-  int n = 32;
-};
-
-float saturate(float x) {
-  return x < 0.0f ? 0.0f : (x > 1.0f ? 1.0f : x);
-}
-
-// The axis quantity from the lookup inputs, as the header's quantityExpression.
-float quantity(const std::string& q, float A, float cos_beta, float r_p, float cos_theta_o) {
-  if (q == "A") return A;
-  if (q == "cos_alpha_v") return std::sqrt(std::fmax(1.0f - A, 0.0f));
-  if (q == "alpha_v") return std::acos(std::sqrt(std::fmax(1.0f - A, 0.0f)));
-  if (q == "cos_beta") return cos_beta;
-  if (q == "beta") return std::acos(std::fmin(std::fmax(cos_beta, -1.0f), 1.0f));
-  if (q == "r_p") return r_p;
-  if (q == "alpha") return r_p * r_p;
-  if (q == "cos_theta_o") return cos_theta_o;
-  if (q == "theta_o") return std::acos(std::fmin(std::fmax(cos_theta_o, -1.0f), 1.0f));
-  throw Error("gtso.json: unknown axis quantity '" + q + "'");
-}
-
-float axisT(const AxisMap& a, float q) {
-  return saturate((q - a.min) / (a.max - a.min));
-}
-
-float remap(float t, int n) {
-  return (t * static_cast<float>(n - 1) + 0.5f) / static_cast<float>(n);
-}
-
-// gtsoSampleTrilinear of the header: clamp-to-edge trilinear filtering at texture coordinates.
-float sampleTrilinear(const Volume& v, const float coord[3]) {
-  int i0[3];
-  int i1[3];
-  float fr[3];
-  for (int a = 0; a < 3; ++a) {
-    const float p = coord[a] * static_cast<float>(v.size[a]) - 0.5f;
-    const float fl = std::floor(p);
-    fr[a] = p - fl;
-    const int i = static_cast<int>(fl);
-    i0[a] = i < 0 ? 0 : (i > v.size[a] - 1 ? v.size[a] - 1 : i);
-    i1[a] = i + 1 < 0 ? 0 : (i + 1 > v.size[a] - 1 ? v.size[a] - 1 : i + 1);
-  }
-  float result = 0.0f;
-  for (int corner = 0; corner < 8; ++corner) {
-    const int x = corner & 1 ? i1[0] : i0[0];
-    const int y = corner & 2 ? i1[1] : i0[1];
-    const int z = corner & 4 ? i1[2] : i0[2];
-    const float w = (corner & 1 ? fr[0] : 1.0f - fr[0]) * (corner & 2 ? fr[1] : 1.0f - fr[1]) *
-                    (corner & 4 ? fr[2] : 1.0f - fr[2]);
-    result += w * v.fetch(x, y, z);
-  }
-  return result;
-}
-
-class TableLookup final : public GtsoLookup {
+// One table behind the runtime-lookup API of src/export/runtime/gtso_lookup.h (the code the
+// header and shader includes ship): its texels (float, or BC4 blocks as uint64) and sizes.
+class RuntimeTables final : public GtsoLookup {
  public:
-  TableLookup(std::vector<AxisMap> axes3, Volume v3, std::vector<AxisMap> axes4, Volume v4)
-      : axes3_(std::move(axes3)),
-        v3_(std::move(v3)),
-        axes4_(std::move(axes4)),
-        v4_(std::move(v4)) {}
+  RuntimeTables(GtsoTexelFormat format, const GtsoTable& t3, const GtsoTable& t4,
+                const std::vector<std::uint8_t>* bc4_3, const std::vector<std::uint8_t>* bc4_4)
+      : format_(format) {
+    for (int a = 0; a < 3; ++a) {
+      size3_[a] = t3.dims[a];
+      volume3_[a] = t3.volume[a];
+      volume4_[a] = t4.volume[a];
+    }
+    for (int a = 0; a < 4; ++a) size4_[a] = t4.dims[a];
+    if (format == GtsoTexelFormat::kBc4) {
+      blocks3_ = toBlocks(*bc4_3);
+      blocks4_ = toBlocks(*bc4_4);
+    } else {
+      floats3_ = t3.values;
+      floats4_ = t4.values;
+    }
+  }
 
   float s3(float A, float cos_beta, float r_p) const override {
-    float coord[3];
-    for (int a = 0; a < 3; ++a) {
-      const AxisMap& m = axes3_[a];
-      coord[a] = remap(axisT(m, quantity(m.quantity, A, cos_beta, r_p, cos_beta)), m.n);
-    }
-    return sampleTrilinear(v3_, coord);
+    return gtso3DLookup(volume(3), size3_, A, cos_beta, r_p);
   }
-
   float s4(float A, float cos_beta, float r_p, float cos_theta_o) const override {
-    const AxisMap& x = axes4_[0];
-    const AxisMap& y = axes4_[1];
-    const AxisMap& z = axes4_[2];
-    const AxisMap& w = axes4_[3];
-    const float sw =
-        axisT(w, quantity(w.quantity, A, cos_beta, r_p, cos_theta_o)) * static_cast<float>(w.n - 1);
-    int s0 = static_cast<int>(sw);
-    if (s0 > w.n - 2) s0 = w.n - 2;
-    const float tz = axisT(z, quantity(z.quantity, A, cos_beta, r_p, cos_theta_o));
-    const float zin = tz * static_cast<float>(z.n - 1) + 0.5f;
-    const float depth = static_cast<float>(v4_.size[2]);
-    const float u = remap(axisT(x, quantity(x.quantity, A, cos_beta, r_p, cos_theta_o)), x.n);
-    const float v = remap(axisT(y, quantity(y.quantity, A, cos_beta, r_p, cos_theta_o)), y.n);
-    const float c0[3] = {u, v, (static_cast<float>(s0 * z.n) + zin) / depth};
-    const float c1[3] = {u, v, (static_cast<float>((s0 + 1) * z.n) + zin) / depth};
-    const float f0 = sampleTrilinear(v4_, c0);
-    const float f1 = sampleTrilinear(v4_, c1);
-    return f0 + (f1 - f0) * (sw - static_cast<float>(s0));
+    return gtso4DLookup(volume(4), size4_, A, cos_beta, r_p, cos_theta_o);
   }
 
  private:
-  std::vector<AxisMap> axes3_;
-  Volume v3_;
-  std::vector<AxisMap> axes4_;
-  Volume v4_;
-};
-
-std::vector<AxisMap> axisMaps(const GtsoTable& t) {
-  std::vector<AxisMap> maps;
-  for (std::size_t i = 0; i < t.axes.size(); ++i) {
-    maps.push_back({t.axes[i].quantity, static_cast<float>(t.axes[i].min),
-                    static_cast<float>(t.axes[i].max), t.dims[i]});
+  static std::vector<std::uint64_t> toBlocks(const std::vector<std::uint8_t>& bytes) {
+    std::vector<std::uint64_t> blocks(bytes.size() / kBc4BlockBytes, 0);
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+      for (int i = 0; i < kBc4BlockBytes; ++i) {
+        blocks[b] |= static_cast<std::uint64_t>(bytes[kBc4BlockBytes * b + i]) << (8 * i);
+      }
+    }
+    return blocks;
   }
-  return maps;
-}
+  GtsoVolume volume(int dims) const {
+    const int* v = dims == 3 ? volume3_ : volume4_;
+    const void* texels =
+        format_ == GtsoTexelFormat::kBc4
+            ? static_cast<const void*>(dims == 3 ? blocks3_.data() : blocks4_.data())
+            : static_cast<const void*>(dims == 3 ? floats3_.data() : floats4_.data());
+    return GtsoVolume{format_, texels, v[0], v[1], v[2]};
+  }
 
-Volume floatVolume(const GtsoTable& t) {
-  Volume v;
-  for (int a = 0; a < 3; ++a) v.size[a] = t.volume[a];
-  v.texels = t.values;
-  return v;
-}
-
-// BC4 blocks (texture memory order) -> decoded texels.
-Volume bc4Volume(const GtsoTable& t, const std::vector<std::uint8_t>& blocks) {
-  Volume v;
-  for (int a = 0; a < 3; ++a) v.size[a] = t.volume[a];
-  v.texels = decodeBc4Volume(blocks.data(), v.size[0], v.size[1], v.size[2]);
-  return v;
-}
+  GtsoTexelFormat format_;
+  int size3_[3] = {0, 0, 0};
+  int size4_[4] = {0, 0, 0, 0};
+  int volume3_[3] = {0, 0, 0};
+  int volume4_[3] = {0, 0, 0};
+  std::vector<std::uint64_t> blocks3_, blocks4_;
+  std::vector<float> floats3_, floats4_;
+};
 
 std::uint32_t le32(const std::string& bytes, std::size_t offset) {
   std::uint32_t v = 0;
@@ -212,10 +133,10 @@ TablesLookups makeTablesLookups(const fs::path& luts, bool encode_bc4, bool prog
     blocks4 = encodeBlocks(encoder, gtso.table4d, "BC4 4D table", progress);
     out.info.bc4_source = "gtso/gtso3d.f32, gtso4d.f32 encoded by the export's BC4 encoder";
   }
-  out.bc4 = std::make_unique<TableLookup>(axisMaps(gtso.table3d), bc4Volume(gtso.table3d, blocks3),
-                                          axisMaps(gtso.table4d), bc4Volume(gtso.table4d, blocks4));
-  out.floats = std::make_unique<TableLookup>(axisMaps(gtso.table3d), floatVolume(gtso.table3d),
-                                             axisMaps(gtso.table4d), floatVolume(gtso.table4d));
+  out.bc4 = std::make_unique<RuntimeTables>(GtsoTexelFormat::kBc4, gtso.table3d, gtso.table4d,
+                                            &blocks3, &blocks4);
+  out.floats = std::make_unique<RuntimeTables>(GtsoTexelFormat::kFloat32, gtso.table3d,
+                                               gtso.table4d, nullptr, nullptr);
   out.info.u_table_fit = gtso.u;
   return out;
 }

@@ -1,14 +1,9 @@
 // What the runtime reads from the shipped GTSO tables, behind one thin interface.
 //
-// validate-gtso scores S₃ and S₄ exactly as a shader reads them. Until the tables helper's
-// runtime-lookup API (issue 12) lands, this file carries a C++ transcription of the lookup the
-// generated header ships (src/export/tables_header.cpp emits it into gtbake_tables.h):
-//   axis t = saturate((q − min)/(max − min)) of the axis quantity q of (A, cos β, r_p, cos θo);
-//   texture coordinate (t·(N − 1) + 0.5)/N (half-texel remap); 4D: the w axis folded into z
-//   (z_texel = w_slice·N_z + z), slices ⌊t_w·(N_w − 1)⌋ (≤ N_w − 2) and the next one fetched with
-//   trilinear filtering (clamp to edge) and lerped; texels BC4_UNORM-decoded (D3D float decode)
-//   or read from the float tables. Float arithmetic in the header's order.
-// Switching to the tables API means replacing makeTablesLookup's body; callers see GtsoLookup.
+// validate-gtso scores S₃ and S₄ exactly as a shader reads them: through the runtime-lookup API
+// of src/export/runtime/gtso_lookup.h, the same source text the generated header and shader
+// includes ship (axis warps, half-texel remap, trilinear with clamp to edge, the 4D fold, BC4
+// decode), on the BC4 blocks that export writes and on the float tables.
 #pragma once
 
 #include <cstdint>

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <csignal>
 #include <filesystem>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,11 @@ struct BadInvocation {
   std::string name;
   std::string arguments;  // "{out}" is replaced by a fresh output directory
 };
+
+// gtest prints a failing parameter with this instead of its raw bytes.
+void PrintTo(const BadInvocation& invocation, std::ostream* os) {
+  *os << invocation.name << ": gtbake " << invocation.arguments;
+}
 
 std::vector<BadInvocation> badInvocations() {
   const std::string scenes = std::string(GTBAKE_SOURCE_DIR) + "/data/scenes/cavity.gltf";

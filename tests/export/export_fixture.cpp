@@ -4,6 +4,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "export/runtime/gtso_lookup.h"
+
 namespace gtbake::test {
 
 float fixtureValue(double tx, double ty, double tz, double tw) {
@@ -40,8 +42,11 @@ void writeFloats(const std::filesystem::path& path, const std::vector<float>& v)
   out.write(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(float));
 }
 
-nlohmann::json axis(const char* name, const char* quantity, double min, double max) {
-  return {{"axis", name}, {"quantity", quantity}, {"min", min}, {"max", max}};
+nlohmann::json axes(const gtbake::GtsoAxisInfo* const* info, int rank) {
+  static const char* names[4] = {"x", "y", "z", "w"};
+  nlohmann::json a = nlohmann::json::array();
+  for (int i = 0; i < rank; ++i) a.push_back({{"axis", names[i]}, {"quantity", info[i]->quantity}});
+  return a;
 }
 
 }  // namespace
@@ -50,26 +55,25 @@ void writeFixture(const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir / "gtso");
   writeFloats(dir / "gtso" / "gtso3d.f32", fixtureTable3D());
   writeFloats(dir / "gtso" / "gtso4d.f32", fixtureTable4D());
-  const double kPi = 3.14159265358979323846;
   nlohmann::json g;
   g["version"] = "fixture";
   g["size"] = 8;
   g["roughness_convention"] = "r_p, alpha = r_p^2";
-  g["texel_rule"] = "texel i at i/(N-1)";
+  g["texel_rule"] = "texel i at the inverse axis map of i/(N-1)";
+  g["axis_constants"] = {{"sigma_scale", kGtsoSigmaScale},
+                         {"sigma_floor", kGtsoSigmaFloor},
+                         {"theta_linear", kGtsoThetaLinear},
+                         {"rough_power", kGtsoRoughPower}};
   g["tables"]["3d"] = {{"file", "gtso3d.f32"},
                        {"dims", {kFixture3D[0], kFixture3D[1], kFixture3D[2]}},
-                       {"axes",
-                        {axis("x", "cos_alpha_v", 1.0, 0.0), axis("y", "beta", 0.0, kPi),
-                         axis("z", "r_p", 0.0, 1.0)}},
-                       {"samples", 64},
+                       {"axes", axes(kGtso3DAxisInfo, 3)},
+                       {"lobe_grid_rectangles", 64},
                        {"max_abs_error_vs_reference", 1e-4}};
   g["tables"]["4d"] = {{"file", "gtso4d.f32"},
                        {"dims", {kFixture4D[0], kFixture4D[1], kFixture4D[2], kFixture4D[3]}},
-                       {"axes",
-                        {axis("x", "A", 0.0, 1.0), axis("y", "cos_beta", -1.0, 1.0),
-                         axis("z", "alpha", 0.0, 1.0), axis("w", "cos_theta_o", 0.0, 1.0)}},
+                       {"axes", axes(kGtso4DAxisInfo, 4)},
                        {"folded", {kFixture4D[0], kFixture4D[1], kFixture4D[2] * kFixture4D[3]}},
-                       {"samples", 64},
+                       {"lobe_grid_rectangles", 64},
                        {"max_abs_error_vs_reference", 1e-4}};
   g["cone"] = {{"u", kFixtureU},
                {"u_se", 0.0005},

@@ -3,12 +3,14 @@
 // literals, and the generated header and shader includes compiled on their own.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <random>
 #include <regex>
 #include <sstream>
+#include <tuple>
 
 #include "common/error.h"
 #include "export/bc4_block.h"
@@ -122,6 +124,37 @@ TEST_F(ExportTest, DdsFieldsAndPayload) {
   checkPayloadErrors(s3.substr(148), test::fixtureTable3D(), 8, 8, 6, r.bc4_rmse_3d, r.bc4_max_3d);
 }
 
+// R16_UNORM / R8_UNORM beside BC4: DX10 format, row pitch, KTX2 vkFormat, type size and DFD, and
+// the payload = round(clamp(v) * (2^bits - 1)) of the float table, little-endian.
+TEST_F(ExportTest, UnormVolumesFieldsAndPayload) {
+  runExport(options_);
+  const std::vector<float> t4 = test::fixtureTable4D();
+  const int w = 8, h = 8, d = 12;
+  for (const auto& [suffix, bytes, dxgi, vk] :
+       {std::tuple{"_r16", 2, 56u, 70u}, std::tuple{"_r8", 1, 61u, 9u}}) {
+    const std::string dds = slurp(options_.out / (std::string("gtso4d") + suffix + ".dds"));
+    ASSERT_EQ(dds.size(), 148 + std::size_t(w) * h * d * bytes) << suffix;
+    EXPECT_EQ(le(dds, 8, 4), 0x1u | 0x2 | 0x4 | 0x8 | 0x1000 | 0x800000);  // DDSD_PITCH
+    EXPECT_EQ(le(dds, 20, 4), std::uint64_t(w * bytes));                   // row pitch
+    EXPECT_EQ(le(dds, 128, 4), dxgi);
+    const double scale = bytes == 2 ? 65535.0 : 255.0;
+    for (std::size_t i = 0; i < t4.size(); ++i) {
+      const double v = std::clamp(static_cast<double>(t4[i]), 0.0, 1.0);
+      ASSERT_EQ(le(dds, 148 + i * bytes, bytes), std::uint64_t(std::lround(v * scale))) << i;
+    }
+    const std::string ktx = slurp(options_.out / (std::string("gtso4d") + suffix + ".ktx2"));
+    EXPECT_EQ(le(ktx, 12, 4), vk);
+    EXPECT_EQ(le(ktx, 16, 4), std::uint64_t(bytes));  // typeSize
+    const std::size_t dfd = le(ktx, 48, 4);
+    EXPECT_EQ(le(ktx, dfd + 12, 4) & 0xFF, 1u);  // KHR_DF_MODEL_RGBSDA
+    EXPECT_EQ(le(ktx, dfd + 16, 4), 0u);         // texel block 1x1x1x1
+    EXPECT_EQ(le(ktx, dfd + 20, 4), std::uint64_t(bytes));
+    const std::size_t data = le(ktx, 80, 8);
+    EXPECT_EQ(data % 4, 0u);
+    EXPECT_EQ(ktx.substr(data), dds.substr(148));
+  }
+}
+
 TEST_F(ExportTest, Ktx2FieldsAndPayload) {
   const ExportResult r = runExport(options_);
   const std::string s = slurp(options_.out / "gtso3d.ktx2");
@@ -194,11 +227,18 @@ TEST_F(ExportTest, RejectsWrongTableSize) {
   expectErrorAndNoOutput("gtso4d.f32");
 }
 
-TEST_F(ExportTest, RejectsUnknownQuantity) {
+TEST_F(ExportTest, RejectsAxesTheRuntimeDoesNotRead) {
   std::string json = slurp(dir_ / "gtso" / "gtso.json");
-  json.replace(json.find("\"cos_theta_o\""), 13, "\"theta_v\"");
+  json.replace(json.find("\"beta_split\""), 12, "\"cos_beta\"");
   std::ofstream(dir_ / "gtso" / "gtso.json") << json;
-  expectErrorAndNoOutput("unknown quantity");
+  expectErrorAndNoOutput("the runtime lookup expects \"beta_split\"");
+}
+
+TEST_F(ExportTest, RejectsOtherAxisConstants) {
+  nlohmann::json j = nlohmann::json::parse(slurp(dir_ / "gtso" / "gtso.json"));
+  j["axis_constants"]["sigma_scale"] = 0.75;
+  std::ofstream(dir_ / "gtso" / "gtso.json") << j.dump();
+  expectErrorAndNoOutput("axis_constants.sigma_scale");
 }
 
 TEST_F(ExportTest, RejectsNanTexel) {

@@ -2,11 +2,12 @@
 // export_fixture_gen on the synthetic fixture and this file #includes the result, alone (no other
 // gtbake header besides the fixture's value function). Decoded tables must match the float
 // tables within the BC4 error the header reports; lookups must land on texel centres; the cone
-// model's cap intersection must match Monte Carlo.
+// model's cap intersection must match Monte Carlo; the R16/R8/float variants read the same layout.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <vector>
 
@@ -27,12 +28,22 @@ static_assert(gtbake::gtsoBc4DecodeTexel(0x00000000001100FFull, 1) ==
               "code 2 in the 8-value mode");
 static_assert(sizeof(gtbake::kGtso3DBC4) == 8 * 2 * 2 * 6, "3D fixture: 2x2 blocks x 6 slices");
 
+const gtbake::GtsoVolume kVolume3D{gtbake::GtsoTexelFormat::kBc4, gtbake::kGtso3DBC4,
+                                   gtbake::kGtso3DSize[0], gtbake::kGtso3DSize[1],
+                                   gtbake::kGtso3DSize[2]};
+const gtbake::GtsoVolume kVolume4D{gtbake::GtsoTexelFormat::kBc4, gtbake::kGtso4DBC4,
+                                   gtbake::kGtso4DVolumeSize[0], gtbake::kGtso4DVolumeSize[1],
+                                   gtbake::kGtso4DVolumeSize[2]};
 float decoded3D(int x, int y, int z) {
-  return gtbake::gtsoFetchTexel(gtbake::kGtso3DBC4, gtbake::kGtso3DSize, x, y, z);
+  return gtbake::gtsoFetchTexel(kVolume3D, x, y, z);
 }
 float decoded4D(int x, int y, int z) {
-  return gtbake::gtsoFetchTexel(gtbake::kGtso4DBC4, gtbake::kGtso4DVolumeSize, x, y, z);
+  return gtbake::gtsoFetchTexel(kVolume4D, x, y, z);
 }
+// Texel centres are read back through the physical-input lookups up to the float rounding of
+// the inputs: near the mirror step the A axis is scaled by sigma = 0.5 rp^2 + 1e-5 rad, where
+// one float ulp of A moves the coordinate by up to ~1% of a texel of the smooth fixture.
+constexpr float kCentreTolerance = 2e-3f;
 
 TEST(GeneratedHeader, DecodedTablesWithinReportedBc4Error) {
   const std::vector<float> t3 = gtbake::test::fixtureTable3D();
@@ -54,38 +65,90 @@ TEST(GeneratedHeader, DecodedTablesWithinReportedBc4Error) {
   EXPECT_LT(gtbake::kGtso4DBC4MaxAbsError, 0.05f);          // coarse 8-texel fixture
 }
 
-// Fixture 3D axes: x = cos_alpha_v from 1 to 0, y = beta from 0 to π, z = r_p from 0 to 1.
+// Where an axis segment is empty (3D theta_o = 0: no alpha_v below the step; 4D theta_o = 0: no
+// beta below theta_o; beta >= pi/2: no alpha_v above the step), several texels hold the same
+// physical point and the lookup reads one of them. True when texel i shares its point with a
+// neighbour along x or y.
+template <int Dims>
+bool duplicated(const int* i, const int* n) {
+  const auto p = gtbake::gtsoTexelPhysical<double>(Dims, i, n);
+  for (int axis = 0; axis < 2; ++axis)
+    for (int step : {-1, 1}) {
+      int j[4] = {i[0], i[1], i[2], Dims == 4 ? i[3] : 0};
+      j[axis] += step;
+      if (j[axis] < 0 || j[axis] >= n[axis]) continue;
+      const auto q = gtbake::gtsoTexelPhysical<double>(Dims, j, n);
+      if (std::abs(p.A - q.A) < 1e-12 && std::abs(p.beta - q.beta) < 1e-12) return true;
+    }
+  return false;
+}
+
+// The physical parameters of every texel (the bake's inverse axis maps) look up that texel.
 TEST(GeneratedHeader, Lookup3DAtTexelCentresReturnsTexels) {
   const int* n = gtbake::kGtso3DSize;
+  int checked = 0;
   for (int z = 0; z < n[2]; ++z)
     for (int y = 0; y < n[1]; ++y)
       for (int x = 0; x < n[0]; ++x) {
-        const double q = 1.0 - x / (n[0] - 1.0);
-        const float A = static_cast<float>(1.0 - q * q);
-        const float cosBeta = static_cast<float>(std::cos(kPi * y / (n[1] - 1.0)));
-        const float rp = static_cast<float>(z / (n[2] - 1.0));
-        ASSERT_NEAR(gtbake::gtso3DLookup(A, cosBeta, rp), decoded3D(x, y, z), 2e-4)
-            << x << " " << y << " " << z;
+        const int i[3] = {x, y, z};
+        if (duplicated<3>(i, n)) continue;
+        ++checked;
+        const auto p = gtbake::gtsoTexelPhysical<double>(3, i, n);
+        const float got =
+            gtbake::gtso3DLookup(static_cast<float>(p.A), static_cast<float>(std::cos(p.beta)),
+                                 static_cast<float>(p.rp));
+        ASSERT_NEAR(got, decoded3D(x, y, z), kCentreTolerance) << x << " " << y << " " << z;
       }
+  EXPECT_GT(checked, n[0] * n[1] * n[2] * 3 / 4);
 }
 
-// Fixture 4D axes: x = A, y = cos_beta from −1 to 1, z = alpha = r_p², w = cos_theta_o.
-TEST(GeneratedHeader, Lookup4DIsTwoFetchesAndALerp) {
+// The 4D fold: texel (x, y, z, w) sits at volume depth w * N_z + z.
+TEST(GeneratedHeader, Lookup4DAtTexelCentresReadsTheFoldedVolume) {
   const int* n = gtbake::kGtso4DSize;
-  for (int w2 = 0; w2 <= 2 * (n[3] - 1); ++w2)
+  int checked = 0;
+  for (int w = 0; w < n[3]; ++w)
     for (int z = 0; z < n[2]; ++z)
-      for (int y = 0; y < n[1]; y += 3)
-        for (int x = 0; x < n[0]; x += 3) {
-          const float A = static_cast<float>(x / (n[0] - 1.0));
-          const float cosBeta = static_cast<float>(-1.0 + 2.0 * y / (n[1] - 1.0));
-          const float rp = static_cast<float>(std::sqrt(z / (n[2] - 1.0)));
-          const float cosThetaO = static_cast<float>(0.5 * w2 / (n[3] - 1.0));
-          const int s0 = w2 / 2, s1 = std::min(s0 + 1, n[3] - 1);
-          const float a = decoded4D(x, y, s0 * n[2] + z), b = decoded4D(x, y, s1 * n[2] + z);
-          const float expect = w2 % 2 == 0 ? a : 0.5f * (a + b);
-          ASSERT_NEAR(gtbake::gtso4DLookup(A, cosBeta, rp, cosThetaO), expect, 2e-4)
-              << x << " " << y << " " << z << " " << w2;
+      for (int y = 0; y < n[1]; ++y)
+        for (int x = 0; x < n[0]; ++x) {
+          const int i[4] = {x, y, z, w};
+          if (duplicated<4>(i, n)) continue;
+          ++checked;
+          const auto p = gtbake::gtsoTexelPhysical<double>(4, i, n);
+          const float got = gtbake::gtso4DLookup(
+              static_cast<float>(p.A), static_cast<float>(std::cos(p.beta)),
+              static_cast<float>(p.rp), static_cast<float>(std::cos(p.thetaO)));
+          ASSERT_NEAR(got, decoded4D(x, y, w * n[2] + z), kCentreTolerance)
+              << x << " " << y << " " << z << " " << w;
         }
+  EXPECT_GT(checked, n[0] * n[1] * n[2] * n[3] / 3);  // beta > pi/2 rows share A = 1 texels
+}
+
+// The per-format variants read the same layout: R16 / R8 texels of the float fixture give the
+// float lookup within their quantisation step.
+TEST(GeneratedHeader, PerFormatVariantsAgreeWithFloat) {
+  const std::vector<float> t3 = gtbake::test::fixtureTable3D();
+  const std::vector<float> t4 = gtbake::test::fixtureTable4D();
+  auto quantize = [](const std::vector<float>& v, double scale, auto type) {
+    std::vector<decltype(type)> q;
+    for (float f : v) q.push_back(static_cast<decltype(type)>(std::lround(f * scale)));
+    return q;
+  };
+  const auto r16_3 = quantize(t3, 65535.0, std::uint16_t{}),
+             r16_4 = quantize(t4, 65535.0, std::uint16_t{});
+  const auto r8_3 = quantize(t3, 255.0, std::uint8_t{}), r8_4 = quantize(t4, 255.0, std::uint8_t{});
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f), u11(-1.0f, 1.0f);
+  for (int k = 0; k < 2000; ++k) {
+    const float A = u01(rng), cb = u11(rng), rp = u01(rng), co = u01(rng);
+    const float f3 = gtbake::gtso3DLookupFloat(t3.data(), A, cb, rp);
+    const float f4 = gtbake::gtso4DLookupFloat(t4.data(), A, cb, rp, co);
+    EXPECT_NEAR(gtbake::gtso3DLookupR16(r16_3.data(), A, cb, rp), f3, 0.5f / 65535.0f + 1e-6f);
+    EXPECT_NEAR(gtbake::gtso4DLookupR16(r16_4.data(), A, cb, rp, co), f4, 0.5f / 65535.0f + 1e-6f);
+    EXPECT_NEAR(gtbake::gtso3DLookupR8(r8_3.data(), A, cb, rp), f3, 0.5f / 255.0f + 1e-6f);
+    EXPECT_NEAR(gtbake::gtso4DLookupR8(r8_4.data(), A, cb, rp, co), f4, 0.5f / 255.0f + 1e-6f);
+    EXPECT_NEAR(gtbake::gtso3DLookup(A, cb, rp), f3, gtbake::kGtso3DBC4MaxAbsError + 1e-6f);
+    EXPECT_NEAR(gtbake::gtso4DLookup(A, cb, rp, co), f4, gtbake::kGtso4DBC4MaxAbsError + 1e-6f);
+  }
 }
 
 TEST(GeneratedHeader, MultiBounceIsEquation10) {
@@ -118,7 +181,7 @@ TEST(GeneratedHeader, CapIntersectionMatchesMonteCarlo) {
     }
     const double p = double(hits) / n;
     const double sigma = 4.0 * kPi * std::sqrt(p * (1.0 - p) / n);
-    EXPECT_NEAR(gtbake::coneCapIntersection(float(c[0]), float(c[1]), float(c[2])), 4.0 * kPi * p,
+    EXPECT_NEAR(gtbake::gtsoCapIntersection(float(c[0]), float(c[1]), float(c[2])), 4.0 * kPi * p,
                 4.0 * sigma + 1e-5)
         << c[0] << " " << c[1] << " " << c[2];
   }

@@ -18,11 +18,11 @@ namespace gtbake {
 namespace {
 
 using nlohmann::json;
-using testing::ScratchDir;
+using test::TempDir;
 
 // Every generated scene type, plus the closed-form ones, reads back bit-identical.
 TEST(GltfRoundTrip, EveryProceduralSceneReadsBackIdentical) {
-  ScratchDir dir("roundtrip");
+  TempDir dir("roundtrip");
   std::vector<Scene> scenes;
   for (const auto& name : sceneTypeNames()) scenes.push_back(makeSceneType(name, 7));
   scenes.push_back(makeSphericalCavityScene(1.0, 0.7, 32));
@@ -32,7 +32,7 @@ TEST(GltfRoundTrip, EveryProceduralSceneReadsBackIdentical) {
     const auto path = dir.path() / (scene.name + ".gltf");
     writeGltfScene(path, scene);
     const Scene back = readGltfScene(path);
-    EXPECT_TRUE(testing::scenesIdentical(scene, back)) << scene.name;
+    EXPECT_TRUE(test::scenesIdentical(scene, back)) << scene.name;
     EXPECT_EQ(back.positions.size(), scene.positions.size()) << scene.name;
   }
   // No temporary files or directories are left behind.
@@ -46,7 +46,7 @@ TEST(GltfRoundTrip, EveryProceduralSceneReadsBackIdentical) {
 
 // runScenes twice gives the same bytes, in the fixed order, seeded by the seed alone.
 TEST(ScenesCommand, SameSeedSameBytesOtherSeedOtherTerrain) {
-  ScratchDir a("bytes_a"), b("bytes_b"), c("bytes_c");
+  TempDir a("bytes_a"), b("bytes_b"), c("bytes_c");
   const auto paths_a = runScenes({a.path(), 1, false});
   const auto paths_b = runScenes({b.path(), 1, false});
   const auto paths_c = runScenes({c.path(), 2, false});
@@ -57,15 +57,15 @@ TEST(ScenesCommand, SameSeedSameBytesOtherSeedOtherTerrain) {
       const auto pa = std::filesystem::path(paths_a[k]).replace_extension(ext);
       const auto pb = std::filesystem::path(paths_b[k]).replace_extension(ext);
       const auto pc = std::filesystem::path(paths_c[k]).replace_extension(ext);
-      const std::string bytes = testing::readBytes(pa);
+      const std::string bytes = test::readBytes(pa);
       EXPECT_FALSE(bytes.empty());
-      EXPECT_EQ(bytes, testing::readBytes(pb)) << pa;
+      EXPECT_EQ(bytes, test::readBytes(pb)) << pa;
       const bool seeded = k >= 5;  // clutter, terrain
       if (seeded && std::string(ext) == ".bin") {
-        EXPECT_NE(bytes, testing::readBytes(pc)) << pa;
+        EXPECT_NE(bytes, test::readBytes(pc)) << pa;
       }
       if (!seeded) {
-        EXPECT_EQ(bytes, testing::readBytes(pc)) << pa;
+        EXPECT_EQ(bytes, test::readBytes(pc)) << pa;
       }
     }
   }
@@ -119,7 +119,7 @@ HandWritten oneTriangle() {
 }
 
 TEST(GltfRead, NodeHierarchyTransformsGeometryAndCamera) {
-  ScratchDir dir("transforms");
+  TempDir dir("transforms");
   HandWritten h = oneTriangle();
   const double s = std::sqrt(0.5);
   // Parent: translate (1, 2, 3) ∘ rotate 90° about +Z; child: scale 2 holding the mesh.
@@ -145,7 +145,7 @@ TEST(GltfRead, NodeHierarchyTransformsGeometryAndCamera) {
 }
 
 TEST(GltfRead, InterleavedNonIndexedAndU8AndMirrored) {
-  ScratchDir dir("layouts");
+  TempDir dir("layouts");
   HandWritten h = oneTriangle();
   // Interleaved vertices (position after a 4-byte pad, stride 16), a second, non-indexed
   // primitive reading the same view with an accessor offset, and u8 indices.
@@ -170,7 +170,7 @@ TEST(GltfRead, InterleavedNonIndexedAndU8AndMirrored) {
 }
 
 TEST(GltfRead, GlbAndDefaultScene) {
-  ScratchDir dir("glb");
+  TempDir dir("glb");
   HandWritten h = oneTriangle();
   // Scene 1 (the default) holds the mesh under a node translated by (0, 0, −2).
   h.doc["nodes"].push_back({{"mesh", 0}, {"translation", {0, 0, -2}}});
@@ -215,7 +215,7 @@ std::string errorOf(const std::filesystem::path& path) {
 }
 
 TEST(GltfRead, BadInputGivesOneLineErrors) {
-  ScratchDir dir("bad");
+  TempDir dir("bad");
   EXPECT_NE(errorOf(dir.path() / "missing.gltf").find("no such file"), std::string::npos);
   std::ofstream(dir.path() / "malformed.gltf") << "{ \"asset\": {\"version\": \"2.0\"}, oops";
   EXPECT_NE(errorOf(dir.path() / "malformed.gltf").find("not a valid glTF"), std::string::npos);
@@ -262,7 +262,7 @@ TEST(GltfRead, BadInputGivesOneLineErrors) {
 }
 
 TEST(GltfWrite, RefusesOtherExtensionsAndKeepsOldFilesOnFailure) {
-  ScratchDir dir("write");
+  TempDir dir("write");
   EXPECT_THROW(writeGltfScene(dir.path() / "x.glb", makeClosedBoxScene()), Error);
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }

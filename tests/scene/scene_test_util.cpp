@@ -1,26 +1,10 @@
 #include "scene_test_util.h"
 
-#include <unistd.h>
-
 #include <Eigen/Geometry>
 #include <cmath>
-#include <fstream>
 #include <map>
-#include <sstream>
 
-namespace gtbake::testing {
-
-ScratchDir::ScratchDir(const std::string& tag) {
-  path_ = std::filesystem::temp_directory_path() /
-          ("gtbake_scene_test_" + tag + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(path_);
-  std::filesystem::create_directories(path_);
-}
-
-ScratchDir::~ScratchDir() {
-  std::error_code ec;
-  std::filesystem::remove_all(path_, ec);
-}
+namespace gtbake::test {
 
 namespace {
 using Edge = std::pair<std::uint32_t, std::uint32_t>;
@@ -98,11 +82,4 @@ bool scenesIdentical(const Scene& a, const Scene& b) {
          a.camera.yfov == b.camera.yfov;
 }
 
-std::string readBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream out;
-  out << in.rdbuf();
-  return out.str();
-}
-
-}  // namespace gtbake::testing
+}  // namespace gtbake::test

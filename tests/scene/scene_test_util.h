@@ -1,25 +1,15 @@
-// Helpers for the scene tests: a scratch directory, mesh topology and brute-force ray casts.
+// Helpers for the scene tests: mesh topology and brute-force ray casts (scratch directories and
+// byte reads are tests/support's TempDir and readBytes).
 #pragma once
 
 #include <Eigen/Core>
-#include <filesystem>
 #include <optional>
 #include <string>
 
 #include "scene/scene.h"
+#include "support/temp_dir.h"
 
-namespace gtbake::testing {
-
-// A fresh empty directory under the system temp dir, removed by the destructor.
-class ScratchDir {
- public:
-  explicit ScratchDir(const std::string& tag);
-  ~ScratchDir();
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+namespace gtbake::test {
 
 struct EdgeCensus {
   std::size_t edges = 0;         // undirected edges
@@ -41,6 +31,5 @@ std::optional<double> castRay(const Scene& scene, const Eigen::Vector3d& origin,
 Eigen::Vector3d pixelRay(const PerspectiveCamera& camera, int i, int j, int w, int h);
 
 bool scenesIdentical(const Scene& a, const Scene& b);
-std::string readBytes(const std::filesystem::path& path);
 
-}  // namespace gtbake::testing
+}  // namespace gtbake::test

@@ -4,28 +4,18 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/math_constants.h"
+#include "scene/mesh_builder.h"
+
 namespace gtbake::test {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kFov = 0.8;  // vertical field of view of every test camera, rad
 
 std::uint32_t addVertex(Scene& s, const Eigen::Vector3d& p) {
   s.positions.push_back(p.cast<float>());
   return static_cast<std::uint32_t>(s.positions.size() - 1);
-}
-
-PerspectiveCamera lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
-                         const Eigen::Vector3d& up) {
-  PerspectiveCamera camera;
-  camera.position = eye;
-  const Eigen::Vector3d back = (eye - target).normalized();
-  const Eigen::Vector3d right = up.cross(back).normalized();
-  camera.basis.col(0) = right;
-  camera.basis.col(1) = back.cross(right);
-  camera.basis.col(2) = back;
-  camera.yfov = 0.8;
-  return camera;
 }
 
 void addQuad(Scene& s, std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
@@ -47,25 +37,7 @@ Scene openPlane(double half) {
   Scene s;
   s.name = "open_plane";
   addGroundSquare(s, half);
-  s.camera = lookAt({0, 2, 2}, {0, 0, 0}, Eigen::Vector3d::UnitY());
-  return s;
-}
-
-Scene closedBox() {
-  Scene s;
-  s.name = "closed_box";
-  std::uint32_t v[8];
-  for (int i = 0; i < 8; ++i) {
-    v[i] = addVertex(s, {i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0});
-  }
-  addQuad(s, v[0], v[1], v[3], v[2]);  // z = −1
-  addQuad(s, v[4], v[6], v[7], v[5]);  // z = +1
-  addQuad(s, v[0], v[4], v[5], v[1]);  // y = −1
-  addQuad(s, v[2], v[3], v[7], v[6]);  // y = +1
-  addQuad(s, v[0], v[2], v[6], v[4]);  // x = −1
-  addQuad(s, v[1], v[5], v[7], v[3]);  // x = +1
-  s.camera = lookAt({0.1, 0.2, 0.3}, {0.5, -0.6, -1.0}, Eigen::Vector3d::UnitY());
-  s.camera.yfov = 1.6;
+  s.camera = lookAt({0, 2, 2}, {0, 0, 0}, Eigen::Vector3d::UnitY(), kFov);
   return s;
 }
 
@@ -108,7 +80,8 @@ Scene sphericalBowl(double radius, double depth, int rings, int segments) {
     }
     previous = ring;
   }
-  s.camera = lookAt({0, 1.5 * radius, 0.5 * radius}, {0, cy - radius, 0}, Eigen::Vector3d::UnitY());
+  s.camera =
+      lookAt({0, 1.5 * radius, 0.5 * radius}, {0, cy - radius, 0}, Eigen::Vector3d::UnitY(), kFov);
   return s;
 }
 
@@ -137,41 +110,7 @@ Scene cylindricalWell(double radius, double depth, int segments) {
     s.triangles.push_back({centre, lo[k], lo[j]});
     addQuad(s, lo[j], lo[k], hi[k], hi[j]);
   }
-  s.camera = lookAt({0, 2 * depth, 0.01}, {0, -depth, 0}, Eigen::Vector3d::UnitY());
-  return s;
-}
-
-Scene sphereOnPlane(double radius, int segments, double half) {
-  Scene s;
-  s.name = "sphere_on_plane";
-  addGroundSquare(s, half);
-  const int rings = segments / 2;
-  const auto south = addVertex(s, {0, 0, 0});
-  const auto north = addVertex(s, {0, 2 * radius, 0});
-  std::vector<std::uint32_t> previous(segments, south);
-  for (int i = 1; i < rings; ++i) {
-    const double theta = kPi * i / rings;  // from the south pole
-    std::vector<std::uint32_t> ring(segments);
-    for (int j = 0; j < segments; ++j) {
-      const double phi = 2.0 * kPi * j / segments;
-      ring[j] =
-          addVertex(s, {radius * std::sin(theta) * std::cos(phi), radius - radius * std::cos(theta),
-                        radius * std::sin(theta) * std::sin(phi)});
-    }
-    for (int j = 0; j < segments; ++j) {
-      const int k = (j + 1) % segments;
-      if (i == 1) {
-        s.triangles.push_back({south, ring[j], ring[k]});
-      } else {
-        addQuad(s, previous[j], ring[j], ring[k], previous[k]);
-      }
-    }
-    previous = ring;
-  }
-  for (int j = 0; j < segments; ++j) {
-    s.triangles.push_back({previous[j], north, previous[(j + 1) % segments]});
-  }
-  s.camera = lookAt({4 * radius, 3 * radius, 4 * radius}, {0, 0, 0}, Eigen::Vector3d::UnitY());
+  s.camera = lookAt({0, 2 * depth, 0.01}, {0, -depth, 0}, Eigen::Vector3d::UnitY(), kFov);
   return s;
 }
 

@@ -1,6 +1,9 @@
 // Scenes whose A (and, for the bowl, every p_k) has a closed form, built directly as Scene objects,
 // and the exact form factor of a polygon, used to measure what tessellation does to the closed
-// forms (docs/sweep.md, "Tests").
+// forms (docs/sweep.md, "Tests"). These are the shapes src/scene does not build: a finite plane
+// whose edge is in view, and a bowl and a well with no ground around their opening (so the sky is
+// seen exactly through one planar polygon). The closed box and the sphere on a plane are
+// src/scene's (makeClosedBoxScene, makeSphereOnPlaneScene in scene/procedural_scenes.h).
 #pragma once
 
 #include <Eigen/Core>
@@ -13,9 +16,6 @@ namespace gtbake::test {
 // Square of half-size `half` in y = 0, camera above it looking down at 45°.
 Scene openPlane(double half);
 
-// Closed axis-aligned box [−1, 1]³ with the camera inside at its centre.
-Scene closedBox();
-
 // Spherical bowl: the part y ≤ 0 of the sphere of radius R centred at (0, R − h, 0), depth h,
 // `rings` latitude steps from the bottom vertex to the rim ring at y = 0, `segments` longitudes.
 // Every vertex lies on the sphere and the rim ring is planar, so the mesh is convex and a point
@@ -27,9 +27,6 @@ std::vector<Eigen::Vector3d> bowlRim(double radius, double depth, int segments);
 // circumradius `radius`.
 Scene cylindricalWell(double radius, double depth, int segments);
 std::vector<Eigen::Vector3d> wellOpening(double radius, int segments);
-
-// UV sphere of radius R centred at (0, R, 0) resting on the square y = 0 of half-size `half`.
-Scene sphereOnPlane(double radius, int segments, double half);
 
 // Exact (1/π)∫ cos dω over the directions from x through the planar polygon `p` (Lambert's
 // formula), for a polygon wholly above x's tangent plane: the A of x when only `p` shows sky.

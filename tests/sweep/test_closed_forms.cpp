@@ -13,6 +13,7 @@
 
 #include "closed_form_scenes.h"
 #include "gtso/ggx.h"
+#include "scene/procedural_scenes.h"
 #include "sweep/escape_image.h"
 #include "sweep/specular_occlusion.h"
 #include "walk_points.h"
@@ -74,7 +75,7 @@ TEST(ClosedForm, OpenPlaneIsFullyUnoccluded) {
 // Inside a closed box no walk escapes and no specular sample sees the sky: A = G = S = 0; with no
 // escaping first bounce the bent normal is n.
 TEST(ClosedForm, ClosedBoxSeesNoSky) {
-  const Scene scene = test::closedBox();
+  const Scene scene = makeClosedBoxScene();
   const EmbreeTracer tracer(scene);
   WalkSettings settings;
   settings.spp = 64;
@@ -212,7 +213,7 @@ TEST(ClosedForm, CylindricalWellFloorCentre) {
 // form factor R²·cosθ/D² = R³/(R² + x²)^{3/2}, so A = 1 − R³/(R² + x²)^{3/2}.
 TEST(ClosedForm, PlaneBesideSphere) {
   const double radius = 1.0;
-  const Scene scene = test::sphereOnPlane(radius, 128, 50.0);
+  const Scene scene = makeSphereOnPlaneScene(radius, 128);
   const EmbreeTracer tracer(scene);
   // The UV-sphere mesh lies between the spheres of radius r_in (its inradius) and R about the same
   // centre, so its A lies between the closed forms for those two radii (centre height R).
@@ -356,7 +357,7 @@ TEST(ClosedForm, WellFloorSpecularOcclusionMatchesQuadrature) {
 // between the spheres of radius r_in and R (closed forms for both), ± 3 SE of the pooled estimate.
 TEST(ClosedForm, BentNormalBesideSphere) {
   const double radius = 1.0;
-  const Scene scene = test::sphereOnPlane(radius, 128, 50.0);
+  const Scene scene = makeSphereOnPlaneScene(radius, 128);
   const EmbreeTracer tracer(scene);
   const Eigen::Vector3d centre(0, radius, 0);
   const double r_in = test::inradius(scene, centre);

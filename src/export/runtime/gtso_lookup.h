@@ -1,0 +1,371 @@
+// GTSO runtime lookup (SPEC §1.4-1.5): the axis warps of the 3D and 4D tables and the texture
+// reads a shader performs (BC4 decode, half-texel remap, trilinear filter, 4D fold), for float32,
+// BC4_UNORM, R16_UNORM and R8_UNORM texels; the cone-to-cone model and the multi-bounce fit.
+//
+// This file is the single C++ definition of the table axes: `gtbake gtso` bakes texel i of each
+// axis at the inverse map of i/(N-1), the lookups here apply the forward map, and `gtbake export`
+// copies this file verbatim into the generated gtbake_tables.h (so the shipped header carries
+// exactly this tested code). gtso_lookup.glsl / .hlsl are the shader ports, executed against
+// this file by tests/shader. Self-contained C++17 (<cmath>, <cstdint>), namespace gtbake.
+//
+// Inputs: A (ambient occlusion, cos(alpha_v) = sqrt(1 - A), paper Eq. 18), cosBeta (cosine of the
+// angle between the bent normal and the reflection vector wr), rp (perceptual roughness, GGX
+// width alpha = rp^2) and, in 4D, cosThetaO (= n.wr). All angles below are in radians.
+//
+// clang-format off
+// Axes (t in [0, 1]; texel i of N holds t = i/(N-1)):
+//   x, A axis, "step-warped": alpha_v = atan2(sqrt(A), sqrt(1 - A)), delta = alpha_v - s with
+//     s = theta_o (3D) or beta (4D), sigma = kGtsoSigmaScale rp^2 + kGtsoSigmaFloor (the lobe
+//     width, radians):
+//       t = tS + (1 - tS) asinh(delta / sigma) / asinh((pi/2 - s) / sigma)   for delta >= 0,
+//       t = tS - tS asinh(-delta / sigma) / asinh(s / sigma)                   for delta < 0,
+//     tS = floor((N-1)/2)/(N-1): A = 0 and A = 1 on the end texels, the mirror step on texel tS
+//     (4D with beta > pi/2: the step lies beyond A = 1, which maps below tS, continuously).
+//   y, 3D: theta_o axis; 4D: beta in [0, theta_o + pi/2] (bent normals above the horizon only),
+//     piecewise linear with beta = theta_o on texel tB = floor(N/3)/(N-1):
+//       t = tB beta / theta_o below theta_o,  t = tB + (1 - tB)(beta - theta_o)/(pi/2) above,
+//     so S4(beta = theta_o) reads texels baked with b = n: the S3 values through the lookup.
+//   z, r_p axis: t = sqrt(rp) (refined toward the mirror limit).
+//   w (4D), theta_o axis: x = theta_o/(pi/2), t = w x + (1 - w)(1 - sqrt(1 - x)),
+//     w = kGtsoThetaLinear (refined toward grazing).
+// ALU beyond the fetches: A axis 1 atan2, 2 sqrt, 2 asinh, 3 div, ~8 mul/add; theta_o axis
+// 1 acos, 1 sqrt, ~5; r_p axis 1 sqrt; 4D beta axis 1 acos, 1 div, ~4. Whole 3D lookup ~ 1 atan2,
+// 1 acos, 2 asinh, 4 sqrt, 3 div, ~20 mul/add + 1 trilinear fetch; 4D ~ 1 atan2, 2 acos,
+// 2 asinh, 4 sqrt, 4 div, ~30 mul/add + 2 trilinear fetches and a lerp.
+// clang-format on
+#ifndef GTBAKE_GTSO_LOOKUP_H
+#define GTBAKE_GTSO_LOOKUP_H
+
+#include <cmath>
+#include <cstdint>
+
+namespace gtbake {
+
+inline constexpr double kGtsoPi = 3.14159265358979323846;
+inline constexpr double kGtsoSigmaScale = 0.5;   // sigma per GGX width alpha = rp^2
+inline constexpr double kGtsoSigmaFloor = 1e-5;  // sigma at rp = 0 (radians)
+inline constexpr double kGtsoThetaLinear = 0.5;  // linear share of the theta_o axis
+inline constexpr double kGtsoRoughPower = 0.5;   // t = rp^power: < 1 refines r_p toward 0
+// (sqrt: the lookups evaluate rp^0.5 as std::sqrt, the bake inverts with pow(t, 2))
+
+// The axes as gtso.json names them (x, y, z[, w]), their forward maps and ALU cost.
+struct GtsoAxisInfo {
+  const char* quantity;
+  const char* forward;
+  const char* alu;
+};
+// clang-format off
+inline constexpr GtsoAxisInfo kGtsoAxisStepA = {
+    "A_step_warp",
+    "alpha_v = atan2(sqrt(A), sqrt(1-A)); s = theta_o (3D) / beta (4D); sigma = kGtsoSigmaScale rp^2 + "
+    "kGtsoSigmaFloor; t = tS + (1-tS) asinh((alpha_v-s)/sigma)/asinh((pi/2-s)/sigma) above the "
+    "step, tS - tS asinh((s-alpha_v)/sigma)/asinh(s/sigma) below; tS = floor((N-1)/2)/(N-1)",
+    "1 atan2, 2 sqrt, 2 asinh, 3 div, ~8 mul/add"};
+inline constexpr GtsoAxisInfo kGtsoAxisTheta = {
+    "theta_o_grazing",
+    "x = acos(cos theta_o)/(pi/2); t = w x + (1-w)(1 - sqrt(1-x)), w = kGtsoThetaLinear",
+    "1 acos, 1 sqrt, ~5 mul/add"};
+inline constexpr GtsoAxisInfo kGtsoAxisRough = {"r_p_pow", "t = rp^kGtsoRoughPower", "1 sqrt"};
+inline constexpr GtsoAxisInfo kGtsoAxisBeta = {
+    "beta_split",
+    "beta = acos(cosBeta) in [0, theta_o + pi/2] (bent normal above the horizon); t = tB beta/theta_o "
+    "below theta_o, tB + (1-tB)(beta-theta_o)/(pi/2) above; tB = floor(N/3)/(N-1)",
+    "1 acos, 1 div, ~4 mul/add"};
+// clang-format on
+inline constexpr const GtsoAxisInfo* kGtso3DAxisInfo[3] = {&kGtsoAxisStepA, &kGtsoAxisTheta,
+                                                           &kGtsoAxisRough};
+inline constexpr const GtsoAxisInfo* kGtso4DAxisInfo[4] = {&kGtsoAxisStepA, &kGtsoAxisBeta,
+                                                           &kGtsoAxisRough, &kGtsoAxisTheta};
+
+// ---- axis maps, templated on float (runtime) and double (bake) ----
+
+template <class T>
+T gtsoClamp01(T x) {
+  return x < T(0) ? T(0) : (x > T(1) ? T(1) : x);
+}
+template <class T>
+T gtsoAcos(T x) {
+  return std::acos(x < T(-1) ? T(-1) : (x > T(1) ? T(1) : x));
+}
+// Texel of the mirror step on the A axis and of beta = theta_o on the 4D beta axis, as t.
+template <class T>
+T gtsoStepT(int n) {
+  return T((n - 1) / 2) / T(n - 1);
+}
+template <class T>
+T gtsoBetaSplitT(int n) {
+  return T(n / 3) / T(n - 1);
+}
+template <class T>
+T gtsoSigma(T rp) {
+  return T(kGtsoSigmaScale) * rp * rp + T(kGtsoSigmaFloor);
+}
+// alpha_v -> t and back, step s, width sigma, step texel tS.
+template <class T>
+T gtsoStepWarp(T alphaV, T s, T sigma, T tS) {
+  const T halfPi = T(kGtsoPi / 2);
+  if (alphaV >= s) {
+    const T span = std::asinh((halfPi - s) / sigma);
+    return span > T(0) ? tS + (T(1) - tS) * gtsoClamp01(std::asinh((alphaV - s) / sigma) / span)
+                       : tS;
+  }
+  const T span = std::asinh(s / sigma);
+  return tS - tS * gtsoClamp01(std::asinh((s - alphaV) / sigma) / span);
+}
+template <class T>
+T gtsoStepUnwarp(T t, T s, T sigma, T tS) {
+  const T halfPi = T(kGtsoPi / 2);
+  if (t >= tS) {
+    if (t >= T(1) || s >= halfPi) return halfPi;
+    const T span = std::asinh((halfPi - s) / sigma);
+    const T a = s + sigma * std::sinh((t - tS) / (T(1) - tS) * span);
+    return a < halfPi ? a : halfPi;
+  }
+  if (t <= T(0)) return T(0);
+  const T a = s - sigma * std::sinh((tS - t) / tS * std::asinh(s / sigma));
+  return a < T(0) ? T(0) : (a > halfPi ? halfPi : a);
+}
+// theta_o axis: x = theta_o/(pi/2), t = w x + (1 - w)(1 - sqrt(1 - x)), w = kGtsoThetaLinear:
+// slope (1 + w)/2 at normal view, sqrt-refined toward grazing; inverse from the quadratic in
+// r = sqrt(1 - x): w r^2 + (1 - w) r + t - 1 = 0.
+template <class T>
+T gtsoThetaWarp(T thetaO) {
+  const T x = gtsoClamp01(thetaO / T(kGtsoPi / 2));
+  const T w = T(kGtsoThetaLinear);
+  return w * x + (T(1) - w) * (T(1) - std::sqrt(T(1) - x));
+}
+template <class T>
+T gtsoThetaUnwarp(T t) {
+  const T w = T(kGtsoThetaLinear);
+  const T r =
+      (std::sqrt((T(1) - w) * (T(1) - w) + T(4) * w * (T(1) - gtsoClamp01(t))) - (T(1) - w)) /
+      (T(2) * w);
+  return T(kGtsoPi / 2) * gtsoClamp01(T(1) - r * r);
+}
+template <class T>
+T gtsoBetaWarp(T beta, T thetaO, T tB) {
+  if (beta >= thetaO) return gtsoClamp01(tB + (T(1) - tB) * (beta - thetaO) / T(kGtsoPi / 2));
+  return tB * beta / thetaO;  // beta < thetaO implies thetaO > 0
+}
+template <class T>
+T gtsoBetaUnwarp(T t, T thetaO, T tB) {
+  if (t >= tB) return thetaO + (t - tB) / (T(1) - tB) * T(kGtsoPi / 2);
+  return thetaO * t / tB;
+}
+
+static_assert(kGtsoRoughPower == 0.5, "gtsoRoughWarp evaluates rp^kGtsoRoughPower as a sqrt");
+template <class T>
+T gtsoRoughWarp(T rp) {
+  return std::sqrt(gtsoClamp01(rp));
+}
+template <class T>
+T gtsoRoughUnwarp(T t) {
+  return std::pow(gtsoClamp01(t), T(1) / T(kGtsoRoughPower));
+}
+
+// Physical parameters <-> axis positions t (logical order: A, beta, r_p, theta_o).
+template <class T>
+struct GtsoAxisT {
+  T t[4];
+};
+template <class T>
+struct GtsoPhysical {
+  T A, beta, rp, thetaO;  // 3D: beta = theta_o
+};
+
+// alpha_v from A: cos(alpha_v) = sqrt(1 - A) (paper Eq. 18), as atan2 for precision at both ends.
+template <class T>
+T gtsoAlphaV(T A) {
+  const T a = gtsoClamp01(A);
+  return std::atan2(std::sqrt(a), std::sqrt(T(1) - a));
+}
+template <class T>
+GtsoAxisT<T> gtso3DAxes(T A, T cosBeta, T rp, const int* size) {
+  const T alphaV = gtsoAlphaV(A);
+  const T thetaO = gtsoAcos(cosBeta < T(0) ? T(0) : cosBeta);
+  const T r = gtsoClamp01(rp);
+  return {{gtsoStepWarp(alphaV, thetaO, gtsoSigma(r), gtsoStepT<T>(size[0])), gtsoThetaWarp(thetaO),
+           gtsoRoughWarp(r), T(0)}};
+}
+template <class T>
+GtsoAxisT<T> gtso4DAxes(T A, T cosBeta, T rp, T cosThetaO, const int* size) {
+  const T alphaV = gtsoAlphaV(A);
+  const T beta = gtsoAcos(cosBeta);
+  const T thetaO = gtsoAcos(cosThetaO < T(0) ? T(0) : cosThetaO);
+  const T r = gtsoClamp01(rp);
+  return {{gtsoStepWarp(alphaV, beta, gtsoSigma(r), gtsoStepT<T>(size[0])),
+           gtsoBetaWarp(beta, thetaO, gtsoBetaSplitT<T>(size[1])), gtsoRoughWarp(r),
+           gtsoThetaWarp(thetaO)}};
+}
+// The physical parameters of texel i (the bake's inverse maps).
+template <class T>
+GtsoPhysical<T> gtsoTexelPhysical(int dims, const int* i, const int* size) {
+  auto tOf = [&](int d) { return T(i[d]) / T(size[d] - 1); };
+  GtsoPhysical<T> p;
+  p.rp = gtsoRoughUnwarp(tOf(2));
+  p.thetaO = gtsoThetaUnwarp(dims == 3 ? tOf(1) : tOf(3));
+  p.beta = dims == 3 ? p.thetaO : gtsoBetaUnwarp(tOf(1), p.thetaO, gtsoBetaSplitT<T>(size[1]));
+  const T alphaV = gtsoStepUnwarp(tOf(0), p.beta, gtsoSigma(p.rp), gtsoStepT<T>(size[0]));
+  const T sv = std::sin(alphaV);
+  p.A = i[0] == size[0] - 1 ? T(1) : (i[0] == 0 ? T(0) : sv * sv);
+  return p;
+}
+
+// ---- texels ----
+
+enum class GtsoTexelFormat { kFloat32, kBc4, kR16, kR8 };
+
+// A volume texture as stored in gtso3d/gtso4d files: width x height x depth texels, x fastest;
+// BC4: 4x4 blocks over (x, y), blocks in memory order (slices, rows of blocks, left to right).
+struct GtsoVolume {
+  GtsoTexelFormat format;
+  const void* texels;
+  int width, height, depth;
+};
+
+// BC4_UNORM decode of texel (4*row + col) of one block as a little-endian uint64, D3D float
+// arithmetic (the definition of the format gtbake encodes against).
+constexpr float gtsoBc4DecodeTexel(std::uint64_t block, int texel) {
+  const int r0 = static_cast<int>(block & 0xFF);
+  const int r1 = static_cast<int>((block >> 8) & 0xFF);
+  const int code = static_cast<int>((block >> (16 + 3 * texel)) & 7);
+  const float e0 = static_cast<float>(r0) / 255.0f;
+  const float e1 = static_cast<float>(r1) / 255.0f;
+  if (code == 0) return e0;
+  if (code == 1) return e1;
+  if (r0 > r1) {
+    return (static_cast<float>(8 - code) * e0 + static_cast<float>(code - 1) * e1) / 7.0f;
+  }
+  if (code == 6) return 0.0f;
+  if (code == 7) return 1.0f;
+  return (static_cast<float>(6 - code) * e0 + static_cast<float>(code - 1) * e1) / 5.0f;
+}
+
+inline float gtsoFetchTexel(const GtsoVolume& v, int x, int y, int z) {
+  const std::size_t linear = (static_cast<std::size_t>(z) * v.height + y) * v.width + x;
+  switch (v.format) {
+    case GtsoTexelFormat::kFloat32:
+      return static_cast<const float*>(v.texels)[linear];
+    case GtsoTexelFormat::kR16:
+      return static_cast<float>(static_cast<const std::uint16_t*>(v.texels)[linear]) / 65535.0f;
+    case GtsoTexelFormat::kR8:
+      return static_cast<float>(static_cast<const std::uint8_t*>(v.texels)[linear]) / 255.0f;
+    case GtsoTexelFormat::kBc4:
+      break;
+  }
+  const std::size_t block =
+      (static_cast<std::size_t>(z) * (v.height / 4) + y / 4) * (v.width / 4) + x / 4;
+  return gtsoBc4DecodeTexel(static_cast<const std::uint64_t*>(v.texels)[block],
+                            (y % 4) * 4 + x % 4);
+}
+
+// Half-texel remap: t = 0 and t = 1 land on the centres of the first and last texels.
+constexpr float gtsoTexelRemap(float t, int n) {
+  return (t * static_cast<float>(n - 1) + 0.5f) / static_cast<float>(n);
+}
+
+// Trilinear filter with clamp-to-edge addressing at normalised coordinates, as a GPU samples a
+// volume (weights in float; hardware quantises them to >= 8 fractional bits).
+inline float gtsoSampleTrilinear(const GtsoVolume& v, float cu, float cv, float cw) {
+  const float coord[3] = {cu, cv, cw};
+  const int size[3] = {v.width, v.height, v.depth};
+  int i0[3] = {0, 0, 0}, i1[3] = {0, 0, 0};
+  float fr[3] = {0.0f, 0.0f, 0.0f};
+  for (int a = 0; a < 3; ++a) {
+    const float p = coord[a] * static_cast<float>(size[a]) - 0.5f;
+    const float fl = std::floor(p);
+    fr[a] = p - fl;
+    const int i = static_cast<int>(fl);
+    i0[a] = i < 0 ? 0 : (i > size[a] - 1 ? size[a] - 1 : i);
+    i1[a] = i + 1 < 0 ? 0 : (i + 1 > size[a] - 1 ? size[a] - 1 : i + 1);
+  }
+  float result = 0.0f;
+  for (int corner = 0; corner < 8; ++corner) {
+    const float w = (corner & 1 ? fr[0] : 1.0f - fr[0]) * (corner & 2 ? fr[1] : 1.0f - fr[1]) *
+                    (corner & 4 ? fr[2] : 1.0f - fr[2]);
+    result += w * gtsoFetchTexel(v, corner & 1 ? i1[0] : i0[0], corner & 2 ? i1[1] : i0[1],
+                                 corner & 4 ? i1[2] : i0[2]);
+  }
+  return result;
+}
+
+// S3 from a 3D table of size[3] texels per axis (x = A, y = theta_o, z = r_p).
+inline float gtso3DLookup(const GtsoVolume& table, const int* size, float A, float cosBeta,
+                          float rp) {
+  const GtsoAxisT<float> a = gtso3DAxes(A, cosBeta, rp, size);
+  return gtsoSampleTrilinear(table, gtsoTexelRemap(a.t[0], size[0]),
+                             gtsoTexelRemap(a.t[1], size[1]), gtsoTexelRemap(a.t[2], size[2]));
+}
+
+// S4 from a 4D table of size[4] texels per axis (x = A, y = beta, z = r_p, w = theta_o) folded
+// into a volume of depth size[2]*size[3] (texel z' = w*size[2] + z): two trilinear fetches in
+// neighbouring w slices and a lerp.
+inline float gtso4DLookup(const GtsoVolume& table, const int* size, float A, float cosBeta,
+                          float rp, float cosThetaO) {
+  const GtsoAxisT<float> a = gtso4DAxes(A, cosBeta, rp, cosThetaO, size);
+  const float sw = a.t[3] * static_cast<float>(size[3] - 1);
+  int s0 = static_cast<int>(sw);
+  if (s0 > size[3] - 2) s0 = size[3] - 2;
+  const float zin = a.t[2] * static_cast<float>(size[2] - 1) + 0.5f;
+  const float depth = static_cast<float>(size[2] * size[3]);
+  const float u = gtsoTexelRemap(a.t[0], size[0]), v = gtsoTexelRemap(a.t[1], size[1]);
+  const float f0 =
+      gtsoSampleTrilinear(table, u, v, (static_cast<float>(s0 * size[2]) + zin) / depth);
+  const float f1 =
+      gtsoSampleTrilinear(table, u, v, (static_cast<float>((s0 + 1) * size[2]) + zin) / depth);
+  return f0 + (f1 - f0) * (sw - static_cast<float>(s0));
+}
+
+// ---- closed forms ----
+
+// Multi-bounce G(A, rho) = a A^3 - b A^2 + c A (paper Eq. 10) with a = ka[0] rho + ka[1] etc.
+// ({slope, intercept}); clamped below by A as in the paper's listing.
+inline float gtsoMultiBounce(const float* ka, const float* kb, const float* kc, float A,
+                             float albedo) {
+  const float a = ka[0] * albedo + ka[1];
+  const float b = kb[0] * albedo + kb[1];
+  const float c = kc[0] * albedo + kc[1];
+  const float g = ((a * A - b) * A + c) * A;
+  return g > A ? g : A;
+}
+
+// Solid angle of the intersection of two spherical caps of half-angles alphaV, alphaS whose axes
+// are beta apart (radians; exact for half-angles up to pi/2; Mazonka 2012 Eq. 12).
+inline float gtsoCapIntersection(float alphaV, float alphaS, float beta) {
+  const float pi = static_cast<float>(kGtsoPi);
+  if (beta >= alphaV + alphaS) return 0.0f;
+  if (beta <= std::fabs(alphaV - alphaS)) {
+    const float h = std::sin(0.5f * (alphaV < alphaS ? alphaV : alphaS));
+    return 4.0f * pi * h * h;  // 2 pi (1 - cos), without the cancellation
+  }
+  const float c1 = std::cos(alphaV), c2 = std::cos(alphaS), cd = std::cos(beta);
+  const float s1 = std::sin(alphaV), s2 = std::sin(alphaS), sd = std::sin(beta);
+  const float t0 = gtsoAcos((cd - c1 * c2) / (s1 * s2));
+  const float t1 = gtsoAcos((c2 - cd * c1) / (sd * s1));
+  const float t2 = gtsoAcos((c1 - cd * c2) / (sd * s2));
+  const float omega = 2.0f * (pi - t0 - c1 * t1 - c2 * t2);
+  return omega > 0.0f ? omega : 0.0f;
+}
+
+// 1 - exp(x) for x <= 0 without cancellation near 0 (the shaders have no expm1).
+inline float gtsoOneMinusExp(float x) {
+  return std::fabs(x) < 1e-3f ? -x * (1.0f + 0.5f * x) : 1.0f - std::exp(x);
+}
+
+// Cone-to-cone specular occlusion (paper Eq. 19): visibility cone cos(alpha_v) = sqrt(1 - A),
+// specular cone cos(alpha_s) = u^(alpha^2/2), alpha = rp^2, axes beta apart; S = cap
+// intersection / (2 pi (1 - cos(alpha_s))), with 1 - cos(alpha_s) kept precise for tiny lobes.
+inline float gtsoConeModel(float u, float A, float cosBeta, float rp) {
+  const float alpha = rp * rp;
+  const float oneMinusCosS = gtsoOneMinusExp(0.5f * alpha * alpha * std::log(u));
+  const float alphaV = gtsoAlphaV(A);
+  const float beta = gtsoAcos(cosBeta);
+  if (oneMinusCosS <= 0.0f) return beta <= alphaV && A > 0.0f ? 1.0f : 0.0f;  // mirror limit
+  const float alphaS = 2.0f * std::asin(std::sqrt(0.5f * oneMinusCosS));
+  return gtsoClamp01(gtsoCapIntersection(alphaV, alphaS, beta) /
+                     (2.0f * static_cast<float>(kGtsoPi) * oneMinusCosS));
+}
+
+}  // namespace gtbake
+
+#endif  // GTBAKE_GTSO_LOOKUP_H

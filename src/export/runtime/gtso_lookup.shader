@@ -1,0 +1,119 @@
+// GTSO lookups, cone model and multi-bounce for HLSL and GLSL: the shader port of
+// gtso_lookup.h (same axis maps, same half-texel remap and 4D fold; the texture unit does the
+// decode and the trilinear filter). `gtbake export` prepends the language macros and the
+// constants below and writes the result as gtbake_tables.hlsl / .glsl; tests/shader compiles both
+// to SPIR-V and executes them against the C++ header.
+//
+// Needs before it: GTSO_VEC3, GTSO_ATAN2(y, x), GTSO_TEXTURE (parameter declaration of
+// one volume texture), GTSO_SAMPLE(coord) (its filtered value at coord), and the constants
+// kGtsoPiF, kGtsoSigmaScaleF, kGtsoSigmaFloorF, kGtsoThetaLinearF (the axis constants of
+// gtso_lookup.h, written by export from the same C++ constants), kGtso3DSize (float3),
+// kGtso4DSize (float4 as x, y, z, w), kConeApertureU and kMultiBounceA/B/C ({slope, intercept}
+// as float2, .x = slope).
+
+// asinh(x) for x >= 0 (HLSL has no asinh).
+float gtsoAsinh(float x) { return log(x + sqrt(x * x + 1.0)); }
+
+float gtsoAlphaV(float A) {
+  float a = clamp(A, 0.0, 1.0);
+  return GTSO_ATAN2(sqrt(a), sqrt(1.0 - a));
+}
+
+// alpha_v -> t on the step-warped A axis (step s, width sigma, step texel tS).
+float gtsoStepWarp(float alphaV, float s, float sigma, float tS) {
+  if (alphaV >= s) {
+    float span = gtsoAsinh((0.5 * kGtsoPiF - s) / sigma);
+    return span > 0.0 ? tS + (1.0 - tS) * clamp(gtsoAsinh((alphaV - s) / sigma) / span, 0.0, 1.0)
+                      : tS;
+  }
+  return tS - tS * clamp(gtsoAsinh((s - alphaV) / sigma) / gtsoAsinh(s / sigma), 0.0, 1.0);
+}
+
+float gtsoThetaWarp(float thetaO) {
+  float x = clamp(thetaO / (0.5 * kGtsoPiF), 0.0, 1.0);
+  return kGtsoThetaLinearF * x + (1.0 - kGtsoThetaLinearF) * (1.0 - sqrt(1.0 - x));
+}
+
+float gtsoBetaWarp(float beta, float thetaO, float tB) {
+  if (beta >= thetaO) return clamp(tB + (1.0 - tB) * (beta - thetaO) / (0.5 * kGtsoPiF), 0.0, 1.0);
+  return tB * beta / thetaO;
+}
+
+float gtsoSigma(float rp) { return kGtsoSigmaScaleF * rp * rp + kGtsoSigmaFloorF; }
+
+// Half-texel remap: t = 0 and t = 1 land on the centres of the first and last texels.
+float gtsoTexelRemap(float t, float n) { return (t * (n - 1.0) + 0.5) / n; }
+
+// 3D table coordinates: x = A (step-warped around alpha_v = theta_o), y = theta_o, z = r_p.
+GTSO_VEC3 gtso3DTexCoord(float A, float cosBeta, float rp) {
+  float thetaO = acos(clamp(cosBeta, 0.0, 1.0));
+  float r = clamp(rp, 0.0, 1.0);
+  float tS = floor((kGtso3DSize.x - 1.0) * 0.5) / (kGtso3DSize.x - 1.0);
+  float tA = gtsoStepWarp(gtsoAlphaV(A), thetaO, gtsoSigma(r), tS);
+  return GTSO_VEC3(gtsoTexelRemap(tA, kGtso3DSize.x),
+                     gtsoTexelRemap(gtsoThetaWarp(thetaO), kGtso3DSize.y),
+                     gtsoTexelRemap(sqrt(r), kGtso3DSize.z));
+}
+
+// S3(A, beta, r_p), bent normal = n: one trilinear fetch.
+float gtso3DSample(GTSO_TEXTURE, float A, float cosBeta, float rp) {
+  return GTSO_SAMPLE(gtso3DTexCoord(A, cosBeta, rp));
+}
+
+// S4(A, beta, r_p, theta_o): the volume folds w into z (z' = w N_z + z); two trilinear fetches in
+// neighbouring w slices and a lerp.
+float gtso4DSample(GTSO_TEXTURE, float A, float cosBeta, float rp, float cosThetaO) {
+  float beta = acos(clamp(cosBeta, -1.0, 1.0));
+  float thetaO = acos(clamp(cosThetaO, 0.0, 1.0));
+  float r = clamp(rp, 0.0, 1.0);
+  float tS = floor((kGtso4DSize.x - 1.0) * 0.5) / (kGtso4DSize.x - 1.0);
+  float tB = floor(kGtso4DSize.y / 3.0) / (kGtso4DSize.y - 1.0);
+  float u = gtsoTexelRemap(gtsoStepWarp(gtsoAlphaV(A), beta, gtsoSigma(r), tS), kGtso4DSize.x);
+  float v = gtsoTexelRemap(gtsoBetaWarp(beta, thetaO, tB), kGtso4DSize.y);
+  float sw = gtsoThetaWarp(thetaO) * (kGtso4DSize.w - 1.0);
+  float s0 = min(floor(sw), kGtso4DSize.w - 2.0);
+  float zin = sqrt(r) * (kGtso4DSize.z - 1.0) + 0.5;
+  float depth = kGtso4DSize.z * kGtso4DSize.w;
+  float f0 = GTSO_SAMPLE(GTSO_VEC3(u, v, (s0 * kGtso4DSize.z + zin) / depth));
+  float f1 = GTSO_SAMPLE(GTSO_VEC3(u, v, ((s0 + 1.0) * kGtso4DSize.z + zin) / depth));
+  return f0 + (f1 - f0) * (sw - s0);
+}
+
+// Multi-bounce G(A, rho) = a A^3 - b A^2 + c A (paper Eq. 10), clamped below by A.
+float multiBounce(float A, float albedo) {
+  float a = kMultiBounceA.x * albedo + kMultiBounceA.y;
+  float b = kMultiBounceB.x * albedo + kMultiBounceB.y;
+  float c = kMultiBounceC.x * albedo + kMultiBounceC.y;
+  return max(A, ((a * A - b) * A + c) * A);
+}
+
+// 1 - exp(x) for x <= 0 without cancellation near 0 (no expm1 in shaders).
+float gtsoOneMinusExp(float x) { return abs(x) < 1e-3 ? -x * (1.0 + 0.5 * x) : 1.0 - exp(x); }
+
+// Solid angle of the intersection of two spherical caps (half-angles up to pi/2, Mazonka 2012).
+float gtsoCapIntersection(float alphaV, float alphaS, float beta) {
+  if (beta >= alphaV + alphaS) return 0.0;
+  if (beta <= abs(alphaV - alphaS)) {
+    float h = sin(0.5 * min(alphaV, alphaS));
+    return 4.0 * kGtsoPiF * h * h;
+  }
+  float c1 = cos(alphaV), c2 = cos(alphaS), cd = cos(beta);
+  float s1 = sin(alphaV), s2 = sin(alphaS), sd = sin(beta);
+  float t0 = acos(clamp((cd - c1 * c2) / (s1 * s2), -1.0, 1.0));
+  float t1 = acos(clamp((c2 - cd * c1) / (sd * s1), -1.0, 1.0));
+  float t2 = acos(clamp((c1 - cd * c2) / (sd * s2), -1.0, 1.0));
+  return max(0.0, 2.0 * (kGtsoPiF - t0 - c1 * t1 - c2 * t2));
+}
+
+// Cone-to-cone specular occlusion (paper Eq. 19): cos(alpha_v) = sqrt(1 - A), cos(alpha_s) =
+// u^(alpha^2/2), alpha = rp^2, axes beta apart.
+float gtsoConeModel(float A, float cosBeta, float rp) {
+  float alpha = rp * rp;
+  float oneMinusCosS = gtsoOneMinusExp(0.5 * alpha * alpha * log(kConeApertureU));
+  float alphaV = gtsoAlphaV(A);
+  float beta = acos(clamp(cosBeta, -1.0, 1.0));
+  if (oneMinusCosS <= 0.0) return (beta <= alphaV && A > 0.0) ? 1.0 : 0.0;  // mirror limit
+  float alphaS = 2.0 * asin(sqrt(0.5 * oneMinusCosS));
+  return clamp(gtsoCapIntersection(alphaV, alphaS, beta) / (2.0 * kGtsoPiF * oneMinusCosS), 0.0,
+               1.0);
+}

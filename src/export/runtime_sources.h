@@ -1,0 +1,11 @@
+// The runtime source templates of src/export/runtime/ as text (generated at configure time):
+// gtso_lookup.h (the C++ lookup code the header ships) and gtso_lookup.shader (its HLSL/GLSL
+// port). See docs/export.md "Header contents".
+#pragma once
+
+namespace gtbake {
+
+extern const char* const kRuntimeLookupHeader;
+extern const char* const kRuntimeLookupShader;
+
+}  // namespace gtbake

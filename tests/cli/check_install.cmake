@@ -1,0 +1,27 @@
+# `cmake --install` into a scratch prefix puts gtbake in bin/ and the shipped luts in
+# share/gtbake/luts (the header, the DDS/KTX2 volumes and the sweep that `validate` reads), and
+# leaves out the intermediate scenes/ of `gtbake all`.
+file(REMOVE_RECURSE ${PREFIX})
+execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD} --prefix ${PREFIX}
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "cmake --install failed: ${err}")
+endif()
+foreach(file bin/gtbake share/gtbake/luts/gtbake_tables.h share/gtbake/luts/gtbake_tables.hlsl
+             share/gtbake/luts/gtbake_tables.glsl share/gtbake/luts/gtso3d.dds
+             share/gtbake/luts/gtso4d.ktx2 share/gtbake/luts/fit.json share/gtbake/luts/sweep.json
+             share/gtbake/luts/cavity.exr share/gtbake/luts/gtso/gtso.json)
+  if(NOT EXISTS ${PREFIX}/${file})
+    message(FATAL_ERROR "cmake --install did not install ${file}")
+  endif()
+endforeach()
+foreach(file share/gtbake/luts/.gitignore share/gtbake/luts/scenes)
+  if(EXISTS ${PREFIX}/${file})
+    message(FATAL_ERROR "cmake --install installed ${file}, which is not shipped")
+  endif()
+endforeach()
+execute_process(COMMAND ${PREFIX}/bin/gtbake --version RESULT_VARIABLE rc OUTPUT_QUIET)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "the installed gtbake does not run")
+endif()
+file(REMOVE_RECURSE ${PREFIX})
