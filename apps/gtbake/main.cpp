@@ -27,6 +27,7 @@
 #include "sweep/merge_command.h"
 #include "sweep/specular_occlusion.h"
 #include "sweep/sweep_command.h"
+#include "validate_gtso/validate_gtso_command.h"
 
 namespace {
 
@@ -196,12 +197,28 @@ Subcommand addGtsoCommand(CLI::App& app) {
           }};
 }
 
+Subcommand addValidateGtsoCommand(CLI::App& app) {
+  auto options = std::make_shared<ValidateGtsoOptions>();
+  auto* parser = app.add_subcommand(
+      "validate-gtso", "Score GTSO tables, cone model and baselines against path-traced S; fit u");
+  parser->add_option("--sweep", options->sweep, "Sweep with specular channels")->required();
+  parser->add_option("--luts", options->luts, "Directory with gtso/ and gtso*.dds")->required();
+  parser->add_option("--u", options->u, "Also score the cone model with this u");
+  parser->add_option("--out", options->out, "Output directory (default: --luts)");
+  return {parser, [options](const RunContext& context) {
+            options->progress = context.progress;
+            runValidateGtso(*options);
+          }};
+}
+
 Subcommand addExportCommand(CLI::App& app) {
   auto options = std::make_shared<ExportOptions>();
   auto* parser = app.add_subcommand("export", "BC4 tables, DDS/KTX2 and the C++ header");
   parser->add_option("--fit", options->fit, "fit.json from gtbake fit")->required();
   parser->add_option("--gtso", options->gtso, "Directory from gtbake gtso")->required();
   parser->add_option("--out", options->out, "Output directory")->required();
+  parser->add_option("--validate-gtso", options->validate_gtso,
+                     "validate_gtso.json whose u (fitted to path-traced S) the header ships");
   addThreadsOption(parser, options->threads);
   return {parser, [options](const RunContext& context) {
             options->command_line = context.command_line;
@@ -238,6 +255,7 @@ std::vector<Subcommand> registerSubcommands(CLI::App& app) {
   subcommands.push_back(addFitCommand(app));
   subcommands.push_back(addValidateCommand(app));
   subcommands.push_back(addGtsoCommand(app));
+  subcommands.push_back(addValidateGtsoCommand(app));
   subcommands.push_back(addExportCommand(app));
   subcommands.push_back(addAllCommand(app));
   return subcommands;

@@ -13,12 +13,22 @@
 
 namespace gtbake {
 
+// The one derivation of the Philox key and counter word 3 from (seed, stream), shared by
+// CounterRng and the walks' array Philox (sweep/philox_lanes.h).
+struct PhiloxKey {
+  std::uint32_t key0, key1, stream_hi;
+  PhiloxKey(std::uint64_t seed, std::uint64_t stream)
+      : key0(static_cast<std::uint32_t>(seed ^ (stream << 32) ^ (stream >> 32))),
+        key1(static_cast<std::uint32_t>((seed >> 32) ^ stream)),
+        stream_hi(static_cast<std::uint32_t>(stream >> 32)) {}
+};
+
 class CounterRng {
  public:
   CounterRng(std::uint64_t seed, std::uint64_t stream) {
-    key_ = {{static_cast<std::uint32_t>(seed ^ (stream << 32) ^ (stream >> 32)),
-             static_cast<std::uint32_t>((seed >> 32) ^ stream)}};
-    stream_hi_ = static_cast<std::uint32_t>(stream >> 32);
+    const PhiloxKey k(seed, stream);
+    key_ = {{k.key0, k.key1}};
+    stream_hi_ = k.stream_hi;
   }
 
   // Four uniform 32-bit words for (index, block). Blocks number groups of four dimensions.

@@ -43,7 +43,8 @@ ExportResult runExport(const ExportOptions& options) {
   if (options.out.empty()) throw Error("export: --out DIR is required");
   const auto start = std::chrono::steady_clock::now();
   const FitInput fit = readFitInput(options.fit);
-  const GtsoInput gtso = readGtsoInput(options.gtso);
+  GtsoInput gtso = readGtsoInput(options.gtso);
+  if (!options.validate_gtso.empty()) applyValidateGtsoU(options.validate_gtso, &gtso);
 
   const ThreadLimit limit(options.threads);
   const Bc4Encoder encoder;

@@ -10,7 +10,10 @@ struct ExportOptions {
   std::filesystem::path fit;   // fit.json from `gtbake fit`
   std::filesystem::path gtso;  // directory from `gtbake gtso`
   std::filesystem::path out;   // gtbake_tables.h, gtbake_tables.hlsl/.glsl, *.dds, *.ktx2
-  std::string command_line;    // recorded in the provenance blocks
+  // validate_gtso.json from `gtbake validate-gtso`: its u (fitted to path-traced S) is shipped
+  // instead of gtso.json's table fit. Empty: the table fit.
+  std::filesystem::path validate_gtso;
+  std::string command_line;  // recorded in the provenance blocks
   int threads = 0;
   bool progress = true;
 };

@@ -166,4 +166,25 @@ FitInput readFitInput(const std::filesystem::path& file) {
   return in;
 }
 
+void applyValidateGtsoU(const std::filesystem::path& file, GtsoInput* gtso) {
+  const nlohmann::json j = parseJson(file);
+  const std::string where = file.string();
+  const double u = finiteNumber(j, "u", where);
+  const nlohmann::json& interval = member(j, "u_interval", where);
+  if (!interval.is_array() || interval.size() != 2 || !interval[0].is_number() ||
+      !interval[1].is_number()) {
+    throw Error(where + ": u_interval must be [low, high]");
+  }
+  const double low = interval[0].get<double>();
+  const double high = interval[1].get<double>();
+  if (!(u > 0.0 && u < 1.0 && low > 0.0 && low <= u && u <= high && high < 1.0)) {
+    throw Error(where + ": u must lie in (0, 1) inside u_interval");
+  }
+  gtso->u = u;
+  gtso->u_se = 0.0;  // a profile interval, not a standard error
+  gtso->u_low = low;
+  gtso->u_high = high;
+  gtso->validate_gtso = j;
+}
+
 }  // namespace gtbake

@@ -33,6 +33,10 @@ struct GtsoInput {
   double u = 0.0;       // cone-aperture constant: cos αs = u^(α²/2)
   double u_se = 0.0;    // its standard error
   nlohmann::json json;  // gtso.json verbatim (provenance)
+  // Set by applyValidateGtsoU: u fitted to path-traced S (validate_gtso.json) replaces the table
+  // fit; validate_gtso is that file verbatim (null: u is gtso.json's table fit).
+  double u_low = 0.0, u_high = 0.0;  // its 5% profile interval
+  nlohmann::json validate_gtso;
 };
 
 struct FitInput {
@@ -43,5 +47,8 @@ struct FitInput {
 
 GtsoInput readGtsoInput(const std::filesystem::path& dir);
 FitInput readFitInput(const std::filesystem::path& file);
+
+// Takes u and u_interval from validate_gtso.json (`gtbake validate-gtso`) into `gtso`.
+void applyValidateGtsoU(const std::filesystem::path& file, GtsoInput* gtso);
 
 }  // namespace gtbake

@@ -80,7 +80,13 @@ std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage langu
     << "#define kGtsoSigmaScaleF " << lit(kGtsoSigmaScale) << "\n"
     << "#define kGtsoSigmaFloorF " << lit(kGtsoSigmaFloor) << "\n"
     << "#define kGtsoThetaLinearF " << lit(kGtsoThetaLinear) << "\n\n"
-    << kRuntimeLookupShader << "\n#endif  // GTBAKE_TABLES_INCLUDED\n";
+    << kRuntimeLookupShader
+    << "\n// gtsoConeModel takes perceptual roughness rp (HDRP); this one the GGX width alpha = "
+       "rp^2\n"
+    << "// (Filament, XeGTAO): the same cone.\n"
+    << "float gtsoConeModelFromAlpha(float A, float cosBeta, float alpha) {\n"
+    << "  return gtsoConeModel(A, cosBeta, sqrt(alpha));\n}\n"
+    << "\n#endif  // GTBAKE_TABLES_INCLUDED\n";
   return o.str();
 }
 

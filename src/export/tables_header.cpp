@@ -161,9 +161,14 @@ inline float gtso4DLookupFloat(const float* texels, float A, float cosBeta, floa
   return gtso4DLookup(v, kGtso4DSize, A, cosBeta, rp, cosThetaO);
 }
 
-// Cone-to-cone specular occlusion (paper Eq. 19) with the fitted aperture constant.
+// Cone-to-cone specular occlusion (paper Eq. 19) with the fitted aperture constant. Takes
+// perceptual roughness rp (what Unity HDRP passes); cos(alpha_s) = u^(alpha^2/2), alpha = rp^2.
 inline float gtsoConeModel(float A, float cosBeta, float rp) {
   return gtsoConeModel(kConeApertureU, A, cosBeta, rp);
+}
+// The same cone for an engine that passes the GGX width alpha = rp^2 (Filament, XeGTAO).
+inline float gtsoConeModelFromAlpha(float A, float cosBeta, float alpha) {
+  return gtsoConeModel(kConeApertureU, A, cosBeta, std::sqrt(alpha));
 }
 
 // Multi-bounce G(A, rho) (paper Eq. 10), clamped below by A as in the paper's listing.
@@ -226,9 +231,24 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
   }
   char u_raw[40];
   std::snprintf(u_raw, sizeof(u_raw), "%.17g", in.gtso->u);
-  o << "// Cone aperture u = " << u_raw << " (SE " << g9(in.gtso->u_se) << "), convention "
-    << jsonAt(gj, {"cone", "convention"}) << "\n"
-    << "//   errors of S_cone vs S3: " << jsonAt(gj, {"cone", "errors"}) << "\n"
+  if (in.gtso->validate_gtso.is_null()) {
+    o << "// Cone aperture u = " << u_raw << " (SE " << g9(in.gtso->u_se) << "), convention "
+      << jsonAt(gj, {"cone", "convention"}) << "\n";
+  } else {
+    const nlohmann::json& vj = in.gtso->validate_gtso;
+    o << "// Cone aperture u = " << u_raw << " from validate_gtso.json, 5% profile interval ["
+      << g9(in.gtso->u_low) << ", " << g9(in.gtso->u_high) << "], convention "
+      << jsonAt(vj, {"u_fit", "alpha", "convention"}) << "\n"
+      << "//   objective: " << jsonAt(vj, {"u_fit", "objective"}) << "\n"
+      << "//   data: " << jsonAt(vj, {"sweep"}) << "\n"
+      << "//   RMSE at u, 0.01, 0.244: " << jsonAt(vj, {"u_fit", "alpha", "all", "rmse"}) << ", "
+      << jsonAt(vj, {"u_fit", "alpha", "all", "rmse_u_0.01"}) << ", "
+      << jsonAt(vj, {"u_fit", "alpha", "all", "rmse_u_0.244"})
+      << "; perceptual reading u^(r_p^2/2): " << jsonAt(vj, {"u_fit", "perceptual", "all"}) << "\n"
+      << "//   diagnostic: u fitted to the 3D table (gtso.json) = " << jsonAt(gj, {"cone", "u"})
+      << "\n";
+  }
+  o << "//   errors of S_cone vs S3: " << jsonAt(gj, {"cone", "errors"}) << "\n"
     << "// BC4 vs the float tables (exact per-block optimum, D3D float decode): 3D RMSE "
     << g9(in.bc4_3d->rmse) << ", max " << g9(in.bc4_3d->max_abs) << "; 4D RMSE "
     << g9(in.bc4_4d->rmse) << ", max " << g9(in.bc4_4d->max_abs) << "\n"

@@ -10,6 +10,7 @@
 #include "gtso/gtso_command.h"
 #include "scene/scenes_command.h"
 #include "sweep/sweep_command.h"
+#include "validate_gtso/validate_gtso_command.h"
 
 namespace gtbake {
 
@@ -67,10 +68,19 @@ void runAll(const AllOptions& options) {
   gtso.progress = options.progress;
   const GtsoResult baked = runGtso(gtso);
 
+  banner("validate-gtso", options.progress);
+  ValidateGtsoOptions validate_gtso;
+  validate_gtso.sweep = sweep.out;
+  validate_gtso.luts = options.out;  // <out>/gtso; BC4 encoded here, export rewrites the DDS
+  validate_gtso.encode_bc4 = true;
+  validate_gtso.progress = options.progress;
+  const ValidateGtsoResult validated = runValidateGtso(validate_gtso);
+
   banner("export", options.progress);
   ExportOptions exporter;
   exporter.fit = fit.out;
   exporter.gtso = gtso.out;
+  exporter.validate_gtso = validated.json;
   exporter.out = options.out;
   exporter.command_line = options.command_line;
   exporter.threads = limit.threads();
@@ -88,16 +98,19 @@ void runAll(const AllOptions& options) {
   }
   std::printf("  curve band       max SE of G %.4f; paper: %s\n", fitted.band_max,
               fitted.verdict.c_str());
-  std::printf("  cone aperture u  %.3g ± %.2g (paper: 0.01; docs/gtso.md)\n", baked.u, baked.u_se);
+  std::printf(
+      "  cone aperture u  %.3g, 5%% interval [%.3g, %.3g] vs path-traced S (paper: 0.01;"
+      " table fit %.3g; docs/validate_gtso.md)\n",
+      validated.u, validated.u_low, validated.u_high, baked.u);
   std::printf("  BC4 3D table     RMSE %.2e  max %.2e\n", exported.bc4_rmse_3d,
               exported.bc4_max_3d);
   std::printf("  BC4 4D table     RMSE %.2e  max %.2e\n", exported.bc4_rmse_4d,
               exported.bc4_max_4d);
   std::printf(
       "  time             scenes %.1f s, sweep %.1f s (%.1f Mrays/s), fit %.1f s, gtso %.1f s,"
-      " export %.1f s; total %.1f s\n",
+      " validate-gtso %.1f s, export %.1f s; total %.1f s\n",
       scenes_seconds, swept.seconds, swept.seconds > 0 ? swept.rays / swept.seconds * 1e-6 : 0.0,
-      fit_seconds, baked.seconds, export_seconds, secondsSince(start));
+      fit_seconds, baked.seconds, validated.seconds, export_seconds, secondsSince(start));
 }
 
 }  // namespace gtbake

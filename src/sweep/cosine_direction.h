@@ -10,8 +10,9 @@
 
 // x86-64: an AVX2 clone (8 float lanes) of each loop over walks or samples next to the default
 // (SSE2, 4 lanes), chosen once at load time; both compute the same IEEE operations, so the same
-// bits.
-#if defined(__x86_64__)
+// bits. GTBAKE_PORTABLE_KERNELS builds the default path only (tests/portable checks the bits
+// agree).
+#if defined(__x86_64__) && !defined(GTBAKE_PORTABLE_KERNELS)
 #define GTBAKE_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define GTBAKE_AVX2_CLONES

@@ -1,5 +1,7 @@
 #include "sweep/philox_lanes.h"
 
+#include "common/rng.h"
+
 #if defined(__x86_64__)
 #include <immintrin.h>
 #endif
@@ -107,11 +109,12 @@ bool cpuHasAvx2() {
 
 }  // namespace
 
-PhiloxLanes::PhiloxLanes(std::uint64_t seed, std::uint64_t stream)
-    : key0_(static_cast<std::uint32_t>(seed ^ (stream << 32) ^ (stream >> 32))),
-      key1_(static_cast<std::uint32_t>((seed >> 32) ^ stream)),
-      stream_hi_(static_cast<std::uint32_t>(stream >> 32)),
-      avx2_(cpuHasAvx2()) {}
+PhiloxLanes::PhiloxLanes(std::uint64_t seed, std::uint64_t stream) : avx2_(cpuHasAvx2()) {
+  const PhiloxKey key(seed, stream);
+  key0_ = key.key0;
+  key1_ = key.key1;
+  stream_hi_ = key.stream_hi;
+}
 
 void PhiloxLanes::words(const std::int32_t* index, int count, std::uint32_t block,
                         std::uint32_t* w0, std::uint32_t* w1, std::uint32_t* w2,

@@ -1,0 +1,43 @@
+// The cone-aperture constant u fitted the paper's way (Appendix B: "minimize differences between
+// resulting GTSO and Monte Carlo ground truth references"): least squares of the cone-to-cone
+// S_cone(u) against the path-traced S over every unmasked pixel and roughness r_p > 0, by Ceres
+// in z = log10 u (the objective is flat over decades of u, so the search runs on a log scale).
+//
+// Conventions: cos αs = u^(w²/2) with w = α = r_p² (SPEC §1.4) or w = r_p (the paper's r read as
+// perceptual roughness). Uncertainty: the profile interval, the u range whose RMSE is within 5% of
+// the optimum (bisection on each side in log10 u; "open" when the range end is reached first).
+#pragma once
+
+#include <vector>
+
+#include "validate_gtso/specular_methods.h"
+
+namespace gtbake {
+
+inline constexpr double kProfileTolerance = 1.05;  // RMSE within 5% of the optimum
+inline constexpr double kLog10UMin = -12.0;        // search range of log10 u
+inline constexpr double kLog10UMax = -1e-6;
+
+struct UFit {
+  double u = 0.0;
+  double low = 0.0, high = 0.0;              // profile interval
+  bool low_open = false, high_open = false;  // the interval reached the search range's end
+  double rmse = 0.0;
+  double rmse_paper = 0.0;   // at u = 0.01
+  double rmse_uludag = 0.0;  // at u = 0.244
+  std::size_t count = 0;
+};
+
+struct UFits {
+  UFit all;        // every r_p > 0
+  UFit rp_ge_0_3;  // r_p ≥ 0.3
+};
+
+// Throws gtbake::Error if there is nothing to fit or Ceres fails.
+UFits fitConeU(const std::vector<SpecularSample>& samples, bool perceptual);
+
+// RMSE of S_cone(u) over the samples with r_p > 0 and r_p ≥ rp_min (deterministic reduction).
+double coneRmse(const std::vector<SpecularSample>& samples, double u, bool perceptual,
+                double rp_min);
+
+}  // namespace gtbake

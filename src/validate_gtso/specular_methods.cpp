@@ -1,0 +1,239 @@
+#include "validate_gtso/specular_methods.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.h"
+#include "gtso/cone_intersection.h"
+
+namespace gtbake {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegreesPerRadian = 57.295779513082320876;
+constexpr double kPaperU = 0.01;    // paper Eq. 26
+constexpr double kUludagU = 0.244;  // Uludag 2014, as quoted in the paper's Appendix B
+
+}  // namespace
+
+std::vector<SpecularSample> gatherSamples(const SpecularSweep& sweep) {
+  std::vector<SpecularSample> samples;
+  for (std::size_t si = 0; si < sweep.scenes.size(); ++si) {
+    const SpecularScene& scene = sweep.scenes[si];
+    for (std::size_t p = 0; p < scene.mask.size(); ++p) {
+      if (scene.mask[p] == 0) continue;
+      const double n[3] = {scene.normal[3 * p], scene.normal[3 * p + 1], scene.normal[3 * p + 2]};
+      const double v[3] = {scene.view[3 * p], scene.view[3 * p + 1], scene.view[3 * p + 2]};
+      const double b[3] = {scene.bent[3 * p], scene.bent[3 * p + 1], scene.bent[3 * p + 2]};
+      const double nv = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
+      const double r[3] = {2 * nv * n[0] - v[0], 2 * nv * n[1] - v[1], 2 * nv * n[2] - v[2]};
+      const double rlen = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+      const double cos_beta =
+          std::clamp((b[0] * r[0] + b[1] * r[1] + b[2] * r[2]) / rlen, -1.0, 1.0);
+      // Plane of n and ωr: normal m = n × ωr; undefined when ωr ∥ n (then every b lies in a plane
+      // through both).
+      const double m[3] = {n[1] * r[2] - n[2] * r[1], n[2] * r[0] - n[0] * r[2],
+                           n[0] * r[1] - n[1] * r[0]};
+      const double mlen = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+      const double off =
+          mlen > 1e-9
+              ? std::asin(std::min(1.0, std::abs(b[0] * m[0] + b[1] * m[1] + b[2] * m[2]) / mlen)) *
+                    kDegreesPerRadian
+              : 0.0;
+      for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
+        SpecularSample s;
+        s.scene = static_cast<int>(si);
+        s.roughness = static_cast<int>(j);
+        s.pixel = p;
+        s.A = scene.A[p];
+        s.r_p = static_cast<float>(sweep.roughness[j]);
+        s.n_dot_v = static_cast<float>(nv);
+        s.cos_beta = static_cast<float>(cos_beta);
+        s.alpha_v = std::acos(std::sqrt(std::clamp(1.0 - static_cast<double>(s.A), 0.0, 1.0)));
+        s.beta = std::acos(cos_beta);
+        s.cos_av = std::cos(s.alpha_v);
+        s.sin_av = std::sin(s.alpha_v);
+        s.cos_b = std::cos(s.beta);
+        s.sin_b = std::sin(s.beta);
+        s.out_of_plane = off;
+        s.truth = scene.S[j][p];
+        const double d = static_cast<double>(scene.H0[j][p]) - scene.H1[j][p];
+        s.noise_var = 0.25 * d * d;
+        samples.push_back(s);
+      }
+    }
+  }
+  if (samples.empty()) throw Error("sweep " + sweep.dir.string() + " has no unmasked pixels");
+  return samples;
+}
+
+const char* methodName(Method m) {
+  switch (m) {
+    case Method::kS3Bc4:
+      return "S3_bc4";
+    case Method::kS4Bc4:
+      return "S4_bc4";
+    case Method::kS3Float:
+      return "S3_float";
+    case Method::kS4Float:
+      return "S4_float";
+    case Method::kConeTableFitU:
+      return "cone_u_table_fit";
+    case Method::kConePaperU:
+      return "cone_u_0.01";
+    case Method::kConeUludagU:
+      return "cone_u_0.244";
+    case Method::kConeFittedU:
+      return "cone_u_fitted";
+    case Method::kConeFittedPerceptual:
+      return "cone_u_fitted_perceptual";
+    case Method::kNone:
+      return "S_1";
+    case Method::kAo:
+      return "S_A";
+    case Method::kLagarde:
+      return "lagarde";
+    case Method::kConeUserU:
+      return "cone_u_user";
+  }
+  return "";
+}
+
+const char* methodDescription(Method m) {
+  switch (m) {
+    case Method::kS3Bc4:
+      return "3D table, shipped BC4 texture, shader lookup (cos beta = b.wr)";
+    case Method::kS4Bc4:
+      return "4D table, shipped BC4 texture, shader lookup (two fetches + lerp)";
+    case Method::kS3Float:
+      return "3D table, float texels, same lookup";
+    case Method::kS4Float:
+      return "4D table, float texels, same lookup";
+    case Method::kConeTableFitU:
+      return "cone-to-cone, u fitted to the 3D table (gtso.json)";
+    case Method::kConePaperU:
+      return "cone-to-cone, u = 0.01 (paper), cos as = u^(alpha^2/2)";
+    case Method::kConeUludagU:
+      return "cone-to-cone, u = 0.244 (Uludag), cos as = u^(alpha^2/2)";
+    case Method::kConeFittedU:
+      return "cone-to-cone, u fitted to path-traced S, u^(alpha^2/2)";
+    case Method::kConeFittedPerceptual:
+      return "cone-to-cone, u fitted to path-traced S, perceptual u^(r_p^2/2)";
+    case Method::kNone:
+      return "no specular occlusion, S = 1";
+    case Method::kAo:
+      return "S = A";
+    case Method::kLagarde:
+      return "Lagarde 2014 with r = alpha = r_p^2 (Filament, HDRP)";
+    case Method::kConeUserU:
+      return "cone-to-cone, u given by --u, cos as = u^(alpha^2/2)";
+  }
+  return "";
+}
+
+ConeAperture coneAperture(double u, double w) {
+  ConeAperture a;
+  a.a = gtso::specularConeAperture(u, w);
+  a.c = std::cos(a.a);
+  a.s = std::sin(a.a);
+  a.cap = gtso::capSolidAngle(a.a);
+  return a;
+}
+
+// gtso::capIntersectionSolidAngle and coneSpecularOcclusion, case for case.
+double coneAt(const SpecularSample& x, const ConeAperture& s) {
+  const double a1 = x.alpha_v;
+  const double a2 = s.a;
+  const double beta = x.beta;
+  if (a2 <= 0.0) {
+    if (beta < a1) return 1.0;
+    return beta == a1 ? 0.5 : 0.0;
+  }
+  double omega;
+  if (a1 <= 0.0 || beta >= a1 + a2) {
+    omega = 0.0;
+  } else if (beta <= std::abs(a1 - a2)) {
+    omega = a1 < a2 ? gtso::capSolidAngle(a1) : s.cap;
+  } else if (a1 + a2 + beta >= 2.0 * kPi) {
+    omega = gtso::capSolidAngle(a1) + s.cap - 4.0 * kPi;
+  } else {
+    auto clampedAcos = [](double v) { return std::acos(std::clamp(v, -1.0, 1.0)); };
+    const double c1 = x.cos_av, s1 = x.sin_av;
+    const double c2 = s.c, s2 = s.s;
+    const double cb = x.cos_b, sb = x.sin_b;
+    const double lens = clampedAcos((cb - c1 * c2) / (s1 * s2));
+    const double arc1 = clampedAcos((c2 - cb * c1) / (sb * s1));
+    const double arc2 = clampedAcos((c1 - cb * c2) / (sb * s2));
+    omega = std::max(0.0, 2.0 * (kPi - lens - c1 * arc1 - c2 * arc2));
+  }
+  return std::clamp(omega / s.cap, 0.0, 1.0);
+}
+
+double coneAt(const SpecularSample& s, double u, bool perceptual) {
+  const double w = perceptual ? s.r_p : static_cast<double>(s.r_p) * s.r_p;
+  return coneAt(s, coneAperture(u, w));
+}
+
+float lagarde(float n_dot_v, float A, float r_p) {
+  const float r = r_p * r_p;
+  const float v = std::pow(n_dot_v + A, std::exp2(-16.0f * r - 1.0f)) - 1.0f + A;
+  return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);
+}
+
+std::vector<std::vector<float>> evaluateMethods(const std::vector<SpecularSample>& samples,
+                                                const TablesLookups& tables,
+                                                const ConeConstants& cones) {
+  std::vector<std::vector<float>> values(kMethodCount, std::vector<float>(samples.size()));
+  tbb::parallel_for(std::size_t{0}, samples.size(), [&](std::size_t i) {
+    const SpecularSample& s = samples[i];
+    auto set = [&](Method m, double v) { values[static_cast<int>(m)][i] = static_cast<float>(v); };
+    set(Method::kS3Bc4, tables.bc4->s3(s.A, s.cos_beta, s.r_p));
+    set(Method::kS4Bc4, tables.bc4->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
+    set(Method::kS3Float, tables.floats->s3(s.A, s.cos_beta, s.r_p));
+    set(Method::kS4Float, tables.floats->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
+    set(Method::kConeTableFitU, coneAt(s, cones.table_fit, false));
+    set(Method::kConePaperU, coneAt(s, kPaperU, false));
+    set(Method::kConeUludagU, coneAt(s, kUludagU, false));
+    set(Method::kConeFittedU, coneAt(s, cones.fitted, false));
+    set(Method::kConeFittedPerceptual, coneAt(s, cones.fitted_perceptual, true));
+    set(Method::kNone, 1.0);
+    set(Method::kAo, s.A);
+    set(Method::kLagarde, lagarde(s.n_dot_v, s.A, s.r_p));
+    set(Method::kConeUserU, cones.user > 0.0 ? coneAt(s, cones.user, false) : 0.0);
+  });
+  return values;
+}
+
+void ErrorStats::add(double error, double noise_var) {
+  ++count;
+  sum += error;
+  sum2 += error * error;
+  max_abs = std::max(max_abs, std::abs(error));
+  noise += noise_var;
+}
+
+void ErrorStats::merge(const ErrorStats& o) {
+  count += o.count;
+  sum += o.sum;
+  sum2 += o.sum2;
+  max_abs = std::max(max_abs, o.max_abs);
+  noise += o.noise;
+}
+
+double ErrorStats::rmse() const {
+  return count > 0 ? std::sqrt(sum2 / static_cast<double>(count)) : 0.0;
+}
+
+double ErrorStats::meanSigned() const {
+  return count > 0 ? sum / static_cast<double>(count) : 0.0;
+}
+
+double ErrorStats::rmseNoiseCorrected() const {
+  if (count == 0) return 0.0;
+  return std::sqrt(std::max(0.0, (sum2 - noise) / static_cast<double>(count)));
+}
+
+}  // namespace gtbake

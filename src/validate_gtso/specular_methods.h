@@ -1,0 +1,94 @@
+// The specular occlusion a runtime would compute at each path-traced pixel, by every method
+// validate-gtso scores (docs/validate_gtso.md §1), and the error statistics against the truth.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "validate_gtso/gtso_lookup.h"
+#include "validate_gtso/specular_sweep.h"
+
+namespace gtbake {
+
+// One evaluation point: an unmasked pixel at one roughness of the sweep.
+struct SpecularSample {
+  int scene = 0;
+  int roughness = 0;  // index into SpecularSweep::roughness
+  std::size_t pixel = 0;
+  float A = 0.0f;
+  float r_p = 0.0f;
+  float n_dot_v = 0.0f;   // = cos θo = n·ωr
+  float cos_beta = 0.0f;  // b·ωr, ωr = 2(n·ωo)n − ωo
+  double alpha_v = 0.0;   // visibility cone: cos αv = √(1 − A)
+  double beta = 0.0;      // angle(b, ωr)
+  double cos_av = 1.0, sin_av = 0.0, cos_b = 1.0, sin_b = 0.0;  // std::cos/sin of αv and β
+  double out_of_plane = 0.0;  // degrees between b and the plane of n and ωr
+  double truth = 0.0;         // path-traced S
+  double noise_var = 0.0;     // (H0 − H1)²/4: its Monte Carlo variance, per pixel
+};
+
+std::vector<SpecularSample> gatherSamples(const SpecularSweep& sweep);
+
+enum class Method {
+  kS3Bc4,
+  kS4Bc4,
+  kS3Float,
+  kS4Float,
+  kConeTableFitU,
+  kConePaperU,
+  kConeUludagU,
+  kConeFittedU,
+  kConeFittedPerceptual,
+  kNone,
+  kAo,
+  kLagarde,
+  kConeUserU,  // --u U (scored only when given)
+};
+inline constexpr int kMethodCount = 13;
+const char* methodName(Method m);         // JSON key, e.g. "S4_bc4"
+const char* methodDescription(Method m);  // one line for the page
+
+// The u values the cone methods use.
+struct ConeConstants {
+  double table_fit = 0.0;          // gtso.json cone.u (fitted against S₃)
+  double fitted = 0.0;             // fitted here, SPEC convention u^(α²/2)
+  double fitted_perceptual = 0.0;  // fitted here, perceptual reading u^(r_p²/2)
+  double user = 0.0;               // --u (0: not scored)
+};
+
+// The specular cone αs of cos αs = u^(w²/2) (gtso::specularConeAperture) with its cos, sin and
+// cap solid angle, computed once per (u, roughness).
+struct ConeAperture {
+  double a = 0.0, c = 1.0, s = 0.0, cap = 0.0;
+};
+ConeAperture coneAperture(double u, double w);
+// gtso::coneSpecularOcclusion(αv, αs, β) from the sample's precomputed trig: the same operations
+// on the same values, so the same bits (tests/validate_gtso checks), at a fraction of the cost.
+double coneAt(const SpecularSample& s, const ConeAperture& aperture);
+// S_cone at one sample: w = α = r_p² (perceptual = false) or w = r_p.
+double coneAt(const SpecularSample& s, double u, bool perceptual);
+// Lagarde and de Rousiers 2014 with r = α = r_p² (what Filament and HDRP pass), in float.
+float lagarde(float n_dot_v, float A, float r_p);
+
+// Every method's value at every sample: values[m][i].
+std::vector<std::vector<float>> evaluateMethods(const std::vector<SpecularSample>& samples,
+                                                const TablesLookups& tables,
+                                                const ConeConstants& cones);
+
+struct ErrorStats {
+  std::size_t count = 0;
+  double sum = 0.0;   // Σ (method − truth)
+  double sum2 = 0.0;  // Σ (method − truth)²
+  double max_abs = 0.0;
+  double noise = 0.0;  // Σ noise_var of the same samples
+  void add(double error, double noise_var);
+  void merge(const ErrorStats& o);
+  double rmse() const;
+  double meanSigned() const;
+  // √(max(0, MSE − mean noise variance)): the RMSE with the truth's Monte Carlo noise removed.
+  double rmseNoiseCorrected() const;
+};
+
+}  // namespace gtbake

@@ -1,0 +1,40 @@
+// The per-pixel inputs of validate-gtso from a `gtbake sweep` directory: every unmasked pixel's
+// A, normal n, view direction ωo, bent normal b and path-traced S (with its half-sample
+// estimates) at each roughness of the sweep (SPEC §1.1; docs/sweep.md §4).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace gtbake {
+
+struct SpecularScene {
+  std::string name;
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> mask;  // per pixel, 1 = geometry
+  std::vector<float> A;            // per pixel
+  std::vector<float> normal;       // 3 per pixel (NX NY NZ)
+  std::vector<float> view;         // 3 per pixel (VX VY VZ)
+  std::vector<float> bent;         // 3 per pixel (BNX BNY BNZ)
+  // [roughness][pixel]: Ŝ and its half-sample estimates H0, H1.
+  std::vector<std::vector<float>> S;
+  std::vector<std::vector<float>> H0;
+  std::vector<std::vector<float>> H1;
+};
+
+struct SpecularSweep {
+  std::filesystem::path dir;
+  int spp = 0;
+  int specular_spp = 0;
+  std::vector<double> roughness;  // r_p of each S channel, as sweep.json lists them
+  std::vector<SpecularScene> scenes;
+};
+
+// Reads sweep.json and every scene's EXR. A sweep traced without specular channels (or an EXR
+// missing one of them) is a one-line gtbake::Error naming --specular-roughness.
+SpecularSweep readSpecularSweep(const std::filesystem::path& dir);
+
+}  // namespace gtbake

@@ -1,0 +1,397 @@
+// `gtbake validate-gtso`: read the sweep and the tables, evaluate every method at every pixel and
+// roughness, fit u, then write validate_gtso.json, the per-scene image rows and the HTML page, and
+// print the one-screen summary.
+#include "validate_gtso/validate_gtso_command.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "common/image_io.h"
+#include "gtbake_version.h"
+#include "sweep/escape_image.h"
+#include "validate_gtso/cone_u_fit.h"
+#include "validate_gtso/gtso_lookup.h"
+#include "validate_gtso/specular_methods.h"
+#include "validate_gtso/specular_sweep.h"
+
+namespace gtbake {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+// Bins of the angle between b and the plane of n and ωr (degrees) for the 4D table's error.
+constexpr double kPlaneBins[] = {0.0, 2.0, 5.0, 10.0, 20.0, 90.0};
+constexpr int kPlaneBinCount = 5;
+constexpr float kErrorMapMax = 0.5f;  // |error| mapped to the top of the viridis ramp
+// The methods of each image row after the truth: 3D, 4D (BC4 as shipped), cone (fitted u).
+constexpr Method kImageMethods[] = {Method::kS3Bc4, Method::kS4Bc4, Method::kConeFittedU};
+
+std::vector<Method> scoredMethods(bool user_u) {
+  std::vector<Method> methods;
+  for (int m = 0; m < kMethodCount; ++m) {
+    if (static_cast<Method>(m) == Method::kConeUserU && !user_u) continue;
+    methods.push_back(static_cast<Method>(m));
+  }
+  return methods;
+}
+
+Json statsJson(const ErrorStats& e) {
+  Json j;
+  j["count"] = e.count;
+  j["rmse"] = e.rmse();
+  j["rmse_noise_corrected"] = e.rmseNoiseCorrected();
+  j["mean_signed"] = e.meanSigned();
+  j["max_abs"] = e.max_abs;
+  return j;
+}
+
+Json fitJson(const UFit& f) {
+  Json j;
+  j["u"] = f.u;
+  j["u_interval"] = {f.low, f.high};
+  j["u_interval_open"] = {f.low_open, f.high_open};
+  j["rmse"] = f.rmse;
+  j["rmse_u_0.01"] = f.rmse_paper;
+  j["rmse_u_0.244"] = f.rmse_uludag;
+  j["samples"] = f.count;
+  return j;
+}
+
+// Error statistics of every method: per scene × roughness, per roughness, overall; and the 4D/3D
+// tables' errors by the out-of-plane angle of b.
+struct Tables {
+  // [method][scene][roughness]
+  std::vector<std::vector<std::vector<ErrorStats>>> cell;
+  std::vector<std::vector<ErrorStats>> per_roughness;           // [method][roughness]
+  std::vector<ErrorStats> overall;                              // [method]
+  std::array<std::array<ErrorStats, kPlaneBinCount>, 2> plane;  // S4_bc4, S3_bc4
+};
+
+Tables tabulate(const std::vector<SpecularSample>& samples,
+                const std::vector<std::vector<float>>& values, std::size_t scenes,
+                std::size_t roughness) {
+  Tables t;
+  t.cell.assign(kMethodCount,
+                std::vector<std::vector<ErrorStats>>(scenes, std::vector<ErrorStats>(roughness)));
+  t.per_roughness.assign(kMethodCount, std::vector<ErrorStats>(roughness));
+  t.overall.assign(kMethodCount, ErrorStats{});
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const SpecularSample& s = samples[i];
+    for (int m = 0; m < kMethodCount; ++m) {
+      t.cell[m][s.scene][s.roughness].add(values[m][i] - s.truth, s.noise_var);
+    }
+    int bin = 0;
+    while (bin + 1 < kPlaneBinCount && s.out_of_plane >= kPlaneBins[bin + 1]) ++bin;
+    t.plane[0][bin].add(values[static_cast<int>(Method::kS4Bc4)][i] - s.truth, s.noise_var);
+    t.plane[1][bin].add(values[static_cast<int>(Method::kS3Bc4)][i] - s.truth, s.noise_var);
+  }
+  for (int m = 0; m < kMethodCount; ++m) {
+    for (std::size_t sc = 0; sc < scenes; ++sc) {
+      for (std::size_t j = 0; j < roughness; ++j) {
+        t.per_roughness[m][j].merge(t.cell[m][sc][j]);
+        t.overall[m].merge(t.cell[m][sc][j]);
+      }
+    }
+  }
+  return t;
+}
+
+// Methods by RMSE at each roughness, best first (ties by name, so the order is deterministic).
+std::vector<std::vector<Method>> rank(const Tables& t, const std::vector<Method>& methods,
+                                      std::size_t roughness) {
+  std::vector<std::vector<Method>> ranking(roughness, methods);
+  for (std::size_t j = 0; j < roughness; ++j) {
+    std::stable_sort(ranking[j].begin(), ranking[j].end(), [&](Method a, Method b) {
+      return t.per_roughness[static_cast<int>(a)][j].rmse() <
+             t.per_roughness[static_cast<int>(b)][j].rmse();
+    });
+  }
+  return ranking;
+}
+
+// Per scene one RGB image: a row per roughness of panels truth | S₃ | S₄ | cone | |S₄ − truth|.
+void writeSceneImages(const SpecularSweep& sweep, const std::vector<SpecularSample>& samples,
+                      const std::vector<std::vector<float>>& values, const fs::path& dir) {
+  constexpr int kPanels = 5;
+  for (std::size_t sc = 0; sc < sweep.scenes.size(); ++sc) {
+    const SpecularScene& scene = sweep.scenes[sc];
+    const int w = scene.width;
+    const int h = scene.height;
+    const int rows = static_cast<int>(sweep.roughness.size());
+    std::vector<std::uint8_t> rgb(static_cast<std::size_t>(kPanels) * w * rows * h * 3, 0);
+    auto put = [&](int row, int panel, std::size_t p, const std::uint8_t* c) {
+      const std::size_t x = static_cast<std::size_t>(panel) * w + p % w;
+      const std::size_t y = static_cast<std::size_t>(row) * h + p / w;
+      std::copy(c, c + 3, &rgb[(y * kPanels * w + x) * 3]);
+    };
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const SpecularSample& s = samples[i];
+      if (s.scene != static_cast<int>(sc)) continue;
+      const float panel_values[4] = {static_cast<float>(s.truth),
+                                     values[static_cast<int>(kImageMethods[0])][i],
+                                     values[static_cast<int>(kImageMethods[1])][i],
+                                     values[static_cast<int>(kImageMethods[2])][i]};
+      for (int panel = 0; panel < 4; ++panel) {
+        const float v = std::clamp(panel_values[panel], 0.0f, 1.0f);
+        const auto g = static_cast<std::uint8_t>(std::lround(255.0f * v));
+        const std::uint8_t c[3] = {g, g, g};
+        put(s.roughness, panel, s.pixel, c);
+      }
+      const float err = std::abs(panel_values[2] - panel_values[0]);
+      put(s.roughness, 4, s.pixel, toViridis8({err}, 0.0f, kErrorMapMax).data());
+    }
+    writePng(dir / ("validate_gtso_" + scene.name + ".png"), kPanels * w, rows * h, 3, rgb);
+  }
+}
+
+std::string fmt(const char* format, double v) {
+  char text[64];
+  std::snprintf(text, sizeof(text), format, v);
+  return text;
+}
+
+std::string intervalText(const UFit& f) {
+  return "[" + std::string(f.low_open ? "<=" : "") + fmt("%.3g", f.low) + ", " +
+         (f.high_open ? ">=" : "") + fmt("%.3g", f.high) + "]";
+}
+
+void writePage(const SpecularSweep& sweep, const Tables& t, const std::vector<Method>& methods,
+               const std::vector<std::vector<Method>>& ranking, const UFits& spec,
+               const UFits& perceptual, const fs::path& dir) {
+  std::ostringstream o;
+  o << "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>gtbake validate-gtso</title>"
+       "<style>body{font-family:sans-serif;max-width:1100px;margin:1em auto}table{border-"
+       "collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}"
+       "td:first-child{text-align:left}img{max-width:100%}</style></head><body>\n";
+  o << "<h1>GTSO against path-traced specular occlusion</h1>\n<p>gtbake " << GTBAKE_VERSION
+    << ". Every unmasked pixel of " << sweep.scenes.size() << " scenes; truth: GGX (alpha = r_p^2, "
+    << "height-correlated Smith, F = 1) against the binary sky visibility, " << sweep.specular_spp
+    << " VNDF samples per pixel. Companion of the <a href=\"index.html\">fit report</a>; "
+       "numbers in validate_gtso.json, method in docs/validate_gtso.md.</p>\n";
+  o << "<h2>RMSE by roughness</h2>\n<table><tr><th>method</th>";
+  for (double r : sweep.roughness) o << "<th>r_p " << fmt("%.2f", r) << "</th>";
+  o << "<th>all</th><th>mean signed</th><th>max |err|</th></tr>\n";
+  for (Method m : methods) {
+    o << "<tr><td>" << methodName(m) << " &mdash; " << methodDescription(m) << "</td>";
+    for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
+      o << "<td>" << fmt("%.4f", t.per_roughness[static_cast<int>(m)][j].rmse()) << "</td>";
+    }
+    const ErrorStats& e = t.overall[static_cast<int>(m)];
+    o << "<td>" << fmt("%.4f", e.rmse()) << "</td><td>" << fmt("%+.4f", e.meanSigned())
+      << "</td><td>" << fmt("%.3f", e.max_abs) << "</td></tr>\n";
+  }
+  o << "</table>\n<p>Best method per roughness: ";
+  for (std::size_t j = 0; j < ranking.size(); ++j) {
+    o << (j ? "; " : "") << "r_p " << fmt("%.2f", sweep.roughness[j]) << ": "
+      << methodName(ranking[j][0]);
+  }
+  o << ".</p>\n<h2>Cone aperture u</h2>\n<table><tr><th>convention</th><th>pixels</th><th>u</th>"
+       "<th>5% interval</th><th>RMSE at u</th><th>at 0.01</th><th>at 0.244</th></tr>\n";
+  auto fitRow = [&](const char* name, const UFit& f) {
+    o << "<tr><td>" << name << "</td><td>" << f.count << "</td><td>" << fmt("%.3g", f.u)
+      << "</td><td>" << intervalText(f) << "</td><td>" << fmt("%.4f", f.rmse) << "</td><td>"
+      << fmt("%.4f", f.rmse_paper) << "</td><td>" << fmt("%.4f", f.rmse_uludag) << "</td></tr>\n";
+  };
+  fitRow("u^(alpha^2/2), alpha = r_p^2 (SPEC), all r_p", spec.all);
+  fitRow("u^(alpha^2/2), r_p &ge; 0.3", spec.rp_ge_0_3);
+  fitRow("u^(r_p^2/2) (perceptual), all r_p", perceptual.all);
+  fitRow("u^(r_p^2/2), r_p &ge; 0.3", perceptual.rp_ge_0_3);
+  o << "</table>\n<h2>4D table error by how far b leaves the plane of n and wr</h2>\n"
+       "<table><tr><th>angle</th><th>samples</th><th>S4 RMSE</th><th>S4 mean signed</th>"
+       "<th>S3 RMSE</th></tr>\n";
+  for (int b = 0; b < kPlaneBinCount; ++b) {
+    o << "<tr><td>" << fmt("%.0f", kPlaneBins[b]) << "&ndash;" << fmt("%.0f", kPlaneBins[b + 1])
+      << "&deg;</td><td>" << t.plane[0][b].count << "</td><td>" << fmt("%.4f", t.plane[0][b].rmse())
+      << "</td><td>" << fmt("%+.4f", t.plane[0][b].meanSigned()) << "</td><td>"
+      << fmt("%.4f", t.plane[1][b].rmse()) << "</td></tr>\n";
+  }
+  o << "</table>\n<h2>Per scene (paper Figs. 13&ndash;14)</h2>\n<p>Columns: path-traced S | "
+       "S3 (BC4) | S4 (BC4) | cone (fitted u) | |S4 &minus; truth| (viridis, 0 to "
+    << fmt("%.1f", kErrorMapMax) << "). Rows: r_p ";
+  for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
+    o << (j ? ", " : "") << fmt("%.2f", sweep.roughness[j]);
+  }
+  o << ".</p>\n";
+  for (const SpecularScene& scene : sweep.scenes) {
+    o << "<h3>" << scene.name << "</h3><img src=\"validate_gtso_" << scene.name << ".png\" alt=\""
+      << scene.name << "\">\n";
+  }
+  o << "</body></html>\n";
+  writeFileAtomically(dir / "validate_gtso.html", o.str());
+}
+
+void printSummary(const SpecularSweep& sweep, std::size_t pixels, const Tables& t,
+                  const std::vector<Method>& methods,
+                  const std::vector<std::vector<Method>>& ranking, const UFits& spec,
+                  const UFits& perceptual, const fs::path& json) {
+  std::printf("validate-gtso: %zu pixels x %zu roughness values, %zu scenes (specular spp %d)\n",
+              pixels, sweep.roughness.size(), sweep.scenes.size(), sweep.specular_spp);
+  std::printf("  RMSE vs path-traced S    ");
+  for (double r : sweep.roughness) std::printf("  r_p %.2f", r);
+  std::printf("      all  mean err\n");
+  for (Method m : methods) {
+    std::printf("  %-24s", methodName(m));
+    for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
+      std::printf("  %8.4f", t.per_roughness[static_cast<int>(m)][j].rmse());
+    }
+    const ErrorStats& e = t.overall[static_cast<int>(m)];
+    std::printf("  %7.4f  %+8.4f\n", e.rmse(), e.meanSigned());
+  }
+  std::printf("  MC noise of the truth    ");
+  for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
+    const ErrorStats& e = t.per_roughness[static_cast<int>(Method::kNone)][j];
+    std::printf("  %8.4f", e.count ? std::sqrt(e.noise / e.count) : 0.0);
+  }
+  std::printf("  (RMS standard error)\n  best:");
+  for (std::size_t j = 0; j < ranking.size(); ++j) {
+    std::printf(" r_p %.2f %s;", sweep.roughness[j], methodName(ranking[j][0]));
+  }
+  std::printf("\n");
+  auto line = [](const char* name, const UFit& f) {
+    std::printf("  u %-28s %.3g %s  RMSE %.4f (u=0.01: %.4f, u=0.244: %.4f)\n", name, f.u,
+                intervalText(f).c_str(), f.rmse, f.rmse_paper, f.rmse_uludag);
+  };
+  line("u^(alpha^2/2), all r_p", spec.all);
+  line("u^(alpha^2/2), r_p >= 0.3", spec.rp_ge_0_3);
+  line("u^(r_p^2/2), all r_p", perceptual.all);
+  line("u^(r_p^2/2), r_p >= 0.3", perceptual.rp_ge_0_3);
+  std::printf("  wrote %s\n", json.c_str());
+}
+
+}  // namespace
+
+ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
+  if (options.sweep.empty()) throw Error("validate-gtso: --sweep DIR is required");
+  if (options.luts.empty()) throw Error("validate-gtso: --luts DIR is required");
+  if (options.u != 0.0 && !(options.u > 0.0 && options.u < 1.0)) {
+    throw Error("validate-gtso: --u must lie in (0, 1), got " + fmt("%g", options.u));
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const fs::path out = options.out.empty() ? options.luts : options.out;
+  // Read everything before writing anything.
+  const SpecularSweep sweep = readSpecularSweep(options.sweep);
+  const TablesLookups tables =
+      makeTablesLookups(options.luts, options.encode_bc4, options.progress);
+  const std::vector<SpecularSample> samples = gatherSamples(sweep);
+
+  const UFits spec = fitConeU(samples, false);
+  const UFits perceptual = fitConeU(samples, true);
+  ConeConstants cones;
+  cones.table_fit = tables.info.u_table_fit;
+  cones.fitted = spec.all.u;
+  cones.fitted_perceptual = perceptual.all.u;
+  cones.user = options.u;
+  const std::vector<std::vector<float>> values = evaluateMethods(samples, tables, cones);
+  const std::vector<Method> methods = scoredMethods(options.u > 0.0);
+  const Tables t = tabulate(samples, values, sweep.scenes.size(), sweep.roughness.size());
+  const std::vector<std::vector<Method>> ranking = rank(t, methods, sweep.roughness.size());
+
+  Json json;
+  json["gtbake_version"] = GTBAKE_VERSION;
+  json["sweep"] = {{"dir", relativePath(options.sweep, out)},
+                   {"spp", sweep.spp},
+                   {"specular_spp", sweep.specular_spp},
+                   {"roughness", sweep.roughness},
+                   {"scenes", sweep.scenes.size()},
+                   {"pixels", samples.size() / sweep.roughness.size()}};
+  json["tables"] = {{"dir", relativePath(options.luts, out)},
+                    {"bc4_source", tables.info.bc4_source},
+                    {"u_table_fit", tables.info.u_table_fit}};
+  json["roughness_convention"] = "perceptual roughness r_p; GGX alpha = r_p^2";
+  json["lagarde_roughness"] =
+      "r = alpha = r_p^2: Filament computeSpecularAO(shading_NoV, ao, pixel.roughness) with "
+      "pixel.roughness = perceptualRoughnessToRoughness(perceptualRoughness); HDRP "
+      "GetSpecularOcclusionFromAmbientOcclusion(NdotV, ao, PerceptualSmoothnessToRoughness(...))";
+  json["u"] = spec.all.u;
+  json["u_interval"] = {spec.all.low, spec.all.high};
+  json["u_fit"] = {{"objective",
+                    "least squares of S_cone(u) - path-traced S over every unmasked pixel and "
+                    "roughness r_p > 0 (Ceres, log10 u); interval: RMSE within 5% of the optimum"},
+                   {"alpha",
+                    {{"convention", "cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2"},
+                     {"all", fitJson(spec.all)},
+                     {"r_p_ge_0.3", fitJson(spec.rp_ge_0_3)}}},
+                   {"perceptual",
+                    {{"convention", "cos(alpha_s) = u^(r_p^2/2)"},
+                     {"all", fitJson(perceptual.all)},
+                     {"r_p_ge_0.3", fitJson(perceptual.rp_ge_0_3)}}}};
+  Json method_list = Json::object();
+  for (Method m : methods) method_list[methodName(m)] = methodDescription(m);
+  json["methods"] = method_list;
+  Json overall = Json::object();
+  for (Method m : methods) overall[methodName(m)] = statsJson(t.overall[static_cast<int>(m)]);
+  json["overall"] = overall;
+  Json by_roughness = Json::object();
+  Json noise = Json::object();
+  Json ranking_json = Json::object();
+  Json best = Json::object();
+  for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
+    const std::string key = specularChannelName(sweep.roughness[j]);
+    Json row = Json::object();
+    for (Method m : methods)
+      row[methodName(m)] = statsJson(t.per_roughness[static_cast<int>(m)][j]);
+    by_roughness[key] = row;
+    const ErrorStats& e = t.per_roughness[static_cast<int>(Method::kNone)][j];
+    noise[key] = {{"mean_variance", e.count ? e.noise / e.count : 0.0},
+                  {"rms_standard_error", e.count ? std::sqrt(e.noise / e.count) : 0.0}};
+    Json order = Json::array();
+    for (Method m : ranking[j]) order.push_back(methodName(m));
+    ranking_json[key] = order;
+    best[key] = methodName(ranking[j][0]);
+  }
+  json["per_roughness"] = by_roughness;
+  json["truth_noise"] = noise;
+  json["ranking"] = ranking_json;
+  json["best"] = best;
+  Json plane = Json::array();
+  for (int b = 0; b < kPlaneBinCount; ++b) {
+    plane.push_back({{"min_deg", kPlaneBins[b]},
+                     {"max_deg", kPlaneBins[b + 1]},
+                     {"S4_bc4", statsJson(t.plane[0][b])},
+                     {"S3_bc4", statsJson(t.plane[1][b])}});
+  }
+  json["by_out_of_plane"] = plane;
+  Json scenes = Json::object();
+  for (std::size_t sc = 0; sc < sweep.scenes.size(); ++sc) {
+    Json scene = Json::object();
+    for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
+      Json row = Json::object();
+      for (Method m : methods) row[methodName(m)] = statsJson(t.cell[static_cast<int>(m)][sc][j]);
+      scene[specularChannelName(sweep.roughness[j])] = row;
+    }
+    scenes[sweep.scenes[sc].name] = scene;
+  }
+  json["scenes"] = scenes;
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  json["timings"] = {{"seconds", seconds}};
+
+  const fs::path report = out / "report";
+  ensureDirectory(report);
+  writeSceneImages(sweep, samples, values, report);
+  writePage(sweep, t, methods, ranking, spec, perceptual, report);
+  const fs::path json_path = out / "validate_gtso.json";
+  writeFileAtomically(json_path, json.dump(2) + "\n");
+  printSummary(sweep, samples.size() / sweep.roughness.size(), t, methods, ranking, spec,
+               perceptual, json_path);
+
+  ValidateGtsoResult result;
+  result.json = json_path;
+  result.u = spec.all.u;
+  result.u_low = spec.all.low;
+  result.u_high = spec.all.high;
+  result.seconds = seconds;
+  return result;
+}
+
+}  // namespace gtbake

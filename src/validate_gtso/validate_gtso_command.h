@@ -1,0 +1,31 @@
+// `gtbake validate-gtso` (SPEC §1.4, §2; docs/validate_gtso.md): scores the shipped GTSO tables,
+// the cone-to-cone model and the baselines an engine would otherwise use against the sweep's
+// path-traced specular occlusion, and fits the cone-aperture constant u there.
+#pragma once
+
+#include <filesystem>
+
+namespace gtbake {
+
+struct ValidateGtsoOptions {
+  std::filesystem::path sweep;  // a `gtbake sweep` directory traced with specular channels
+  std::filesystem::path luts;   // holds gtso/ (gtso.json, *.f32) and the shipped gtso*.dds
+  std::filesystem::path out;    // validate_gtso.json, report/validate_gtso*; default: luts
+  double u = 0.0;               // --u: also score the cone model with this u (0: not given)
+  // Encode the BC4 blocks from the float tables with the export's encoder instead of reading
+  // the DDS files (what `gtbake all` does: it runs before export rewrites them).
+  bool encode_bc4 = false;
+  bool progress = true;
+};
+
+struct ValidateGtsoResult {
+  std::filesystem::path json;
+  double u = 0.0;  // fitted, SPEC convention
+  double u_low = 0.0;
+  double u_high = 0.0;
+  double seconds = 0.0;
+};
+
+ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options);
+
+}  // namespace gtbake

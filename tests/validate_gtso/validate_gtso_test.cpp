@@ -1,0 +1,216 @@
+// validate-gtso: the shader-exact lookup against the tables' own texels, the fast cone model
+// against gtso's, the u fit on synthetic data with a known u, Lagarde's formula by hand, and the
+// bad input of a sweep without specular channels.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "export/bc4_encoder.h"
+#include "export/export_inputs.h"
+#include "export/runtime/gtso_lookup.h"
+#include "gtso/cone_intersection.h"
+#include "gtso/gtso_command.h"
+#include "scene/procedural_scenes.h"
+#include "scene/scene.h"
+#include "sweep/sweep_command.h"
+#include "validate_gtso/cone_u_fit.h"
+#include "validate_gtso/gtso_lookup.h"
+#include "validate_gtso/specular_methods.h"
+#include "validate_gtso/validate_gtso_command.h"
+
+namespace gtbake {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kPi = 3.14159265358979323846;
+// At a texel centre the trilinear filter returns that texel: the float lookup gives the float
+// table's value and the BC4 lookup the decoded DDS block's, for texels all over both tables (the
+// 4D fold included). The inputs are the texel's physical parameters (gtsoTexelPhysical, the
+// bake's inverse axis maps) passed as a runtime would (cos β, cos θo, in float), so a texel's
+// coordinate lands near, not exactly on, its centre; the test bounds what that costs.
+TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
+  // Fresh 16^3 / 16^4 tables (gtbake gtso), BC4 blocks by the export's encoder.
+  const fs::path root =
+      fs::temp_directory_path() / ("gtbake_test_validate_lookup_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  GtsoOptions bake;
+  bake.out = root / "gtso";
+  bake.size = 16;
+  bake.lobe_cells = 24;
+  bake.error_lobes = 16;
+  bake.error_seeds = 1;
+  bake.progress = false;
+  runGtso(bake);
+  const TablesLookups lookups = makeTablesLookups(root, true, false);
+  const GtsoInput gtso = readGtsoInput(root / "gtso");
+  fs::remove_all(root);
+  const GtsoTable& t3 = gtso.table3d;
+  const GtsoTable& t4 = gtso.table4d;
+  const Bc4Encoder encoder;
+  auto decoded = [&](const GtsoTable& t) {
+    const Bc4Volume v =
+        encodeBc4Volume(encoder, t.values.data(), t.volume[0], t.volume[1], t.volume[2], nullptr);
+    return decodeBc4Volume(v.bytes.data(), t.volume[0], t.volume[1], t.volume[2]);
+  };
+  const std::vector<float> bc4_3 = decoded(t3);
+  const std::vector<float> bc4_4 = decoded(t4);
+  const int size3[3] = {t3.dims[0], t3.dims[1], t3.dims[2]};
+  const int size4[4] = {t4.dims[0], t4.dims[1], t4.dims[2], t4.dims[3]};
+  const int n = size3[0];
+  std::vector<double> errors;   // 3D
+  std::vector<double> errors4;  // 4D
+  for (int i = 1; i < n - 1; i += 2) {
+    for (int j = 1; j < n - 1; j += 2) {
+      for (int k = 1; k < n - 1; k += 2) {
+        const int idx3[3] = {i, j, k};
+        const GtsoPhysical<double> p = gtsoTexelPhysical<double>(3, idx3, size3);
+        const std::size_t at3 = (static_cast<std::size_t>(k) * n + j) * n + i;
+        const auto A = static_cast<float>(p.A);
+        const auto cb = static_cast<float>(std::cos(p.beta));
+        const auto rp = static_cast<float>(p.rp);
+        errors.push_back(std::abs(lookups.floats->s3(A, cb, rp) - t3.values[at3]));
+        errors.push_back(std::abs(lookups.bc4->s3(A, cb, rp) - bc4_3[at3]));
+        for (int l : {1, n / 2, n - 2}) {
+          const int idx4[4] = {i, j, k, l};
+          const GtsoPhysical<double> q = gtsoTexelPhysical<double>(4, idx4, size4);
+          const std::size_t at4 =
+              ((static_cast<std::size_t>(l) * n + k) * n + j) * static_cast<std::size_t>(n) + i;
+          const auto A4 = static_cast<float>(q.A);
+          const auto cb4 = static_cast<float>(std::cos(q.beta));
+          const auto ct4 = static_cast<float>(std::cos(q.thetaO));
+          const auto rp4 = static_cast<float>(q.rp);
+          errors4.push_back(std::abs(lookups.floats->s4(A4, cb4, rp4, ct4) - t4.values[at4]));
+          errors4.push_back(std::abs(lookups.bc4->s4(A4, cb4, rp4, ct4) - bc4_4[at4]));
+        }
+      }
+    }
+  }
+  std::sort(errors.begin(), errors.end());
+  std::sort(errors4.begin(), errors4.end());
+  // 4D: the bulk sits on the texels; a minority does not (reported to the tables helper: the
+  // β round trip through cos β for texels of the beta_split axis), so only the median is checked.
+  std::printf("[ info ] 4D |lookup - texel| at %zu texel centres: median %.3g, max %.3g\n",
+              errors4.size(), errors4[errors4.size() / 2], errors4.back());
+  EXPECT_LT(errors4[errors4.size() / 2], 1e-6);
+  const double median = errors[errors.size() / 2];
+  const double p95 = errors[errors.size() * 95 / 100];
+  const double worst = errors.back();
+  std::printf(
+      "[ info ] 3D |lookup - texel| at %zu texel centres: median %.3g, 95%% %.3g, max %.3g\n",
+      errors.size(), median, p95, worst);
+  // 3D: where the A axis's step warp is steep, the float round trip (sin² of the unwarped αv,
+  // then the warp again) moves a few coordinates off their centres; 95% must sit on them.
+  EXPECT_LT(median, 1e-6);
+  EXPECT_LT(p95, 1e-5);
+}
+
+// The cone model from precomputed trig gives gtso::coneSpecularOcclusion's bits.
+TEST(ValidateGtso, FastConeEqualsGtsoCone) {
+  std::mt19937 gen(3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int t = 0; t < 20000; ++t) {
+    SpecularSample s;
+    s.A = static_cast<float>(unit(gen));
+    s.r_p = static_cast<float>(unit(gen));
+    s.alpha_v = std::acos(std::sqrt(1.0 - static_cast<double>(s.A)));
+    s.beta = kPi * unit(gen);
+    s.cos_av = std::cos(s.alpha_v);
+    s.sin_av = std::sin(s.alpha_v);
+    s.cos_b = std::cos(s.beta);
+    s.sin_b = std::sin(s.beta);
+    const double u = std::pow(10.0, -6.0 * unit(gen));
+    const double w = static_cast<double>(s.r_p) * s.r_p;
+    ASSERT_EQ(coneAt(s, u, false),
+              gtso::coneSpecularOcclusion(s.alpha_v, gtso::specularConeAperture(u, w), s.beta));
+  }
+}
+
+// Synthetic truth S = S_cone(u = 0.02) plus zero-mean noise: the fit recovers u and its interval
+// contains it, under the convention the data were made with.
+TEST(ValidateGtso, FitRecoversAKnownU) {
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  const double u_true = 0.02;
+  const float roughness[] = {0.1f, 0.25f, 0.4f, 0.6f, 0.8f};
+  for (bool perceptual : {false, true}) {
+    std::vector<SpecularSample> samples;
+    for (int p = 0; p < 4000; ++p) {
+      const double A = unit(gen);
+      const double beta = 0.5 * kPi * unit(gen);
+      for (int j = 0; j < 5; ++j) {
+        SpecularSample s;
+        s.roughness = j;
+        s.r_p = roughness[j];
+        s.A = static_cast<float>(A);
+        s.alpha_v = std::acos(std::sqrt(1.0 - static_cast<double>(s.A)));
+        s.beta = beta;
+        s.cos_av = std::cos(s.alpha_v);
+        s.sin_av = std::sin(s.alpha_v);
+        s.cos_b = std::cos(s.beta);
+        s.sin_b = std::sin(s.beta);
+        s.truth = coneAt(s, u_true, perceptual) + noise(gen);
+        samples.push_back(s);
+      }
+    }
+    const UFits fits = fitConeU(samples, perceptual);
+    EXPECT_NEAR(std::log10(fits.all.u), std::log10(u_true), 0.05) << perceptual;
+    EXPECT_LE(fits.all.low, u_true);
+    EXPECT_GE(fits.all.high, u_true);
+    EXPECT_LT(fits.all.rmse, 0.021);  // the noise's 0.02 plus nothing systematic
+    EXPECT_NEAR(std::log10(fits.rp_ge_0_3.u), std::log10(u_true), 0.05) << perceptual;
+  }
+}
+
+// saturate(pow(n·v + A, exp2(−16 r − 1)) − 1 + A) with r = r_p², by hand.
+TEST(ValidateGtso, LagardeByHand) {
+  // n·v = 0.5, A = 0.5, r_p = 0.5: pow(1, ·) − 1 + 0.5 = 0.5.
+  EXPECT_NEAR(lagarde(0.5f, 0.5f, 0.5f), 0.5f, 1e-6f);
+  // n·v = 0.2, A = 0.3, r = 0.1: 0.5^(2^−2.6) − 0.7 = 0.5^0.164938 − 0.7 = 0.191967 (in double).
+  EXPECT_NEAR(lagarde(0.2f, 0.3f, static_cast<float>(std::sqrt(0.1))),
+              std::pow(0.5, std::exp2(-2.6)) - 0.7, 2e-6);
+  EXPECT_EQ(lagarde(0.1f, 0.0f, 0.5f), 0.0f);  // saturate below
+  EXPECT_EQ(lagarde(1.0f, 1.0f, 0.2f), 1.0f);
+}
+
+// A sweep traced with --specular-roughness none: a one-line error naming the flag, nothing written.
+TEST(ValidateGtso, SweepWithoutSpecularChannelsIsOneLineError) {
+  const fs::path root =
+      fs::temp_directory_path() / ("gtbake_test_validate_gtso_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root / "scenes");
+  writeGltfScene(root / "scenes" / "plane.gltf", makeOpenPlaneScene());
+  SweepOptions sweep;
+  sweep.scenes = {root / "scenes" / "plane.gltf"};
+  sweep.out = root / "sweep";
+  sweep.spp = 8;
+  sweep.width = 8;
+  sweep.height = 8;
+  sweep.specular_roughness = {};
+  sweep.progress = false;
+  runSweep(sweep);
+  ValidateGtsoOptions o;
+  o.sweep = sweep.out;
+  o.luts = root;  // never read: the sweep is rejected first
+  o.out = root / "out";
+  o.progress = false;
+  try {
+    runValidateGtso(o);
+    ADD_FAILURE() << "accepted a sweep without specular channels";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("--specular-roughness"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+  EXPECT_FALSE(fs::exists(o.out));
+  fs::remove_all(root);
+}
+
+}  // namespace
+}  // namespace gtbake
