@@ -167,7 +167,9 @@ FitInput readFitInput(const std::filesystem::path& file) {
 }
 
 void applyValidateGtsoU(const std::filesystem::path& file, GtsoInput* gtso) {
-  const nlohmann::json j = parseJson(file);
+  if (!std::filesystem::is_regular_file(file)) throw Error("no such file: " + file.string());
+  const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
+  const nlohmann::json j = parseJson(readOutputSet(dir, "validate_gtso"), file.filename().string());
   const std::string where = file.string();
   const double u = finiteNumber(j, "u", where);
   const nlohmann::json& interval = member(j, "u_interval", where);

@@ -1,10 +1,11 @@
 #include "validate_gtso/specular_sweep.h"
 
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/input_limits.h"
+#include "common/output_set.h"
 #include "sweep/escape_image.h"
 
 namespace gtbake {
@@ -24,15 +25,11 @@ const std::vector<float>& need(const ExrImage& image, const std::string& name,
 
 SpecularSweep readSpecularSweep(const fs::path& dir) {
   const fs::path json_path = dir / "sweep.json";
-  std::ifstream in(json_path);
-  if (!in)
+  if (!fs::is_regular_file(json_path))
     throw Error(dir.string() + " is not a sweep directory (no sweep.json); run `gtbake sweep`");
-  nlohmann::json json;
-  try {
-    json = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(json_path.string() + ": not valid JSON (" + std::string(e.what()) + ")");
-  }
+  // The sweep is one output set: every file read is verified against its manifest.
+  const OutputManifest set = readOutputSet(dir, "sweep");
+  const nlohmann::json json = parseJsonText(set.readVerified("sweep.json"), json_path.string());
   constexpr const char* kNoSpecular =
       "has no specular channels (S010 ...): trace it with gtbake sweep --specular-roughness LIST "
       "(the default traces 0.1,0.25,0.4,0.6,0.8; 'none' turns them off)";
@@ -40,20 +37,24 @@ SpecularSweep readSpecularSweep(const fs::path& dir) {
   sweep.dir = dir;
   try {
     const nlohmann::json& settings = json.at("settings");
-    sweep.spp = settings.at("spp").get<int>();
+    sweep.spp = static_cast<int>(jsonInteger(settings, "spp", 2, 1 << 20, json_path.string()));
     if (!settings.contains("specular_roughness") || settings["specular_roughness"].empty()) {
       throw Error("sweep " + dir.string() + " " + kNoSpecular);
     }
     sweep.roughness = settings["specular_roughness"].get<std::vector<double>>();
-    sweep.specular_spp = settings.at("specular_spp").get<int>();
+    sweep.specular_spp =
+        static_cast<int>(jsonInteger(settings, "specular_spp", 0, 1 << 20, json_path.string()));
     for (const nlohmann::json& entry : json.at("scenes")) {
       SpecularScene scene;
       scene.name = entry.at("name").get<std::string>();
       const std::string file = entry.at("file").get<std::string>();
-      if (file.find('/') != std::string::npos || file.find("..") != std::string::npos) {
-        throw Error(json_path.string() + ": scene file '" + file + "' is not a plain file name");
-      }
-      const ExrImage image = readExr(dir / file);
+      fileInsideDirectory(dir, file, json_path.string());
+      ExrExpect expect;
+      expect.width = static_cast<int>(jsonInteger(entry, "width", 1, 1 << 16, json_path.string()));
+      expect.height =
+          static_cast<int>(jsonInteger(entry, "height", 1, 1 << 16, json_path.string()));
+      expect.source = json_path.string();
+      const ExrImage image = decodeExr(set.readVerified(file), (dir / file).string(), expect);
       const std::string where = (dir / file).string();
       scene.width = image.width;
       scene.height = image.height;

@@ -15,6 +15,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/output_set.h"
 #include "gtbake_version.h"
 #include "sweep/escape_image.h"
 #include "validate_gtso/cone_u_fit.h"
@@ -381,7 +382,9 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   writeSceneImages(sweep, samples, values, report);
   writePage(sweep, t, methods, ranking, spec, perceptual, report);
   const fs::path json_path = out / "validate_gtso.json";
-  writeFileAtomically(json_path, json.dump(2) + "\n");
+  OutputSet output(out, "validate_gtso");  // export requires and verifies it
+  output.add(json_path.filename().string(), json.dump(2) + "\n");
+  output.commit();
   printSummary(sweep, samples.size() / sweep.roughness.size(), t, methods, ranking, spec,
                perceptual, json_path);
 
