@@ -49,15 +49,15 @@ std::string errorOf(const std::function<void()>& f) {
     EXPECT_NE(message_.find(fragment), std::string::npos) << "got: " << message_; \
   } while (0)
 
-// Two tiny scenes every pixel of which sees geometry (camera inside a closed box), so a 40x40
-// sweep gives loadSweep its 1000 points.
+// Two tiny scenes every pixel of which sees geometry: a closed box (A = 0 everywhere) and a
+// spherical cavity (A from 0 to 1, so the sweep can also be fitted).
 struct SweepFixture {
   Scratch root{"sweep_fixture"};
   fs::path scenes = root.path() / "scenes";
   SweepFixture() {
     Scene a = makeClosedBoxScene();
     writeGltfScene(scenes / "box_a.gltf", a);
-    writeGltfScene(scenes / "box_b.gltf", a);
+    writeGltfScene(scenes / "box_b.gltf", makeSphericalCavityScene(1.0, 0.7));
   }
   SweepOptions options(const fs::path& out, std::uint64_t seed = 1, int side = 40) const {
     SweepOptions o;
@@ -215,7 +215,11 @@ TEST(ExrHostile, ForgedDataWindowIsRefusedBeforeAllocating) {
 
 TEST(FitSet, OutputNeverReplacesAnInputAndIsNeverADirectory) {
   Scratch dir("fit_out");
-  const fs::path sweep = sweepInto(dir.path() / "s");
+  // 16 walks per pixel: enough distinct A values for the cubic to be determined.
+  SweepOptions so = fixture().options(dir.path() / "s");
+  so.spp = 16;
+  runSweep(so);
+  const fs::path sweep = so.out;
   const std::string before = slurp(sweep / "sweep.json");
   FitOptions o;
   o.sweep = sweep;
