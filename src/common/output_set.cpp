@@ -18,6 +18,36 @@ std::string manifestFileName(const std::string& command) {
   return command + ".manifest.json";
 }
 
+namespace {
+
+// A manifest of this gtbake version for `command` in `dir`, with no files yet.
+OutputManifest emptyManifest(const fs::path& dir, const std::string& command,
+                             nlohmann::ordered_json settings) {
+  OutputManifest manifest;
+  manifest.dir = dir;
+  manifest.command = command;
+  manifest.gtbake_version = GTBAKE_VERSION;
+  manifest.settings = std::move(settings);
+  return manifest;
+}
+
+// Writes dir/<command>.manifest.json: command, version, settings, then every file's name, size
+// and SHA-256 (the layout readOutputSet parses).
+void writeManifest(const OutputManifest& manifest) {
+  nlohmann::ordered_json files = nlohmann::ordered_json::array();
+  for (const OutputFile& f : manifest.files) {
+    files.push_back({{"name", f.name}, {"size", f.size}, {"sha256", f.sha256}});
+  }
+  nlohmann::ordered_json doc;
+  doc["command"] = manifest.command;
+  doc["gtbake_version"] = manifest.gtbake_version;
+  doc["settings"] = manifest.settings;
+  doc["files"] = std::move(files);
+  writeFileAtomically(manifest.dir / manifestFileName(manifest.command), doc.dump(2) + "\n");
+}
+
+}  // namespace
+
 const OutputFile* OutputManifest::find(const std::string& name) const {
   for (const OutputFile& f : files) {
     if (f.name == name) return &f;
@@ -87,12 +117,7 @@ OutputManifest OutputSet::commit() {
   std::error_code ec;
   fs::remove(manifest_path, ec);
   if (ec) throw Error("cannot replace " + manifest_path.string() + ": " + ec.message());
-  OutputManifest manifest;
-  manifest.dir = dir_;
-  manifest.command = command_;
-  manifest.gtbake_version = GTBAKE_VERSION;
-  manifest.settings = settings_;
-  nlohmann::ordered_json files = nlohmann::ordered_json::array();
+  OutputManifest manifest = emptyManifest(dir_, command_, settings_);
   for (const Staged& s : staged_) {
     fs::rename(s.temp, dir_ / s.file.name, ec);
     if (ec) {
@@ -100,15 +125,9 @@ OutputManifest OutputSet::commit() {
                   " (the output set in " + dir_.string() + " is incomplete; rerun)");
     }
     manifest.files.push_back(s.file);
-    files.push_back({{"name", s.file.name}, {"size", s.file.size}, {"sha256", s.file.sha256}});
   }
   committed_ = true;
-  nlohmann::ordered_json doc;
-  doc["command"] = command_;
-  doc["gtbake_version"] = GTBAKE_VERSION;
-  doc["settings"] = settings_;
-  doc["files"] = std::move(files);
-  writeFileAtomically(manifest_path, doc.dump(2) + "\n");
+  writeManifest(manifest);
   return manifest;
 }
 
@@ -158,25 +177,13 @@ OutputManifest sealOutputSet(const fs::path& dir, const std::string& command,
                              const std::vector<std::string>& names,
                              nlohmann::ordered_json settings) {
   const fs::path manifest_path = dir / manifestFileName(command);
-  OutputManifest manifest;
-  manifest.dir = dir;
-  manifest.command = command;
-  manifest.gtbake_version = GTBAKE_VERSION;
-  manifest.settings = settings;
-  nlohmann::ordered_json files = nlohmann::ordered_json::array();
+  OutputManifest manifest = emptyManifest(dir, command, std::move(settings));
   for (const std::string& name : names) {
     const std::string bytes =
         readRegularFile(fileInsideDirectory(dir, name, manifest_path.string()));
-    const OutputFile file{name, bytes.size(), sha256Hex(bytes)};
-    manifest.files.push_back(file);
-    files.push_back({{"name", file.name}, {"size", file.size}, {"sha256", file.sha256}});
+    manifest.files.push_back({name, bytes.size(), sha256Hex(bytes)});
   }
-  nlohmann::ordered_json doc;
-  doc["command"] = command;
-  doc["gtbake_version"] = GTBAKE_VERSION;
-  doc["settings"] = std::move(settings);
-  doc["files"] = std::move(files);
-  writeFileAtomically(manifest_path, doc.dump(2) + "\n");
+  writeManifest(manifest);
   return manifest;
 }
 
