@@ -18,9 +18,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using test::Scratch;
-using test::slurp;
+using test::readBytes;
 using test::spit;
+using test::TempDir;
 
 std::size_t lines(const std::string& text) {
   return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
@@ -35,7 +35,7 @@ void expectOneLineError(const std::string& arguments, const std::string& fragmen
 
 // A small committed-style sweep the CLI cases read (two closed boxes, 40x40).
 const fs::path& sweepDir() {
-  static const Scratch root("cli_sweep");
+  static const TempDir root("cli_sweep");
   static const fs::path dir = [] {
     writeGltfScene(root.path() / "scenes" / "box_a.gltf", makeClosedBoxScene());
     writeGltfScene(root.path() / "scenes" / "box_b.gltf", makeSphericalCavityScene(1.0, 0.7));
@@ -54,7 +54,7 @@ const fs::path& sweepDir() {
 }
 
 TEST(CliReliability, SeedsOutsideUint64AreErrorsNotWrapped) {
-  Scratch dir("cli_seed");
+  TempDir dir("cli_seed");
   const std::string out = (dir.path() / "o").string();
   expectOneLineError("scenes --out " + out + " --seed -1", "--seed must be an integer");
   expectOneLineError("scenes --out " + out + " --seed 18446744073709551616", "--seed must be");
@@ -65,7 +65,7 @@ TEST(CliReliability, SeedsOutsideUint64AreErrorsNotWrapped) {
 TEST(CliReliability, EmptyCoeffsAreAnErrorAndShippedIsNamed) {
   expectOneLineError("validate --sweep " + sweepDir().string() + " --coeffs ''",
                      "--coeffs needs six");
-  Scratch dir("cli_shipped");
+  TempDir dir("cli_shipped");
   expectOneLineError("fit --sweep " + sweepDir().string() + " --out " +
                          (dir.path() / "f.json").string() + " --shipped 1,2,3",
                      "--shipped needs six");
@@ -77,12 +77,12 @@ TEST(CliReliability, UnknownSubcommandIsNamed) {
 }
 
 TEST(CliReliability, SweepNamingAFileSaysSo) {
-  Scratch dir("cli_sweepfile");
+  TempDir dir("cli_sweepfile");
   expectOneLineError("validate --sweep " + (sweepDir() / "sweep.json").string(), "is a file");
 }
 
 TEST(CliReliability, ZeroBouncesAreRefusedBeforeTracing) {
-  Scratch dir("cli_bounces");
+  TempDir dir("cli_bounces");
   expectOneLineError("sweep --scenes " + (sweepDir().parent_path() / "scenes").string() +
                          " --out " + (dir.path() / "o").string() + " --bounces 0",
                      "--bounces 0");
@@ -90,12 +90,12 @@ TEST(CliReliability, ZeroBouncesAreRefusedBeforeTracing) {
 }
 
 TEST(CliReliability, FitOutputIsNeverAnInputNorADirectory) {
-  const std::string before = slurp(sweepDir() / "sweep.json");
+  const std::string before = readBytes(sweepDir() / "sweep.json");
   expectOneLineError(
       "fit --sweep " + sweepDir().string() + " --out " + (sweepDir() / "sweep.json").string(),
       "would overwrite the input");
-  EXPECT_EQ(slurp(sweepDir() / "sweep.json"), before);
-  Scratch dir("cli_fitdir");
+  EXPECT_EQ(readBytes(sweepDir() / "sweep.json"), before);
+  TempDir dir("cli_fitdir");
   expectOneLineError("fit --sweep " + sweepDir().string() + " --out " + dir.path().string(),
                      "is a directory");
   EXPECT_TRUE(fs::is_empty(dir.path()));
@@ -103,7 +103,7 @@ TEST(CliReliability, FitOutputIsNeverAnInputNorADirectory) {
 
 // Whatever Ceres or glog would print, a failed fit is one error line (here: too few points).
 TEST(CliReliability, FailedFitIsOneLine) {
-  Scratch dir("cli_fitfail");
+  TempDir dir("cli_fitfail");
   expectOneLineError(
       "fit --sweep " + sweepDir().string() + " --out " + (dir.path() / "f.json").string(),
       "gtbake: error:");
@@ -133,7 +133,7 @@ std::string oneTriangleGlb() {
 }
 
 TEST(SceneDirectories, GlbFilesAreTakenFromADirectory) {
-  Scratch dir("glb_dir");
+  TempDir dir("glb_dir");
   fs::create_directories(dir.path() / "scenes");
   spit(dir.path() / "scenes" / "floor.glb", oneTriangleGlb());
   SweepOptions o;
@@ -149,7 +149,7 @@ TEST(SceneDirectories, GlbFilesAreTakenFromADirectory) {
 }
 
 TEST(SceneDirectories, SweepRefusesASceneWithNoUnmaskedPixel) {
-  Scratch dir("no_pixel");
+  TempDir dir("no_pixel");
   Scene scene = makeClosedBoxScene();
   scene.camera.position = {1e5, 1e5, 1e5};  // far outside, looking away
   writeGltfScene(dir.path() / "away.gltf", scene);

@@ -18,8 +18,8 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 using test::ScopedEnv;
-using test::Scratch;
 using test::spit;
+using test::TempDir;
 
 // A one-triangle glTF (positions at view 0 / accessor 0, u16 indices at view 1 / accessor 1)
 // and a camera at node 1; tests edit `doc` before writing.
@@ -74,7 +74,7 @@ void expectError(const fs::path& path, const std::string& fragment,
 }
 
 TEST(GltfHostile, BaselineReads) {
-  Scratch dir("gltf_ok");
+  TempDir dir("gltf_ok");
   Gltf g;
   const Scene scene = readGltfScene(g.write(dir.path()), {});
   EXPECT_EQ(scene.triangles.size(), 1u);
@@ -82,7 +82,7 @@ TEST(GltfHostile, BaselineReads) {
 
 // count and byteOffset that wrap size_t arithmetic used to pass the bounds check.
 TEST(GltfHostile, WrappingAccessorCountOrOffsetIsRefused) {
-  Scratch dir("gltf_wrap");
+  TempDir dir("gltf_wrap");
   for (const auto& [key, value] :
        std::vector<std::pair<std::string, std::uint64_t>>{{"count", 0x4000000000000001ull},
                                                           {"count", 0x1555555555555556ull},
@@ -101,7 +101,7 @@ TEST(GltfHostile, WrappingAccessorCountOrOffsetIsRefused) {
 }
 
 TEST(GltfHostile, DeepNodeChainIsWalkedWithoutRecursion) {
-  Scratch dir("gltf_deep");
+  TempDir dir("gltf_deep");
   Gltf g;
   const int depth = 20000;
   json nodes = json::array();
@@ -115,17 +115,17 @@ TEST(GltfHostile, DeepNodeChainIsWalkedWithoutRecursion) {
 }
 
 TEST(GltfHostile, DeeplyNestedJsonIsRefusedBeforeParsing) {
-  Scratch dir("gltf_nest");
+  TempDir dir("gltf_nest");
   Gltf g;
   const fs::path path = g.write(dir.path());
-  std::string text = test::slurp(path);
+  std::string text = test::readBytes(path);
   text.insert(1, "\"extras\":" + std::string(100000, '[') + std::string(100000, ']') + ",");
   spit(path, text);
   expectError(path, "GTBAKE_MAX_JSON_DEPTH");
 }
 
 TEST(GltfHostile, DuplicatedChildrenCannotExplodeInstances) {
-  Scratch dir("gltf_dup");
+  TempDir dir("gltf_dup");
   Gltf g;
   json nodes = json::array();
   for (int i = 0; i < 40; ++i) nodes.push_back({{"children", {i + 1, i + 1}}});
@@ -137,7 +137,7 @@ TEST(GltfHostile, DuplicatedChildrenCannotExplodeInstances) {
 }
 
 TEST(GltfHostile, TriangleAndVertexLimitsNameTheirVariable) {
-  Scratch dir("gltf_limits");
+  TempDir dir("gltf_limits");
   Gltf g;
   g.doc["nodes"][0]["children"] = {2};
   g.doc["nodes"].push_back({{"mesh", 0}});
@@ -154,7 +154,7 @@ TEST(GltfHostile, TriangleAndVertexLimitsNameTheirVariable) {
 }
 
 TEST(GltfHostile, FifoBufferIsRefusedNotWaitedOn) {
-  Scratch dir("gltf_fifo");
+  TempDir dir("gltf_fifo");
   Gltf g;
   g.doc["buffers"] = json::array({{{"uri", "pipe.bin"}, {"byteLength", g.bin.size()}}});
   const fs::path path = g.write(dir.path());
@@ -166,7 +166,7 @@ TEST(GltfHostile, FifoBufferIsRefusedNotWaitedOn) {
 }
 
 TEST(GltfHostile, UrisOutsideTheDirectoryAreRefused) {
-  Scratch dir("gltf_paths");
+  TempDir dir("gltf_paths");
   fs::create_directories(dir.path() / "scenes");
   Gltf g;
   spit(dir.path() / "outside.bin", g.bin);
@@ -192,7 +192,7 @@ TEST(GltfHostile, UrisOutsideTheDirectoryAreRefused) {
 
 // tinygltf falls back to "./uri" for a buffer missing beside the glTF; the reader must not.
 TEST(GltfHostile, MissingBufferIsNotSearchedInTheCurrentDirectory) {
-  Scratch dir("gltf_cwd");
+  TempDir dir("gltf_cwd");
   fs::create_directories(dir.path() / "scenes");
   fs::create_directories(dir.path() / "cwd");
   Gltf g;
@@ -207,7 +207,7 @@ TEST(GltfHostile, MissingBufferIsNotSearchedInTheCurrentDirectory) {
 }
 
 TEST(GltfHostile, AbsurdCameraAndVerticesAreRefused) {
-  Scratch dir("gltf_far");
+  TempDir dir("gltf_far");
   {
     Gltf g;
     g.doc["nodes"][1]["translation"] = {0, 0, 1e18};
@@ -231,7 +231,7 @@ TEST(GltfHostile, AbsurdCameraAndVerticesAreRefused) {
 }
 
 TEST(GltfHostile, CameraChosenByNameOrIndex) {
-  Scratch dir("gltf_cams");
+  TempDir dir("gltf_cams");
   Gltf g;
   g.doc["cameras"][0]["name"] = "wide";
   g.doc["cameras"].push_back({{"name", "tele"},
@@ -257,7 +257,7 @@ TEST(GltfHostile, CameraChosenByNameOrIndex) {
 }
 
 TEST(GltfHostile, TruncatedAndForgedGlbAreErrors) {
-  Scratch dir("gltf_glb");
+  TempDir dir("gltf_glb");
   std::string glb = "glTF";
   const std::uint32_t header[4] = {2, 0xFFFFFFF0u, 0xFFFFFFF0u, 0x4E4F534Au};
   glb.append(reinterpret_cast<const char*>(header), sizeof(header));

@@ -17,10 +17,10 @@ namespace gtbake {
 namespace {
 
 namespace fs = std::filesystem;
+using test::readBytes;
 using test::ScopedEnv;
-using test::Scratch;
-using test::slurp;
 using test::spit;
+using test::TempDir;
 
 // FIPS 180-4 / NIST CAVS example digests, including the 55/56/64-byte padding boundaries.
 TEST(Sha256, KnownVectors) {
@@ -35,7 +35,7 @@ TEST(Sha256, KnownVectors) {
 }
 
 TEST(OutputSet, CommitWritesFilesThenManifestAndReadersVerify) {
-  Scratch dir("set_commit");
+  TempDir dir("set_commit");
   {
     OutputSet set(dir.path(), "demo");
     set.add("a.txt", "alpha");
@@ -61,7 +61,7 @@ TEST(OutputSet, CommitWritesFilesThenManifestAndReadersVerify) {
 }
 
 TEST(OutputSet, FailedRunLeavesThePreviousSetValid) {
-  Scratch dir("set_fail");
+  TempDir dir("set_fail");
   {
     OutputSet set(dir.path(), "demo");
     set.add("a.txt", "old");
@@ -81,7 +81,7 @@ TEST(OutputSet, FailedRunLeavesThePreviousSetValid) {
 }
 
 TEST(OutputSet, InjectedWriteFailureThrowsAndKeepsOldSet) {
-  Scratch dir("set_inject");
+  TempDir dir("set_inject");
   {
     OutputSet set(dir.path(), "demo");
     set.add("big.bin", std::string(100000, 'x'));
@@ -101,7 +101,7 @@ TEST(OutputSet, InjectedWriteFailureThrowsAndKeepsOldSet) {
 }
 
 TEST(OutputSet, RefusesNamesOutsideTheDirectoryAndUnsafeManifests) {
-  Scratch dir("set_names");
+  TempDir dir("set_names");
   OutputSet set(dir.path(), "demo");
   EXPECT_THROW(set.add("../escape.txt", "x"), Error);
   EXPECT_THROW(set.add("/tmp/abs.txt", "x"), Error);
@@ -115,7 +115,7 @@ TEST(OutputSet, RefusesNamesOutsideTheDirectoryAndUnsafeManifests) {
 
 // A file on a full file system: if a small tmpfs can be mounted here, fill it for real.
 TEST(CheckedWriter, FullTmpfsIsAnErrorAndLeavesTheOldFile) {
-  Scratch dir("tmpfs");
+  TempDir dir("tmpfs");
   const fs::path mount = dir.path() / "mnt";
   fs::create_directories(mount);
   const std::string cmd = "mount -t tmpfs -o size=64k tmpfs " + mount.string() + " 2>/dev/null";
@@ -126,21 +126,21 @@ TEST(CheckedWriter, FullTmpfsIsAnErrorAndLeavesTheOldFile) {
   } unmount{mount};
   writeFileAtomically(mount / "keep.bin", "good");
   EXPECT_THROW(writeFileAtomically(mount / "keep.bin", std::string(1 << 20, 'z')), Error);
-  EXPECT_EQ(slurp(mount / "keep.bin"), "good");
+  EXPECT_EQ(readBytes(mount / "keep.bin"), "good");
   EXPECT_FALSE(fs::exists(mount / ("keep.bin.tmp-" + std::to_string(::getpid()))));
 }
 
 TEST(CheckedWriter, InjectedFailureNeverReplacesTheOldFile) {
-  Scratch dir("inject");
+  TempDir dir("inject");
   writeFileAtomically(dir.path() / "f.json", "old");
   const ScopedEnv fail("GTBAKE_TEST_FAIL_WRITE", "f.json");
   EXPECT_THROW(writeFileAtomically(dir.path() / "f.json", "new contents"), Error);
-  EXPECT_EQ(slurp(dir.path() / "f.json"), "old");
+  EXPECT_EQ(readBytes(dir.path() / "f.json"), "old");
 }
 
 // A child killed by SIGTERM while its temporary file exists leaves nothing behind.
 TEST(Signals, TermRemovesTheTemporaryFiles) {
-  Scratch dir("signal");
+  TempDir dir("signal");
   int ready[2];
   ASSERT_EQ(::pipe(ready), 0);
   const pid_t child = ::fork();
@@ -166,7 +166,7 @@ TEST(Signals, TermRemovesTheTemporaryFiles) {
 
 // SIGKILL cannot be caught: the next run removes what the killed one left.
 TEST(Signals, StaleTemporariesOfADeadProcessAreCleanedNextRun) {
-  Scratch dir("stale");
+  TempDir dir("stale");
   const pid_t child = ::fork();
   if (child == 0) std::_Exit(0);
   ::waitpid(child, nullptr, 0);  // a pid that no longer runs
@@ -181,7 +181,7 @@ TEST(Signals, StaleTemporariesOfADeadProcessAreCleanedNextRun) {
 }
 
 TEST(OutputPaths, SameOrInside) {
-  Scratch dir("same");
+  TempDir dir("same");
   spit(dir.path() / "sweep.json", "{}");
   EXPECT_TRUE(sameOrInside(dir.path() / "sweep.json", dir.path() / "sweep.json"));
   EXPECT_TRUE(sameOrInside(dir.path() / "." / "sweep.json", dir.path() / "sweep.json"));

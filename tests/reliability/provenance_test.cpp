@@ -27,10 +27,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using test::readBytes;
 using test::ScopedEnv;
-using test::Scratch;
-using test::slurp;
 using test::spit;
+using test::TempDir;
 
 std::string errorOf(const std::function<void()>& f) {
   try {
@@ -52,7 +52,7 @@ std::string errorOf(const std::function<void()>& f) {
 // Two tiny scenes every pixel of which sees geometry: a closed box (A = 0 everywhere) and a
 // spherical cavity (A from 0 to 1, so the sweep can also be fitted).
 struct SweepFixture {
-  Scratch root{"sweep_fixture"};
+  TempDir root{"sweep_fixture"};
   fs::path scenes = root.path() / "scenes";
   SweepFixture() {
     Scene a = makeClosedBoxScene();
@@ -84,7 +84,7 @@ fs::path sweepInto(const fs::path& out, std::uint64_t seed = 1, int side = 40) {
 }
 
 TEST(SweepSet, CommittedWithManifestAndVerified) {
-  Scratch dir("sweep_set");
+  TempDir dir("sweep_set");
   sweepInto(dir.path() / "s");
   const OutputManifest m = readOutputSet(dir.path() / "s", "sweep");
   EXPECT_NE(m.find("sweep.json"), nullptr);
@@ -97,14 +97,14 @@ TEST(SweepSet, CommittedWithManifestAndVerified) {
 
 // A failed rerun (at another resolution) leaves the earlier sweep whole and usable.
 TEST(SweepSet, FailedRerunKeepsTheEarlierSweepUsable) {
-  Scratch dir("sweep_rerun");
+  TempDir dir("sweep_rerun");
   const fs::path out = sweepInto(dir.path() / "s");
-  const std::string before = slurp(out / "box_a.exr");
+  const std::string before = readBytes(out / "box_a.exr");
   {
     const ScopedEnv fail("GTBAKE_TEST_FAIL_WRITE", "box_b.exr");
     EXPECT_ERROR(sweepInto(out, 1, 48), "No space left");
   }
-  EXPECT_EQ(slurp(out / "box_a.exr"), before);
+  EXPECT_EQ(readBytes(out / "box_a.exr"), before);
   EXPECT_EQ(loadSweep(out).points(), 2u * 40 * 40);
   for (const auto& e : fs::directory_iterator(out)) {
     EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos) << e.path();
@@ -112,7 +112,7 @@ TEST(SweepSet, FailedRerunKeepsTheEarlierSweepUsable) {
 }
 
 TEST(SweepSet, ReadersRefuseMixedSeedsDuplicatesAndForeignScenes) {
-  Scratch dir("sweep_mix");
+  TempDir dir("sweep_mix");
   const fs::path one = sweepInto(dir.path() / "seed1");
   const fs::path two = sweepInto(dir.path() / "seed2", 2);
   // A file from another run, dropped in: the manifest catches it.
@@ -128,7 +128,7 @@ TEST(SweepSet, ReadersRefuseMixedSeedsDuplicatesAndForeignScenes) {
   EXPECT_ERROR(loadSweep(three), "gtbake.scene");
   // The same scene listed twice.
   const fs::path four = sweepInto(dir.path() / "dup");
-  json doc = json::parse(slurp(four / "sweep.json"));
+  json doc = json::parse(readBytes(four / "sweep.json"));
   doc["scenes"][1] = doc["scenes"][0];
   spit(four / "sweep.json", doc.dump());
   resealOutputSet(four, "sweep");
@@ -139,9 +139,9 @@ TEST(SweepSet, ReadersRefuseMixedSeedsDuplicatesAndForeignScenes) {
 }
 
 TEST(SweepSet, HostileSweepJsonEntries) {
-  Scratch dir("sweep_json");
+  TempDir dir("sweep_json");
   const fs::path out = sweepInto(dir.path() / "s");
-  const std::string good = slurp(out / "sweep.json");
+  const std::string good = readBytes(out / "sweep.json");
   auto edited = [&](const std::function<void(json&)>& edit) {
     json doc = json::parse(good);
     edit(doc);
@@ -214,13 +214,13 @@ TEST(ExrHostile, ForgedDataWindowIsRefusedBeforeAllocating) {
 }
 
 TEST(FitSet, OutputNeverReplacesAnInputAndIsNeverADirectory) {
-  Scratch dir("fit_out");
+  TempDir dir("fit_out");
   // 16 walks per pixel: enough distinct A values for the cubic to be determined.
   SweepOptions so = fixture().options(dir.path() / "s");
   so.spp = 16;
   runSweep(so);
   const fs::path sweep = so.out;
-  const std::string before = slurp(sweep / "sweep.json");
+  const std::string before = readBytes(sweep / "sweep.json");
   FitOptions o;
   o.sweep = sweep;
   o.progress = false;
@@ -228,7 +228,7 @@ TEST(FitSet, OutputNeverReplacesAnInputAndIsNeverADirectory) {
   EXPECT_ERROR(runFit(o), "would overwrite the input");
   o.out = sweep / "." / "box_a.exr";
   EXPECT_ERROR(runFit(o), "would overwrite the input");
-  EXPECT_EQ(slurp(sweep / "sweep.json"), before);
+  EXPECT_EQ(readBytes(sweep / "sweep.json"), before);
   fs::create_directories(dir.path() / "adir");
   o.out = dir.path() / "adir";
   EXPECT_ERROR(runFit(o), "is a directory");
@@ -237,11 +237,11 @@ TEST(FitSet, OutputNeverReplacesAnInputAndIsNeverADirectory) {
   o.out = sweep / "fit.json";
   o.report = dir.path() / "report";
   runFit(o);
-  EXPECT_EQ(readOutputSet(sweep, "fit").readVerified("fit.json"), slurp(sweep / "fit.json"));
+  EXPECT_EQ(readOutputSet(sweep, "fit").readVerified("fit.json"), readBytes(sweep / "fit.json"));
 }
 
 struct ExportFixture {
-  Scratch root{"export_fixture"};
+  TempDir root{"export_fixture"};
   fs::path gtso = root.path() / "gtso";
   fs::path fit = root.path() / "fit" / "fit.json";
   ExportFixture() {
@@ -282,9 +282,9 @@ TEST(ExportSet, FailedExportLeavesNoNewFileBesideOldOnes) {
   runExport(f.options(out));
   const OutputManifest m = readOutputSet(out, "export");
   EXPECT_EQ(m.files.size(), 15u);  // 2 tables x {BC4, R16, R8} x {DDS, KTX2} + header + 2 includes
-  const std::string dds = slurp(out / "gtso3d.dds");
+  const std::string dds = readBytes(out / "gtso3d.dds");
   // Change the inputs, then fail half-way through writing: nothing of the new set appears.
-  json g = json::parse(slurp(f.gtso / "gtso.json"));
+  json g = json::parse(readBytes(f.gtso / "gtso.json"));
   g["cone"]["u"] = 0.5;
   spit(f.gtso / "gtso.json", g.dump());
   resealOutputSet(f.gtso, "gtso");
@@ -292,7 +292,7 @@ TEST(ExportSet, FailedExportLeavesNoNewFileBesideOldOnes) {
     const ScopedEnv fail("GTBAKE_TEST_FAIL_WRITE", "gtbake_tables.glsl");
     EXPECT_ERROR(runExport(f.options(out)), "No space left");
   }
-  EXPECT_EQ(slurp(out / "gtso3d.dds"), dds);
+  EXPECT_EQ(readBytes(out / "gtso3d.dds"), dds);
   verifyOutputSet(readOutputSet(out, "export"));
 }
 
@@ -300,11 +300,11 @@ TEST(ExportSet, InputsAreVerifiedAndBounded) {
   const ExportFixture f;
   const fs::path out = f.root.path() / "export";
   // A table edited after gtso wrote it.
-  const std::string table = slurp(f.gtso / "gtso3d.f32");
+  const std::string table = readBytes(f.gtso / "gtso3d.f32");
   spit(f.gtso / "gtso3d.f32", table.substr(0, table.size() - 4) + std::string(4, '\0'));
   EXPECT_ERROR(runExport(f.options(out)), "does not match gtso.manifest.json");
   spit(f.gtso / "gtso3d.f32", table);
-  const std::string good = slurp(f.gtso / "gtso.json");
+  const std::string good = readBytes(f.gtso / "gtso.json");
   auto edited = [&](const std::function<void(json&)>& edit) {
     json doc = json::parse(good);
     edit(doc);
@@ -324,7 +324,7 @@ TEST(ExportSet, InputsAreVerifiedAndBounded) {
 }
 
 TEST(GtsoBounds, SamplesAndSizeAreBoundedBeforeWork) {
-  Scratch dir("gtso_bounds");
+  TempDir dir("gtso_bounds");
   GtsoOptions g;
   g.out = dir.path() / "g";
   g.progress = false;
@@ -339,18 +339,18 @@ TEST(GtsoBounds, SamplesAndSizeAreBoundedBeforeWork) {
 }
 
 TEST(ScenesWrite, InjectedFailureOnTheBufferIsAnErrorAndKeepsOldFiles) {
-  Scratch dir("scenes_fail");
+  TempDir dir("scenes_fail");
   runScenes({dir.path(), 1, false});
-  const std::string bin = slurp(dir.path() / "wells.bin");
-  const std::string gltf = slurp(dir.path() / "wells.gltf");
+  const std::string bin = readBytes(dir.path() / "wells.bin");
+  const std::string gltf = readBytes(dir.path() / "wells.gltf");
   const ScopedEnv fail("GTBAKE_TEST_FAIL_WRITE", "wells.bin");
   EXPECT_ERROR(runScenes({dir.path(), 2, false}), "No space left");
-  EXPECT_EQ(slurp(dir.path() / "wells.bin"), bin);
-  EXPECT_EQ(slurp(dir.path() / "wells.gltf"), gltf);
+  EXPECT_EQ(readBytes(dir.path() / "wells.bin"), bin);
+  EXPECT_EQ(readBytes(dir.path() / "wells.gltf"), gltf);
 }
 
 TEST(ScenesWrite, StaleTemporariesOfAKilledRunAreRemoved) {
-  Scratch dir("scenes_stale");
+  TempDir dir("scenes_stale");
   const pid_t child = ::fork();
   if (child == 0) std::_Exit(0);
   ::waitpid(child, nullptr, 0);
@@ -361,7 +361,7 @@ TEST(ScenesWrite, StaleTemporariesOfAKilledRunAreRemoved) {
 }
 
 TEST(ScenesWrite, FullTmpfsIsAnError) {
-  Scratch dir("scenes_tmpfs");
+  TempDir dir("scenes_tmpfs");
   const fs::path mount = dir.path() / "mnt";
   fs::create_directories(mount);
   const std::string cmd = "mount -t tmpfs -o size=256k tmpfs " + mount.string() + " 2>/dev/null";
