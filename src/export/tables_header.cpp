@@ -221,9 +221,12 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
     const char* key = t == &in.gtso->table3d ? "3d" : "4d";
     o << "//   " << t->file << ": lobe-grid rectangles "
       << jsonAt(t->meta, {"lobe_grid_rectangles"}) << ", max |S - reference| "
-      << (reference_error == "null"
-              ? "not measured by this run (bench_gtso measures every texel: docs/gtso.md)"
-              : reference_error)
+      << (reference_error == "null" ? "over all texels not measured by this run" : reference_error)
+      << "; sampled texel check vs 16x reference: max "
+      << jsonAt(t->meta, {"texel_check", "max_abs"}) << ", RMS "
+      << jsonAt(t->meta, {"texel_check", "rms"}) << " over "
+      << jsonAt(t->meta, {"texel_check", "lines"}) << " random lines (seed "
+      << jsonAt(t->meta, {"texel_check", "seed"}) << ")"
       << "\n//     end to end vs direct integration (max over seeds / mean RMS): BC4 "
       << endToEnd(gj, key, "bc4") << "\n//       R16 " << endToEnd(gj, key, "r16")
       << "\n//       R8 " << endToEnd(gj, key, "r8") << "; recommended "
