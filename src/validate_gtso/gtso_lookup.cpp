@@ -5,11 +5,14 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 
+#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/progress.h"
 #include "export/bc4_block.h"
 #include "export/bc4_encoder.h"
+#include "export/bc4_layout.h"
 #include "export/export_inputs.h"
 #include "export/runtime/gtso_lookup.h"
 #include "export/texture_containers.h"
@@ -26,13 +29,16 @@ class RuntimeTables final : public GtsoLookup {
  public:
   // bytes3/bytes4: the volumes' payloads as export writes them (BC4 blocks, little-endian R16,
   // R8); unused for float32, which reads the tables' floats.
+  // layout3/4: the volumes' texture layouts (float32 reads the tables in table order).
   RuntimeTables(GtsoTexelFormat format, const GtsoTable& t3, const GtsoTable& t4,
-                const std::vector<std::uint8_t>* bytes3, const std::vector<std::uint8_t>* bytes4)
-      : format_(format) {
+                const std::vector<std::uint8_t>* bytes3, const std::vector<std::uint8_t>* bytes4,
+                const GtsoLayout& layout3, const GtsoLayout& layout4)
+      : format_(format), layout3_(layout3), layout4_(layout4) {
+    const std::array<int, 3> v3 = layoutVolume(t3, layout3), v4 = layoutVolume(t4, layout4);
     for (int a = 0; a < 3; ++a) {
       size3_[a] = t3.dims[a];
-      volume3_[a] = t3.volume[a];
-      volume4_[a] = t4.volume[a];
+      volume3_[a] = v3[a];
+      volume4_[a] = v4[a];
     }
     for (int a = 0; a < 4; ++a) size4_[a] = t4.dims[a];
     load(t3, bytes3, 0);
@@ -40,10 +46,10 @@ class RuntimeTables final : public GtsoLookup {
   }
 
   float s3(float A, float cos_beta, float r_p) const override {
-    return gtso3DLookup(volume(0, volume3_), size3_, A, cos_beta, r_p);
+    return gtso3DLookup(volume(0, volume3_), size3_, A, cos_beta, r_p, layout3_);
   }
   float s4(float A, float cos_beta, float r_p, float cos_theta_o) const override {
-    return gtso4DLookup(volume(1, volume4_), size4_, A, cos_beta, r_p, cos_theta_o);
+    return gtso4DLookup(volume(1, volume4_), size4_, A, cos_beta, r_p, cos_theta_o, layout4_);
   }
 
  private:
@@ -92,6 +98,7 @@ class RuntimeTables final : public GtsoLookup {
   }
 
   GtsoTexelFormat format_;
+  GtsoLayout layout3_, layout4_;
   int size3_[3] = {0, 0, 0};
   int size4_[4] = {0, 0, 0, 0};
   int volume3_[3] = {0, 0, 0};
@@ -147,39 +154,63 @@ std::vector<std::uint8_t> readDdsPayload(const fs::path& path, const std::array<
   return std::vector<std::uint8_t>(bytes.begin() + kHeader, bytes.end());
 }
 
-std::vector<std::uint8_t> encodeBlocks(const Bc4Encoder& encoder, const GtsoTable& t,
-                                       const char* label, bool progress) {
-  Progress bar(label, static_cast<std::uint64_t>(t.volume[0] / 4) * (t.volume[1] / 4) * t.volume[2],
-               progress);
-  Bc4Volume v =
-      encodeBc4Volume(encoder, t.values.data(), t.volume[0], t.volume[1], t.volume[2], &bar);
-  bar.finish();
-  return std::move(v.bytes);
+// A layout from export.json's "layouts": {"3d": {"chosen": {"axis": [x, y, z]}}, ...}.
+GtsoLayout exportedLayout(const fs::path& file, const char* table) {
+  if (!fs::exists(file)) return kGtsoIdentityLayout;  // luts/ from before the layout choice
+  try {
+    const nlohmann::json j = nlohmann::json::parse(readFile(file));
+    const auto& axis = j.at("layouts").at(table).at("chosen").at("axis");
+    GtsoLayout l{{axis.at(0).get<int>(), axis.at(1).get<int>(), axis.at(2).get<int>()}};
+    int seen = 0;
+    for (int k : l.axis) seen |= (k >= 0 && k < 3) ? 1 << k : 8;
+    if (seen != 7) throw Error("not a permutation of the table axes");
+    return l;
+  } catch (const std::exception& e) {
+    throw Error(file.string() + ": no valid layouts/" + table + "/chosen/axis (" + e.what() + ")");
+  }
 }
 
 }  // namespace
 
-TablesLookups makeTablesLookups(const fs::path& luts, bool encode_bc4, bool progress) {
+TablesLookups makeTablesLookups(const fs::path& luts, bool encode_bc4, bool progress,
+                                const GtsoLayouts* given) {
   const GtsoInput gtso = readGtsoInput(luts / "gtso");
   TablesLookups out;
-  // The two volumes of one format: both DDS files when present (and not encode_bc4), else made
-  // from the float tables as export makes them.
+  const fs::path dds[2] = {luts / "gtso3d.dds", luts / "gtso4d.dds"};
+  const bool from_files = !encode_bc4 && fs::exists(dds[0]) && fs::exists(dds[1]);
+  // The layouts of the volumes: export.json's for its files, else the export's choice.
+  std::unique_ptr<GtsoLayouts> chosen;
+  if (!from_files && !given) {
+    chosen = std::make_unique<GtsoLayouts>(
+        chooseLayouts(gtso, kLayoutLobes, nullptr, nullptr, progress));
+    given = chosen.get();
+  }
+  const GtsoLayout layout3 =
+      from_files ? exportedLayout(luts / "export.json", "3d") : given->t3.layout;
+  const GtsoLayout layout4 =
+      from_files ? exportedLayout(luts / "export.json", "4d") : given->t4.layout;
+  out.info.layout_3d = layoutSwizzle(layout3);
+  out.info.layout_4d = layoutSwizzle(layout4);
+  // The two volumes of one format: the DDS files when present (and not encode_bc4), else made as
+  // export makes them (the chosen layouts' BC4 blocks, their texels quantised).
   auto volumes = [&](VolumeFormat format, const char* suffix, std::string* source) {
     const fs::path dds3 = luts / ("gtso3d" + std::string(suffix) + ".dds");
     const fs::path dds4 = luts / ("gtso4d" + std::string(suffix) + ".dds");
     std::pair<std::vector<std::uint8_t>, std::vector<std::uint8_t>> v;
-    if (!encode_bc4 && fs::exists(dds3) && fs::exists(dds4)) {
-      v.first = readDdsPayload(dds3, gtso.table3d.volume, format);
-      v.second = readDdsPayload(dds4, gtso.table4d.volume, format);
+    if (from_files && fs::exists(dds3) && fs::exists(dds4)) {
+      v.first = readDdsPayload(dds3, layoutVolume(gtso.table3d, layout3), format);
+      v.second = readDdsPayload(dds4, layoutVolume(gtso.table4d, layout4), format);
       *source = dds3.filename().string() + ", " + dds4.filename().string();
-    } else if (format == VolumeFormat::kBc4) {
-      const Bc4Encoder encoder;
-      v.first = encodeBlocks(encoder, gtso.table3d, "BC4 3D table", progress);
-      v.second = encodeBlocks(encoder, gtso.table4d, "BC4 4D table", progress);
-      *source = "gtso/gtso3d.f32, gtso4d.f32 encoded by the export's BC4 encoder";
+      return v;
+    }
+    // Older luts/ without R16/R8 files: the texels export would write, in the files' layout.
+    if (format == VolumeFormat::kBc4) {
+      v.first = given->t3.bc4.bytes;
+      v.second = given->t4.bc4.bytes;
+      *source = "gtso/gtso3d.f32, gtso4d.f32 encoded by the export's BC4 encoder in its layouts";
     } else {
-      const auto& f3 = gtso.table3d.values;
-      const auto& f4 = gtso.table4d.values;
+      const std::vector<float> f3 = permuteToLayout(gtso.table3d, layout3);
+      const std::vector<float> f4 = permuteToLayout(gtso.table4d, layout4);
       v.first = quantizeUnorm(f3.data(), f3.size(), format);
       v.second = quantizeUnorm(f4.data(), f4.size(), format);
       *source = "gtso/gtso3d.f32, gtso4d.f32 quantised by the export's quantizeUnorm";
@@ -190,13 +221,14 @@ TablesLookups makeTablesLookups(const fs::path& luts, bool encode_bc4, bool prog
   const auto r16 = volumes(VolumeFormat::kR16, "_r16", &out.info.r16_source);
   const auto r8 = volumes(VolumeFormat::kR8, "_r8", &out.info.r8_source);
   out.bc4 = std::make_unique<RuntimeTables>(GtsoTexelFormat::kBc4, gtso.table3d, gtso.table4d,
-                                            &bc4.first, &bc4.second);
+                                            &bc4.first, &bc4.second, layout3, layout4);
   out.r16 = std::make_unique<RuntimeTables>(GtsoTexelFormat::kR16, gtso.table3d, gtso.table4d,
-                                            &r16.first, &r16.second);
+                                            &r16.first, &r16.second, layout3, layout4);
   out.r8 = std::make_unique<RuntimeTables>(GtsoTexelFormat::kR8, gtso.table3d, gtso.table4d,
-                                           &r8.first, &r8.second);
-  out.floats = std::make_unique<RuntimeTables>(GtsoTexelFormat::kFloat32, gtso.table3d,
-                                               gtso.table4d, nullptr, nullptr);
+                                           &r8.first, &r8.second, layout3, layout4);
+  out.floats =
+      std::make_unique<RuntimeTables>(GtsoTexelFormat::kFloat32, gtso.table3d, gtso.table4d,
+                                      nullptr, nullptr, kGtsoIdentityLayout, kGtsoIdentityLayout);
   out.info.u_table_fit = gtso.u;
   return out;
 }

@@ -14,6 +14,8 @@
 
 namespace gtbake {
 
+struct GtsoLayouts;  // export/bc4_layout.h
+
 class GtsoLookup {
  public:
   virtual ~GtsoLookup() = default;
@@ -24,10 +26,11 @@ class GtsoLookup {
 };
 
 struct TablesLookupInfo {
-  std::string bc4_source;    // where the BC4 blocks came from (a DDS file or the export encoder)
-  std::string r16_source;    // where the R16_UNORM texels came from (DDS files or quantised)
-  std::string r8_source;     // the same for R8_UNORM
-  double u_table_fit = 0.0;  // gtso.json cone.u: the u fitted against S₃ (shipped before)
+  std::string bc4_source;  // where the BC4 blocks came from (a DDS file or the export encoder)
+  std::string r16_source;  // where the R16_UNORM texels came from (DDS files or quantised)
+  std::string r8_source;   // the same for R8_UNORM
+  std::string layout_3d, layout_4d;  // texture layouts of the volumes read, as swizzles ("yzx")
+  double u_table_fit = 0.0;          // gtso.json cone.u: the u fitted against S₃ (shipped before)
 };
 
 // Lookups for the tables in <luts>/gtso (gtso.json, gtso3d.f32, gtso4d.f32). BC4 texels come
@@ -42,6 +45,10 @@ struct TablesLookups {
   std::unique_ptr<GtsoLookup> floats;
   TablesLookupInfo info;
 };
-TablesLookups makeTablesLookups(const std::filesystem::path& luts, bool encode_bc4, bool progress);
+// The DDS files are read in the layouts of <luts>/export.json (identity when absent); encoded
+// volumes use `layouts` (the choice export will ship; `gtbake all` passes it) or, when null,
+// chooseLayouts' own choice (export/bc4_layout.h).
+TablesLookups makeTablesLookups(const std::filesystem::path& luts, bool encode_bc4, bool progress,
+                                const GtsoLayouts* layouts = nullptr);
 
 }  // namespace gtbake

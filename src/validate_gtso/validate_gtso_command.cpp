@@ -304,7 +304,7 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   // Read everything before writing anything.
   const SpecularSweep sweep = readSpecularSweep(options.sweep);
   const TablesLookups tables =
-      makeTablesLookups(options.luts, options.encode_bc4, options.progress);
+      makeTablesLookups(options.luts, options.encode_bc4, options.progress, options.layouts.get());
   const std::vector<SpecularSample> samples = gatherSamples(sweep);
 
   const UFits spec = fitConeU(samples, false);
@@ -327,11 +327,11 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
                    {"roughness", sweep.roughness},
                    {"scenes", sweep.scenes.size()},
                    {"pixels", samples.size() / sweep.roughness.size()}};
-  json["tables"] = {{"dir", relativePath(options.luts, out)},
-                    {"bc4_source", tables.info.bc4_source},
-                    {"r16_source", tables.info.r16_source},
-                    {"r8_source", tables.info.r8_source},
-                    {"u_table_fit", tables.info.u_table_fit}};
+  json["tables"] = {
+      {"dir", relativePath(options.luts, out)}, {"bc4_source", tables.info.bc4_source},
+      {"r16_source", tables.info.r16_source},   {"r8_source", tables.info.r8_source},
+      {"layout_3d", tables.info.layout_3d},     {"layout_4d", tables.info.layout_4d},
+      {"u_table_fit", tables.info.u_table_fit}};
   json["roughness_convention"] = "perceptual roughness r_p; GGX alpha = r_p^2";
   json["lagarde_roughness"] =
       "r = alpha = r_p^2: Filament computeSpecularAO(shading_NoV, ao, pixel.roughness) with "

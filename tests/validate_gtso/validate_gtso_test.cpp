@@ -8,9 +8,12 @@
 #include <cmath>
 #include <random>
 
+#include <nlohmann/json.hpp>
+
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "export/bc4_encoder.h"
+#include "export/bc4_layout.h"
 #include "export/export_inputs.h"
 #include "export/runtime/gtso_lookup.h"
 #include "export/texture_containers.h"
@@ -48,15 +51,23 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
   bake.error_seeds = 1;
   bake.progress = false;
   runGtso(bake);
-  const TablesLookups lookups = makeTablesLookups(root, true, false);
   const GtsoInput gtso = readGtsoInput(root / "gtso");
+  // The layouts export would ship (its choice with the encoder), as `gtbake all` passes them.
+  const GtsoLayouts layouts = chooseLayouts(gtso, 64, nullptr, nullptr, false);
+  const TablesLookups lookups = makeTablesLookups(root, true, false, &layouts);
+  EXPECT_EQ(lookups.info.layout_3d, layoutSwizzle(layouts.t3.layout));
   const GtsoTable& t3 = gtso.table3d;
   const GtsoTable& t4 = gtso.table4d;
-  const Bc4Encoder encoder;
-  auto decoded = [&](const GtsoTable& t) {
-    const Bc4Volume v =
-        encodeBc4Volume(encoder, t.values.data(), t.volume[0], t.volume[1], t.volume[2], nullptr);
-    return decodeBc4Volume(v.bytes.data(), t.volume[0], t.volume[1], t.volume[2]);
+  // The decoded BC4 texels of a table's chosen layout, back in table order.
+  auto decoded = [&](const GtsoTable& t, const LayoutChoice& c) {
+    const std::vector<float> d =
+        decodeBc4Volume(c.bc4.bytes.data(), c.volume[0], c.volume[1], c.volume[2]);
+    GtsoTable index = t;  // permuteToLayout of the texel numbers: texture position -> table index
+    for (std::size_t i = 0; i < index.values.size(); ++i) index.values[i] = static_cast<float>(i);
+    const std::vector<float> where = permuteToLayout(index, c.layout);
+    std::vector<float> out(d.size());
+    for (std::size_t k = 0; k < d.size(); ++k) out[static_cast<std::size_t>(where[k])] = d[k];
+    return out;
   };
   // R16 / R8: what the texture unit returns for texel i, round(v (2^b - 1)) / (2^b - 1).
   auto quantised = [](const GtsoTable& t, double levels) {
@@ -67,8 +78,8 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
     }
     return q;
   };
-  const std::vector<float> bc4_3 = decoded(t3);
-  const std::vector<float> bc4_4 = decoded(t4);
+  const std::vector<float> bc4_3 = decoded(t3, layouts.t3);
+  const std::vector<float> bc4_4 = decoded(t4, layouts.t4);
   const std::vector<float> r16_3 = quantised(t3, 65535.0), r16_4 = quantised(t4, 65535.0);
   const std::vector<float> r8_3 = quantised(t3, 255.0), r8_4 = quantised(t4, 255.0);
   const int size3[3] = {t3.dims[0], t3.dims[1], t3.dims[2]};
@@ -124,22 +135,26 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
   EXPECT_LT(median, 1e-6);
   EXPECT_LT(p95, 1e-5);
 
-  // The same volumes written as export writes them (DDS) and read back by --luts: every format
-  // gives the lookups of the in-memory encodings, bit for bit, at random inputs.
-  for (const auto& [table, name] : {std::pair{&t3, "gtso3d"}, std::pair{&t4, "gtso4d"}}) {
-    const auto& v = table->volume;
-    const Bc4Volume blocks =
-        encodeBc4Volume(encoder, table->values.data(), v[0], v[1], v[2], nullptr);
-    const auto r16 = quantizeUnorm(table->values.data(), table->values.size(), VolumeFormat::kR16);
-    const auto r8 = quantizeUnorm(table->values.data(), table->values.size(), VolumeFormat::kR8);
+  // The same volumes written as export writes them (DDS files in the chosen layouts, recorded in
+  // export.json) and read back by --luts: every format gives the lookups of the in-memory
+  // encodings, bit for bit, at random inputs.
+  nlohmann::json exported;
+  for (const auto& [c, name] :
+       {std::pair{&layouts.t3, "gtso3d"}, std::pair{&layouts.t4, "gtso4d"}}) {
+    const auto& v = c->volume;
+    const auto r16 = quantizeUnorm(c->texels.data(), c->texels.size(), VolumeFormat::kR16);
+    const auto r8 = quantizeUnorm(c->texels.data(), c->texels.size(), VolumeFormat::kR8);
     writeFileAtomically(root / (std::string(name) + ".dds"),
-                        makeDds({v[0], v[1], v[2], &blocks.bytes, VolumeFormat::kBc4}));
+                        makeDds({v[0], v[1], v[2], &c->bc4.bytes, VolumeFormat::kBc4}));
     writeFileAtomically(root / (std::string(name) + "_r16.dds"),
                         makeDds({v[0], v[1], v[2], &r16, VolumeFormat::kR16}));
     writeFileAtomically(root / (std::string(name) + "_r8.dds"),
                         makeDds({v[0], v[1], v[2], &r8, VolumeFormat::kR8}));
+    exported["layouts"][name == std::string("gtso3d") ? "3d" : "4d"] = c->json;
   }
+  writeFileAtomically(root / "export.json", exported.dump());
   const TablesLookups from_dds = makeTablesLookups(root, false, false);
+  EXPECT_EQ(from_dds.info.layout_4d, layoutSwizzle(layouts.t4.layout));  // from export.json
   EXPECT_EQ(from_dds.info.r16_source, "gtso3d_r16.dds, gtso4d_r16.dds");
   EXPECT_EQ(from_dds.info.r8_source, "gtso3d_r8.dds, gtso4d_r8.dds");
   std::mt19937 gen(11);
