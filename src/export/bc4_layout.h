@@ -24,7 +24,7 @@
 namespace gtbake {
 
 inline constexpr double kLayoutRmsTie = 0.01;       // relative RMS difference counted as a tie
-inline constexpr std::uint64_t kLayoutSeed = 1001;  // gtso reports seeds 1-3, chose axes on 0
+inline constexpr std::uint64_t kLayoutSeed = 1001;  // gtso: axes chosen on 1-3, reports 10-12
 inline constexpr int kLayoutLobes = 512;            // uniform lobes x 16 points (stress: a quarter)
 
 struct LayoutOptions {

@@ -117,11 +117,7 @@ GtsoTable readTable(const OutputManifest& set, const nlohmann::json& tables, con
 // The axis constants the tables were baked with must be the runtime's.
 void checkAxisConstants(const nlohmann::json& j, const std::string& where) {
   const nlohmann::json& c = member(j, "axis_constants", where);
-  const std::pair<const char*, double> expected[] = {{"sigma_scale", kGtsoSigmaScale},
-                                                     {"sigma_floor", kGtsoSigmaFloor},
-                                                     {"theta_linear", kGtsoThetaLinear},
-                                                     {"rough_power", kGtsoRoughPower}};
-  for (const auto& [key, value] : expected) {
+  for (const auto& [key, macro, value] : kGtsoAxisConstants) {
     if (finiteNumber(c, key, where + " axis_constants") != value) {
       throw Error(where + ": axis_constants." + key +
                   " differs from this gtbake's runtime lookup (" + std::to_string(value) +

@@ -80,10 +80,10 @@ std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage langu
     << d.constant << " " << d.float4 << " kGtso4DSize = " << d.float4 << "(" << lit(t4.dims[0])
     << ", " << lit(t4.dims[1]) << ", " << lit(t4.dims[2]) << ", " << lit(t4.dims[3]) << ");\n"
     << "// Axis constants (gtso_lookup.h).\n"
-    << "#define kGtsoPiF " << lit(kGtsoPi) << "\n"
-    << "#define kGtsoSigmaScaleF " << lit(kGtsoSigmaScale) << "\n"
-    << "#define kGtsoSigmaFloorF " << lit(kGtsoSigmaFloor) << "\n"
-    << "#define kGtsoThetaLinearF " << lit(kGtsoThetaLinear) << "\n\n"
+    << "#define kGtsoPiF " << lit(kGtsoPi) << "\n";
+  for (const GtsoAxisConstant& k : kGtsoAxisConstants)
+    if (k.shaderMacro) o << "#define " << k.shaderMacro << " " << lit(k.value) << "\n";
+  o << "\n"
     << kRuntimeLookupShader
     << "\n// gtsoConeModel takes perceptual roughness rp (HDRP); this one the GGX width alpha = "
        "rp^2\n"

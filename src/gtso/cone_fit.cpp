@@ -13,6 +13,10 @@ namespace {
 
 // u = 0.12 to start: between Uludag's 0.244 and the paper's 0.01.
 constexpr double kInitialZ = -2.0;
+// z is bounded to |z| <= 40 (u in [4e-18, 1 - 4e-18]): where S_cone prefers ever wider specular
+// cones (small samples; the objective is flat toward u -> 0, docs/gtso.md §4) the fit stops at
+// the bound instead of running to z ~ -400, where the residuals no longer depend on z.
+constexpr double kZBound = 40.0;
 
 double uFromZ(double z) {
   return 1.0 / (1.0 + std::exp(-z));
@@ -66,6 +70,10 @@ ConeFit fitConeU(const S3Samples& s3, RoughnessConvention convention, double rpM
                                  new ConeResidual{p, s, convention}),
                              nullptr, &z);
   });
+  if (problem.NumResidualBlocks() > 0) {
+    problem.SetParameterLowerBound(&z, 0, -kZBound);
+    problem.SetParameterUpperBound(&z, 0, kZBound);
+  }
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_QR;
   options.num_threads = 1;  // deterministic

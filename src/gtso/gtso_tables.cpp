@@ -30,6 +30,18 @@ std::array<int, 4> sizes(int dims, int size) {
   return {size, size, size, dims == 4 ? size : 1};
 }
 
+GtsoPhysical<double> texelPhysical(int dims, int size, const std::array<int, 4>& i) {
+  const std::array<int, 4> n = sizes(dims, size);
+  return gtsoTexelPhysical<double>(dims, i.data(), n.data());
+}
+
+// The integrator's cone threshold cos(alpha_v) for a texel's half-angle: alpha_v <= 0 is the
+// empty cone (cos = 1, S = 0 exactly), alpha_v in (pi/2, pi] the cap wider than a hemisphere that
+// continues S beyond A = 1 (gtsoSpanAbove), alpha_v >= pi the whole sphere.
+double coneThreshold(double alphaV) {
+  return std::cos(std::clamp(alphaV, 0.0, kPi));
+}
+
 double sinSq(double a) {
   const double s = std::sin(a);
   return s * s;
@@ -61,8 +73,7 @@ std::size_t Table::index(const std::array<int, 4>& i) const {
 }
 
 GtsoPoint Table::point(const std::array<int, 4>& i) const {
-  const std::array<int, 4> n = sizes(dims, size);
-  const GtsoPhysical<double> p = gtsoTexelPhysical<double>(dims, i.data(), n.data());
+  const GtsoPhysical<double> p = texelPhysical(dims, size, i);
   return {p.A, p.beta, p.rp, p.thetaO};
 }
 
@@ -92,14 +103,13 @@ Table bakeTable(int dims, int size, int cells, Progress* progress,
     double thetaO = 0.0, rp = 0.0;
     for (int k = 0; k < betas; ++k) {
       if (dims == 4) i[1] = k;
-      for (int a = 0; a < size; ++a) {
-        i[0] = a;
-        const GtsoPoint p = table.point(i);
-        thetaO = p.thetaO;
-        rp = p.r_p;
-        if (a == 0) b.push_back(dims == 3 ? Vec3{0.0, 0.0, 1.0} : bentNormal(p.thetaO, p.beta));
-        cones[k].push_back(std::sqrt(std::clamp(1.0 - p.A, 0.0, 1.0)));
-      }
+      i[0] = 0;
+      const GtsoPhysical<double> p = texelPhysical(dims, size, i);
+      thetaO = p.thetaO;
+      rp = p.rp;
+      b.push_back(dims == 3 ? Vec3{0.0, 0.0, 1.0} : bentNormal(p.thetaO, p.beta));
+      for (int a = 0; a < size; ++a)
+        cones[k].push_back(coneThreshold(gtsoTexelAlphaV(a, size, p.beta, p.rp)));
     }
     const std::vector<std::vector<double>> s =
         specularOcclusion(rp, std::cos(thetaO), b, cones, cells);

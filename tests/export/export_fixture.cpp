@@ -62,10 +62,7 @@ void writeFixture(const std::filesystem::path& dir) {
   g["size"] = 8;
   g["roughness_convention"] = "r_p, alpha = r_p^2";
   g["texel_rule"] = "texel i at the inverse axis map of i/(N-1)";
-  g["axis_constants"] = {{"sigma_scale", kGtsoSigmaScale},
-                         {"sigma_floor", kGtsoSigmaFloor},
-                         {"theta_linear", kGtsoThetaLinear},
-                         {"rough_power", kGtsoRoughPower}};
+  for (const GtsoAxisConstant& c : kGtsoAxisConstants) g["axis_constants"][c.key] = c.value;
   g["tables"]["3d"] = {{"file", "gtso3d.f32"},
                        {"dims", {kFixture3D[0], kFixture3D[1], kFixture3D[2]}},
                        {"axes", axes(kGtso3DAxisInfo, 3)},

@@ -290,10 +290,10 @@ TEST_F(ExportTest, RejectsWrongTableSize) {
 
 TEST_F(ExportTest, RejectsAxesTheRuntimeDoesNotRead) {
   std::string json = slurp(dir_ / "gtso" / "gtso.json");
-  json.replace(json.find("\"beta_split\""), 12, "\"cos_beta\"");
+  json.replace(json.find("\"beta_lobe_split\""), 17, "\"cos_beta\"");
   std::ofstream(dir_ / "gtso" / "gtso.json") << json;
   resealOutputSet(dir_ / "gtso", "gtso");
-  expectErrorAndNoOutput("the runtime lookup expects \"beta_split\"");
+  expectErrorAndNoOutput("the runtime lookup expects \"beta_lobe_split\"");
 }
 
 TEST_F(ExportTest, RejectsOtherAxisConstants) {

@@ -92,6 +92,7 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
       for (int k = 1; k < n - 1; k += 2) {
         const int idx3[3] = {i, j, k};
         const GtsoPhysical<double> p = gtsoTexelPhysical<double>(3, idx3, size3);
+        if (p.alphaV < 0.0 || p.alphaV > kPi / 2) continue;  // continuation texels: A clamped
         const std::size_t at3 = (static_cast<std::size_t>(k) * n + j) * n + i;
         const auto A = static_cast<float>(p.A);
         const auto cb = static_cast<float>(std::cos(p.beta));
@@ -103,6 +104,7 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
         for (int l : {1, n / 2, n - 2}) {
           const int idx4[4] = {i, j, k, l};
           const GtsoPhysical<double> q = gtsoTexelPhysical<double>(4, idx4, size4);
+          if (q.alphaV < 0.0 || q.alphaV > kPi / 2) continue;
           const std::size_t at4 =
               ((static_cast<std::size_t>(l) * n + k) * n + j) * static_cast<std::size_t>(n) + i;
           const auto A4 = static_cast<float>(q.A);
@@ -120,7 +122,7 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
   std::sort(errors.begin(), errors.end());
   std::sort(errors4.begin(), errors4.end());
   // 4D: the bulk sits on the texels; a minority does not (reported to the tables helper: the
-  // β round trip through cos β for texels of the beta_split axis), so only the median is checked.
+  // β round trip through cos β for texels of the beta axis), so only the median is checked.
   std::printf("[ info ] 4D |lookup - texel| at %zu texel centres: median %.3g, max %.3g\n",
               errors4.size(), errors4[errors4.size() / 2], errors4.back());
   EXPECT_LT(errors4[errors4.size() / 2], 1e-6);
@@ -130,10 +132,11 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
   std::printf(
       "[ info ] 3D |lookup - texel| at %zu texel centres: median %.3g, 95%% %.3g, max %.3g\n",
       errors.size(), median, p95, worst);
-  // 3D: where the A axis's step warp is steep, the float round trip (sin² of the unwarped αv,
-  // then the warp again) moves a few coordinates off their centres; 95% must sit on them.
+  // 3D: where an axis is steep (the A axis near the step; θo near normal view, refined to
+  // λ = 3e-3 rad, where acos of a float cosine resolves θo only to ~6e-8/θo), the float round
+  // trip moves a few coordinates off their centres; 95% must sit within 3e-5 of them.
   EXPECT_LT(median, 1e-6);
-  EXPECT_LT(p95, 1e-5);
+  EXPECT_LT(p95, 3e-5);
 
   // The same volumes written as export writes them (DDS files in the chosen layouts, recorded in
   // export.json) and read back by --luts: every format gives the lookups of the in-memory

@@ -13,25 +13,35 @@
 // width alpha = rp^2) and, in 4D, cosThetaO (= n.wr). All angles below are in radians.
 //
 // clang-format off
-// Axes (t in [0, 1]; texel i of N holds t = i/(N-1)):
+// Axes (t in [0, 1]; texel i of N holds t = i/(N-1)). Two lobe scales (radians):
+//   sigma  = kGtsoSigmaScale rp^2 + kGtsoSigmaFloor          (width of the mirror step in alpha_v)
+//   lambda = kGtsoThetaLobeScale rp^2 + kGtsoThetaLobeFloor  (where theta_o and beta refine)
 //   x, A axis, "step-warped": alpha_v = atan2(sqrt(A), sqrt(1 - A)), delta = alpha_v - s with
-//     s = theta_o (3D) or beta (4D), sigma = kGtsoSigmaScale rp^2 + kGtsoSigmaFloor (the lobe
-//     width, radians):
-//       t = tS + (1 - tS) asinh(delta / sigma) / asinh((pi/2 - s) / sigma)   for delta >= 0,
-//       t = tS - tS asinh(-delta / sigma) / asinh(s / sigma)                   for delta < 0,
-//     tS = floor((N-1)/2)/(N-1): A = 0 and A = 1 on the end texels, the mirror step on texel tS
-//     (4D with beta > pi/2: the step lies beyond A = 1, which maps below tS, continuously).
-//   y, 3D: theta_o axis; 4D: beta in [0, theta_o + pi/2] (bent normals above the horizon only),
-//     piecewise linear with beta = theta_o on texel tB = floor(N/3)/(N-1):
-//       t = tB beta / theta_o below theta_o,  t = tB + (1 - tB)(beta - theta_o)/(pi/2) above,
+//     s = theta_o (3D) or beta (4D), spans P = sqrt(max(pi/2 - s, 0)^2 + c^2) above and
+//     M = sqrt(s^2 + c^2) below the step, c = kGtsoSpanFloor:
+//       t = tS + (1 - tS) asinh(delta / sigma) / asinh(P / sigma)   for delta >= 0,
+//       t = tS - tS asinh(-delta / sigma) / asinh(M / sigma)        for delta < 0,
+//     tS = floor((N-1)/2)/(N-1): the mirror step on texel tS for every s. The floor c keeps a
+//     side from collapsing where the step meets an end of the A range (s -> 0, s -> pi/2); the
+//     texels it adds beyond A = 0 and A = 1 hold the continuation of S in alpha_v (0 below,
+//     the cap of half-angle alpha_v > pi/2 above), so interpolation across s stays smooth.
+//   y, 3D: theta_o axis (below); 4D: beta in [0, theta_o + pi/2] (bent normals above the
+//     horizon only), split at beta = theta_o on texel tB = floor(N/3)/(N-1) and refined at
+//     beta = 0 (b on wr) on the scale lambda: with F(b) = wb b/(pi/2) + (1 - wb) asinh(b/lambda)
+//     / asinh(pi/(2 lambda)), wb = kGtsoBetaLinear,
+//       t = tB F(beta)/F(theta_o) below theta_o,
+//       t = tB + (1 - tB)(F(beta) - F(theta_o))/(F(theta_o + pi/2) - F(theta_o)) above,
 //     so S4(beta = theta_o) reads texels baked with b = n: the S3 values through the lookup.
 //   z, r_p axis: t = sqrt(rp) (refined toward the mirror limit).
-//   w (4D), theta_o axis: x = theta_o/(pi/2), t = w x + (1 - w)(1 - sqrt(1 - x)),
-//     w = kGtsoThetaLinear (refined toward grazing).
-// ALU beyond the fetches: A axis 1 atan2, 2 sqrt, 2 asinh, 3 div, ~8 mul/add; theta_o axis
-// 1 acos, 1 sqrt, ~5; r_p axis 1 sqrt; 4D beta axis 1 acos, 1 div, ~4. Whole 3D lookup ~ 1 atan2,
-// 1 acos, 2 asinh, 4 sqrt, 3 div, ~20 mul/add + 1 trilinear fetch; 4D ~ 1 atan2, 2 acos,
-// 2 asinh, 4 sqrt, 4 div, ~30 mul/add + 2 trilinear fetches and a lerp.
+//   theta_o axis (3D y, 4D w), refined at normal view and at grazing on the scale lambda:
+//       t = w x + (1 - w)(asinh(theta_o/lambda) - asinh((pi/2 - theta_o)/lambda) + L)/(2 L),
+//     x = theta_o/(pi/2), L = asinh(pi/(2 lambda)), w = kGtsoThetaLinear.
+//   The bake inverts the theta_o and beta maps by bisection (both strictly increasing).
+// ALU beyond the fetches (asinh is a log and a sqrt in HLSL): A axis 1 atan2, 4 sqrt, 2 asinh,
+// 3 div, ~12 mul/add; theta_o axis 1 acos, 3 asinh, 2 div, ~8; r_p axis 1 sqrt; 4D beta axis
+// 1 acos, 3 asinh (L shared with theta_o), 3 div, ~10. Whole 3D lookup ~ 1 atan2, 1 acos,
+// 5 asinh, 5 sqrt, 5 div, ~25 mul/add + 1 trilinear fetch; 4D ~ 1 atan2, 2 acos, 8 asinh,
+// 5 sqrt, 8 div, ~45 mul/add + 2 trilinear fetches and a lerp.
 // clang-format on
 #ifndef GTBAKE_GTSO_LOOKUP_H
 #define GTBAKE_GTSO_LOOKUP_H
@@ -41,12 +51,35 @@
 
 namespace gtbake {
 
+// Axis constants, chosen by measurement (docs/gtso.md §3: end-to-end error on the selection
+// seed 0, reported on seeds 1-3).
 inline constexpr double kGtsoPi = 3.14159265358979323846;
-inline constexpr double kGtsoSigmaScale = 0.5;   // sigma per GGX width alpha = rp^2
-inline constexpr double kGtsoSigmaFloor = 1e-5;  // sigma at rp = 0 (radians)
-inline constexpr double kGtsoThetaLinear = 0.5;  // linear share of the theta_o axis
-inline constexpr double kGtsoRoughPower = 0.5;   // t = rp^power: < 1 refines r_p toward 0
+inline constexpr double kGtsoSigmaScale = 1.0;       // sigma per GGX width alpha = rp^2
+inline constexpr double kGtsoSigmaFloor = 1e-5;      // sigma at rp = 0
+inline constexpr double kGtsoSpanFloor = 0.15;       // least span of a side of the step
+inline constexpr double kGtsoThetaLobeScale = 0.25;  // lambda per alpha
+inline constexpr double kGtsoThetaLobeFloor = 3e-3;  // lambda at rp = 0
+inline constexpr double kGtsoThetaLinear = 0.4;      // linear share of the theta_o axis
+inline constexpr double kGtsoBetaLinear = 0.5;       // linear share of the beta axis
+inline constexpr double kGtsoRoughPower = 0.5;       // t = rp^power: < 1 refines r_p toward 0
 // (sqrt: the lookups evaluate rp^0.5 as std::sqrt, the bake inverts with pow(t, 2))
+
+// The axis constants by name: gtso.json's axis_constants keys (export refuses tables baked with
+// other values) and the shader macros export defines from them.
+struct GtsoAxisConstant {
+  const char* key;
+  const char* shaderMacro;
+  double value;
+};
+inline constexpr GtsoAxisConstant kGtsoAxisConstants[] = {
+    {"sigma_scale", "kGtsoSigmaScaleF", kGtsoSigmaScale},
+    {"sigma_floor", "kGtsoSigmaFloorF", kGtsoSigmaFloor},
+    {"span_floor", "kGtsoSpanFloorF", kGtsoSpanFloor},
+    {"theta_lobe_scale", "kGtsoThetaLobeScaleF", kGtsoThetaLobeScale},
+    {"theta_lobe_floor", "kGtsoThetaLobeFloorF", kGtsoThetaLobeFloor},
+    {"theta_linear", "kGtsoThetaLinearF", kGtsoThetaLinear},
+    {"beta_linear", "kGtsoBetaLinearF", kGtsoBetaLinear},
+    {"rough_power", nullptr, kGtsoRoughPower}};  // rough_power: evaluated as sqrt in shaders
 
 // The axes as gtso.json names them (x, y, z[, w]), their forward maps and ALU cost.
 struct GtsoAxisInfo {
@@ -56,21 +89,26 @@ struct GtsoAxisInfo {
 };
 // clang-format off
 inline constexpr GtsoAxisInfo kGtsoAxisStepA = {
-    "A_step_warp",
+    "A_step_span",
     "alpha_v = atan2(sqrt(A), sqrt(1-A)); s = theta_o (3D) / beta (4D); sigma = kGtsoSigmaScale rp^2 + "
-    "kGtsoSigmaFloor; t = tS + (1-tS) asinh((alpha_v-s)/sigma)/asinh((pi/2-s)/sigma) above the "
-    "step, tS - tS asinh((s-alpha_v)/sigma)/asinh(s/sigma) below; tS = floor((N-1)/2)/(N-1)",
-    "1 atan2, 2 sqrt, 2 asinh, 3 div, ~8 mul/add"};
+    "kGtsoSigmaFloor; P = sqrt(max(pi/2-s, 0)^2 + c^2), M = sqrt(s^2 + c^2), c = kGtsoSpanFloor; "
+    "t = tS + (1-tS) asinh((alpha_v-s)/sigma)/asinh(P/sigma) above the step, "
+    "tS - tS asinh((s-alpha_v)/sigma)/asinh(M/sigma) below; tS = floor((N-1)/2)/(N-1)",
+    "1 atan2, 4 sqrt, 2 asinh, 3 div, ~12 mul/add"};
 inline constexpr GtsoAxisInfo kGtsoAxisTheta = {
-    "theta_o_grazing",
-    "x = acos(cos theta_o)/(pi/2); t = w x + (1-w)(1 - sqrt(1-x)), w = kGtsoThetaLinear",
-    "1 acos, 1 sqrt, ~5 mul/add"};
+    "theta_o_lobe_ends",
+    "theta_o = acos(cos theta_o); lambda = kGtsoThetaLobeScale rp^2 + kGtsoThetaLobeFloor; "
+    "L = asinh(pi/(2 lambda)); t = w theta_o/(pi/2) + (1-w)(asinh(theta_o/lambda) - "
+    "asinh((pi/2-theta_o)/lambda) + L)/(2 L), w = kGtsoThetaLinear",
+    "1 acos, 3 asinh, 2 div, ~8 mul/add"};
 inline constexpr GtsoAxisInfo kGtsoAxisRough = {"r_p_pow", "t = rp^kGtsoRoughPower", "1 sqrt"};
 inline constexpr GtsoAxisInfo kGtsoAxisBeta = {
-    "beta_split",
-    "beta = acos(cosBeta) in [0, theta_o + pi/2] (bent normal above the horizon); t = tB beta/theta_o "
-    "below theta_o, tB + (1-tB)(beta-theta_o)/(pi/2) above; tB = floor(N/3)/(N-1)",
-    "1 acos, 1 div, ~4 mul/add"};
+    "beta_lobe_split",
+    "beta = acos(cosBeta) in [0, theta_o + pi/2] (bent normal above the horizon); F(b) = wb b/(pi/2) "
+    "+ (1-wb) asinh(b/lambda)/asinh(pi/(2 lambda)), wb = kGtsoBetaLinear; t = tB F(beta)/F(theta_o) "
+    "below theta_o, tB + (1-tB)(F(beta)-F(theta_o))/(F(theta_o+pi/2)-F(theta_o)) above; "
+    "tB = floor(N/3)/(N-1)",
+    "1 acos, 3 asinh (L shared with theta_o), 3 div, ~10 mul/add"};
 // clang-format on
 inline constexpr const GtsoAxisInfo* kGtso3DAxisInfo[3] = {&kGtsoAxisStepA, &kGtsoAxisTheta,
                                                            &kGtsoAxisRough};
@@ -100,57 +138,112 @@ template <class T>
 T gtsoSigma(T rp) {
   return T(kGtsoSigmaScale) * rp * rp + T(kGtsoSigmaFloor);
 }
-// alpha_v -> t and back, step s, width sigma, step texel tS.
+// The span of each side of the step on the A axis (radians of alpha_v from the step to the
+// texel t = 1 above, t = 0 below): the distance to alpha_v = pi/2 (above) or 0 (below), floored
+// smoothly at kGtsoSpanFloor so that no side collapses where the step meets an end of the A range
+// (s -> pi/2, or s -> 0). Texels beyond the A range hold the continuation of S in alpha_v: 0 for
+// alpha_v < 0 (an empty cone), the cap of half-angle alpha_v > pi/2 about b above (3D: S = 1).
+template <class T>
+T gtsoSpanAbove(T s) {
+  const T d = T(kGtsoPi / 2) - s;
+  const T c = T(kGtsoSpanFloor);
+  return d > T(0) ? std::sqrt(d * d + c * c) : c;
+}
+template <class T>
+T gtsoSpanBelow(T s) {
+  const T c = T(kGtsoSpanFloor);
+  return std::sqrt(s * s + c * c);
+}
+// alpha_v -> t and back, step s, width sigma, step texel tS (the inverse may leave [0, pi/2]:
+// the continuation texels above).
 template <class T>
 T gtsoStepWarp(T alphaV, T s, T sigma, T tS) {
-  const T halfPi = T(kGtsoPi / 2);
   if (alphaV >= s) {
-    const T span = std::asinh((halfPi - s) / sigma);
-    return span > T(0) ? tS + (T(1) - tS) * gtsoClamp01(std::asinh((alphaV - s) / sigma) / span)
-                       : tS;
+    const T span = std::asinh(gtsoSpanAbove(s) / sigma);
+    return tS + (T(1) - tS) * gtsoClamp01(std::asinh((alphaV - s) / sigma) / span);
   }
-  const T span = std::asinh(s / sigma);
+  const T span = std::asinh(gtsoSpanBelow(s) / sigma);
   return tS - tS * gtsoClamp01(std::asinh((s - alphaV) / sigma) / span);
 }
 template <class T>
 T gtsoStepUnwarp(T t, T s, T sigma, T tS) {
-  const T halfPi = T(kGtsoPi / 2);
   if (t >= tS) {
-    if (t >= T(1) || s >= halfPi) return halfPi;
-    const T span = std::asinh((halfPi - s) / sigma);
-    const T a = s + sigma * std::sinh((t - tS) / (T(1) - tS) * span);
-    return a < halfPi ? a : halfPi;
+    const T span = std::asinh(gtsoSpanAbove(s) / sigma);
+    return s + sigma * std::sinh(gtsoClamp01((t - tS) / (T(1) - tS)) * span);
   }
+  const T span = std::asinh(gtsoSpanBelow(s) / sigma);
+  return s - sigma * std::sinh(gtsoClamp01((tS - t) / tS) * span);
+}
+// theta_o axis, refined at both ends on the scale of the lobe: S depends on theta_o through
+// theta_o / lambda at normal view and (pi/2 - theta_o) / lambda at grazing, lambda =
+// kGtsoThetaLobeScale rp^2 + kGtsoThetaLobeFloor. Texel density w/(pi/2) + (1 - w)/2 (1/sqrt(
+// theta_o^2 + lambda^2) + 1/sqrt(g^2 + lambda^2)) / asinh(pi/(2 lambda)), g = pi/2 - theta_o,
+// integrated:
+//   t = w x + (1 - w) (asinh(theta_o/lambda) - asinh(g/lambda) + L) / (2 L),
+//   x = theta_o/(pi/2), L = asinh(pi/(2 lambda)), w = kGtsoThetaLinear,
+// t(0) = 0, t(pi/2) = 1, strictly increasing; the bake inverts it by bisection.
+template <class T>
+T gtsoThetaLambda(T rp) {
+  return T(kGtsoThetaLobeScale) * rp * rp + T(kGtsoThetaLobeFloor);
+}
+template <class T>
+T gtsoThetaWarp(T thetaO, T rp) {
+  const T halfPi = T(kGtsoPi / 2);
+  const T th = thetaO < T(0) ? T(0) : (thetaO > halfPi ? halfPi : thetaO);
+  const T lambda = gtsoThetaLambda(rp);
+  const T L = std::asinh(halfPi / lambda);
+  const T w = T(kGtsoThetaLinear);
+  const T ends = (std::asinh(th / lambda) - std::asinh((halfPi - th) / lambda) + L) / (T(2) * L);
+  return gtsoClamp01(w * th / halfPi + (T(1) - w) * ends);
+}
+template <class T>
+T gtsoThetaUnwarp(T t, T rp) {
+  const T halfPi = T(kGtsoPi / 2);
   if (t <= T(0)) return T(0);
-  const T a = s - sigma * std::sinh((tS - t) / tS * std::asinh(s / sigma));
-  return a < T(0) ? T(0) : (a > halfPi ? halfPi : a);
+  if (t >= T(1)) return halfPi;
+  T lo = T(0), hi = halfPi;
+  for (int k = 0; k < 200 && hi - lo > T(0); ++k) {
+    const T mid = T(0.5) * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    (gtsoThetaWarp(mid, rp) < t ? lo : hi) = mid;
+  }
+  return T(0.5) * (lo + hi);
 }
-// theta_o axis: x = theta_o/(pi/2), t = w x + (1 - w)(1 - sqrt(1 - x)), w = kGtsoThetaLinear:
-// slope (1 + w)/2 at normal view, sqrt-refined toward grazing; inverse from the quadratic in
-// r = sqrt(1 - x): w r^2 + (1 - w) r + t - 1 = 0.
+// 4D beta axis over [0, theta_o + pi/2] (bent normals above the horizon), refined at beta = 0
+// (b on the reflection vector) on the lobe scale lambda, split at beta = theta_o (b = n) on
+// texel tB: with F(beta) = w beta/(pi/2) + (1 - w) asinh(beta/lambda)/asinh(pi/(2 lambda)),
+// w = kGtsoBetaLinear,
+//   t = tB F(beta)/F(theta_o)                                             below theta_o,
+//   t = tB + (1 - tB)(F(beta) - F(theta_o))/(F(theta_o + pi/2) - F(theta_o))  above;
+// the bake inverts it by bisection.
 template <class T>
-T gtsoThetaWarp(T thetaO) {
-  const T x = gtsoClamp01(thetaO / T(kGtsoPi / 2));
-  const T w = T(kGtsoThetaLinear);
-  return w * x + (T(1) - w) * (T(1) - std::sqrt(T(1) - x));
-}
-template <class T>
-T gtsoThetaUnwarp(T t) {
-  const T w = T(kGtsoThetaLinear);
-  const T r =
-      (std::sqrt((T(1) - w) * (T(1) - w) + T(4) * w * (T(1) - gtsoClamp01(t))) - (T(1) - w)) /
-      (T(2) * w);
-  return T(kGtsoPi / 2) * gtsoClamp01(T(1) - r * r);
-}
-template <class T>
-T gtsoBetaWarp(T beta, T thetaO, T tB) {
-  if (beta >= thetaO) return gtsoClamp01(tB + (T(1) - tB) * (beta - thetaO) / T(kGtsoPi / 2));
-  return tB * beta / thetaO;  // beta < thetaO implies thetaO > 0
+T gtsoBetaDensity(T beta, T rp) {
+  const T halfPi = T(kGtsoPi / 2);
+  const T lambda = gtsoThetaLambda(rp);
+  const T w = T(kGtsoBetaLinear);
+  return w * beta / halfPi + (T(1) - w) * std::asinh(beta / lambda) / std::asinh(halfPi / lambda);
 }
 template <class T>
-T gtsoBetaUnwarp(T t, T thetaO, T tB) {
-  if (t >= tB) return thetaO + (t - tB) / (T(1) - tB) * T(kGtsoPi / 2);
-  return thetaO * t / tB;
+T gtsoBetaWarp(T beta, T thetaO, T rp, T tB) {
+  const T b = beta < T(0) ? T(0) : beta;
+  const T fo = gtsoBetaDensity(thetaO, rp);
+  const T f = gtsoBetaDensity(b, rp);
+  if (b < thetaO) return tB * f / fo;  // b < thetaO implies fo > 0
+  const T fe = gtsoBetaDensity(thetaO + T(kGtsoPi / 2), rp);
+  return gtsoClamp01(tB + (T(1) - tB) * (f - fo) / (fe - fo));
+}
+template <class T>
+T gtsoBetaUnwarp(T t, T thetaO, T rp, T tB) {
+  T lo = t < tB ? T(0) : thetaO;
+  T hi = t < tB ? thetaO : thetaO + T(kGtsoPi / 2);
+  if (t <= T(0)) return T(0);
+  if (t >= T(1)) return hi;
+  for (int k = 0; k < 200; ++k) {
+    const T mid = T(0.5) * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    (gtsoBetaWarp(mid, thetaO, rp, tB) < t ? lo : hi) = mid;
+  }
+  return T(0.5) * (lo + hi);
 }
 
 static_assert(kGtsoRoughPower == 0.5, "gtsoRoughWarp evaluates rp^kGtsoRoughPower as a sqrt");
@@ -171,6 +264,7 @@ struct GtsoAxisT {
 template <class T>
 struct GtsoPhysical {
   T A, beta, rp, thetaO;  // 3D: beta = theta_o
+  T alphaV;               // the cone half-angle (gtsoTexelPhysical: may leave [0, pi/2])
 };
 
 // alpha_v from A: cos(alpha_v) = sqrt(1 - A) (paper Eq. 18), as atan2 for precision at both ends.
@@ -184,8 +278,8 @@ GtsoAxisT<T> gtso3DAxes(T A, T cosBeta, T rp, const int* size) {
   const T alphaV = gtsoAlphaV(A);
   const T thetaO = gtsoAcos(cosBeta < T(0) ? T(0) : cosBeta);
   const T r = gtsoClamp01(rp);
-  return {{gtsoStepWarp(alphaV, thetaO, gtsoSigma(r), gtsoStepT<T>(size[0])), gtsoThetaWarp(thetaO),
-           gtsoRoughWarp(r), T(0)}};
+  return {{gtsoStepWarp(alphaV, thetaO, gtsoSigma(r), gtsoStepT<T>(size[0])),
+           gtsoThetaWarp(thetaO, r), gtsoRoughWarp(r), T(0)}};
 }
 template <class T>
 GtsoAxisT<T> gtso4DAxes(T A, T cosBeta, T rp, T cosThetaO, const int* size) {
@@ -194,20 +288,29 @@ GtsoAxisT<T> gtso4DAxes(T A, T cosBeta, T rp, T cosThetaO, const int* size) {
   const T thetaO = gtsoAcos(cosThetaO < T(0) ? T(0) : cosThetaO);
   const T r = gtsoClamp01(rp);
   return {{gtsoStepWarp(alphaV, beta, gtsoSigma(r), gtsoStepT<T>(size[0])),
-           gtsoBetaWarp(beta, thetaO, gtsoBetaSplitT<T>(size[1])), gtsoRoughWarp(r),
-           gtsoThetaWarp(thetaO)}};
+           gtsoBetaWarp(beta, thetaO, r, gtsoBetaSplitT<T>(size[1])), gtsoRoughWarp(r),
+           gtsoThetaWarp(thetaO, r)}};
 }
-// The physical parameters of texel i (the bake's inverse maps).
+// The cone half-angle of texel ia of n on the A axis, for step s = beta (3D: theta_o).
+template <class T>
+T gtsoTexelAlphaV(int ia, int n, T beta, T rp) {
+  return gtsoStepUnwarp(T(ia) / T(n - 1), beta, gtsoSigma(rp), gtsoStepT<T>(n));
+}
+// The physical parameters of texel i (the bake's inverse maps): alphaV is the cone half-angle the
+// texel is baked at, possibly outside [0, pi/2] (the continuation texels of gtsoSpanAbove); A is
+// that of alphaV clamped to [0, pi/2].
 template <class T>
 GtsoPhysical<T> gtsoTexelPhysical(int dims, const int* i, const int* size) {
   auto tOf = [&](int d) { return T(i[d]) / T(size[d] - 1); };
   GtsoPhysical<T> p;
   p.rp = gtsoRoughUnwarp(tOf(2));
-  p.thetaO = gtsoThetaUnwarp(dims == 3 ? tOf(1) : tOf(3));
-  p.beta = dims == 3 ? p.thetaO : gtsoBetaUnwarp(tOf(1), p.thetaO, gtsoBetaSplitT<T>(size[1]));
-  const T alphaV = gtsoStepUnwarp(tOf(0), p.beta, gtsoSigma(p.rp), gtsoStepT<T>(size[0]));
-  const T sv = std::sin(alphaV);
-  p.A = i[0] == size[0] - 1 ? T(1) : (i[0] == 0 ? T(0) : sv * sv);
+  p.thetaO = gtsoThetaUnwarp(dims == 3 ? tOf(1) : tOf(3), p.rp);
+  p.beta =
+      dims == 3 ? p.thetaO : gtsoBetaUnwarp(tOf(1), p.thetaO, p.rp, gtsoBetaSplitT<T>(size[1]));
+  p.alphaV = gtsoTexelAlphaV(i[0], size[0], p.beta, p.rp);
+  const T halfPi = T(kGtsoPi / 2);
+  const T sv = std::sin(p.alphaV < T(0) ? T(0) : (p.alphaV > halfPi ? halfPi : p.alphaV));
+  p.A = sv * sv;
   return p;
 }
 

@@ -6,7 +6,8 @@
 //
 // Needs before it: GTSO_VEC3, GTSO_ATAN2(y, x), GTSO_TEXTURE (parameter declaration of
 // one volume texture), GTSO_SAMPLE(coord) (its filtered value at coord), and the constants
-// kGtsoPiF, kGtsoSigmaScaleF, kGtsoSigmaFloorF, kGtsoThetaLinearF (the axis constants of
+// kGtsoPiF, kGtsoSigmaScaleF, kGtsoSigmaFloorF, kGtsoSpanFloorF, kGtsoThetaLobeScaleF,
+// kGtsoThetaLobeFloorF, kGtsoThetaLinearF, kGtsoBetaLinearF (the axis constants of
 // gtso_lookup.h, written by export from the same C++ constants), kGtso3DSize (float3),
 // kGtso4DSize (float4 as x, y, z, w), kConeApertureU and kMultiBounceA/B/C ({slope, intercept}
 // as float2, .x = slope). GTSO_3D_LAYOUT(c) / GTSO_4D_LAYOUT(c): the swizzle taking the table
@@ -21,24 +22,51 @@ float gtsoAlphaV(float A) {
   return GTSO_ATAN2(sqrt(a), sqrt(1.0 - a));
 }
 
+// The span of each side of the step (gtsoSpanAbove / gtsoSpanBelow of gtso_lookup.h).
+float gtsoSpanAbove(float s) {
+  float d = max(0.5 * kGtsoPiF - s, 0.0);
+  return sqrt(d * d + kGtsoSpanFloorF * kGtsoSpanFloorF);
+}
+float gtsoSpanBelow(float s) { return sqrt(s * s + kGtsoSpanFloorF * kGtsoSpanFloorF); }
+
 // alpha_v -> t on the step-warped A axis (step s, width sigma, step texel tS).
 float gtsoStepWarp(float alphaV, float s, float sigma, float tS) {
   if (alphaV >= s) {
-    float span = gtsoAsinh((0.5 * kGtsoPiF - s) / sigma);
-    return span > 0.0 ? tS + (1.0 - tS) * clamp(gtsoAsinh((alphaV - s) / sigma) / span, 0.0, 1.0)
-                      : tS;
+    float span = gtsoAsinh(gtsoSpanAbove(s) / sigma);
+    return tS + (1.0 - tS) * clamp(gtsoAsinh((alphaV - s) / sigma) / span, 0.0, 1.0);
   }
-  return tS - tS * clamp(gtsoAsinh((s - alphaV) / sigma) / gtsoAsinh(s / sigma), 0.0, 1.0);
+  return tS - tS * clamp(gtsoAsinh((s - alphaV) / sigma) / gtsoAsinh(gtsoSpanBelow(s) / sigma),
+                         0.0, 1.0);
 }
 
-float gtsoThetaWarp(float thetaO) {
-  float x = clamp(thetaO / (0.5 * kGtsoPiF), 0.0, 1.0);
-  return kGtsoThetaLinearF * x + (1.0 - kGtsoThetaLinearF) * (1.0 - sqrt(1.0 - x));
+// The lobe scale lambda of the theta_o and beta axes.
+float gtsoThetaLambda(float rp) { return kGtsoThetaLobeScaleF * rp * rp + kGtsoThetaLobeFloorF; }
+
+// theta_o axis, refined at normal view and at grazing on the scale lambda.
+float gtsoThetaWarp(float thetaO, float rp) {
+  float th = clamp(thetaO, 0.0, 0.5 * kGtsoPiF);
+  float lambda = gtsoThetaLambda(rp);
+  float L = gtsoAsinh(0.5 * kGtsoPiF / lambda);
+  float ends = (gtsoAsinh(th / lambda) - gtsoAsinh((0.5 * kGtsoPiF - th) / lambda) + L) / (2.0 * L);
+  return clamp(kGtsoThetaLinearF * th / (0.5 * kGtsoPiF) + (1.0 - kGtsoThetaLinearF) * ends, 0.0,
+               1.0);
 }
 
-float gtsoBetaWarp(float beta, float thetaO, float tB) {
-  if (beta >= thetaO) return clamp(tB + (1.0 - tB) * (beta - thetaO) / (0.5 * kGtsoPiF), 0.0, 1.0);
-  return tB * beta / thetaO;
+// F(beta) of the beta axis (refined at beta = 0 on the scale lambda).
+float gtsoBetaDensity(float beta, float rp) {
+  float lambda = gtsoThetaLambda(rp);
+  return kGtsoBetaLinearF * beta / (0.5 * kGtsoPiF) +
+         (1.0 - kGtsoBetaLinearF) * gtsoAsinh(beta / lambda) / gtsoAsinh(0.5 * kGtsoPiF / lambda);
+}
+
+// 4D beta axis over [0, theta_o + pi/2], split at beta = theta_o on texel tB.
+float gtsoBetaWarp(float beta, float thetaO, float rp, float tB) {
+  float b = max(beta, 0.0);
+  float fo = gtsoBetaDensity(thetaO, rp);
+  float f = gtsoBetaDensity(b, rp);
+  if (b < thetaO) return tB * f / fo;
+  float fe = gtsoBetaDensity(thetaO + 0.5 * kGtsoPiF, rp);
+  return clamp(tB + (1.0 - tB) * (f - fo) / (fe - fo), 0.0, 1.0);
 }
 
 float gtsoSigma(float rp) { return kGtsoSigmaScaleF * rp * rp + kGtsoSigmaFloorF; }
@@ -53,7 +81,7 @@ GTSO_VEC3 gtso3DAxisCoord(float A, float cosBeta, float rp) {
   float tS = floor((kGtso3DSize.x - 1.0) * 0.5) / (kGtso3DSize.x - 1.0);
   float tA = gtsoStepWarp(gtsoAlphaV(A), thetaO, gtsoSigma(r), tS);
   return GTSO_VEC3(gtsoTexelRemap(tA, kGtso3DSize.x),
-                     gtsoTexelRemap(gtsoThetaWarp(thetaO), kGtso3DSize.y),
+                     gtsoTexelRemap(gtsoThetaWarp(thetaO, r), kGtso3DSize.y),
                      gtsoTexelRemap(sqrt(r), kGtso3DSize.z));
 }
 
@@ -76,8 +104,8 @@ float gtso4DSample(GTSO_TEXTURE, float A, float cosBeta, float rp, float cosThet
   float tS = floor((kGtso4DSize.x - 1.0) * 0.5) / (kGtso4DSize.x - 1.0);
   float tB = floor(kGtso4DSize.y / 3.0) / (kGtso4DSize.y - 1.0);
   float u = gtsoTexelRemap(gtsoStepWarp(gtsoAlphaV(A), beta, gtsoSigma(r), tS), kGtso4DSize.x);
-  float v = gtsoTexelRemap(gtsoBetaWarp(beta, thetaO, tB), kGtso4DSize.y);
-  float sw = gtsoThetaWarp(thetaO) * (kGtso4DSize.w - 1.0);
+  float v = gtsoTexelRemap(gtsoBetaWarp(beta, thetaO, r, tB), kGtso4DSize.y);
+  float sw = gtsoThetaWarp(thetaO, r) * (kGtso4DSize.w - 1.0);
   float s0 = min(floor(sw), kGtso4DSize.w - 2.0);
   // Texel-space positions and extents of (A, beta, r_p) in the layout export chose; the axis on
   // texture z folds with theta_o (z' = w N_z + z).
