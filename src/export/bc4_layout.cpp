@@ -149,6 +149,10 @@ LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const G
       gtso::makeErrorPoints(dims, gtso::PointSet::kUniform, o.lobes, kPointsPerLobe, o.seed, cells);
   const gtso::ErrorPoints stress = gtso::makeErrorPoints(dims, gtso::PointSet::kStress, stressLobes,
                                                          kPointsPerLobe, o.seed, cells);
+  const gtso::ErrorPoints reportUniform = gtso::makeErrorPoints(
+      dims, gtso::PointSet::kUniform, o.lobes, kPointsPerLobe, o.report_seed, cells);
+  const gtso::ErrorPoints reportStress = gtso::makeErrorPoints(
+      dims, gtso::PointSet::kStress, stressLobes, kPointsPerLobe, o.report_seed, cells);
   std::vector<LayoutCandidate> scores;
   std::vector<LayoutChoice> encoded;
   for (const GtsoLayout& l : candidates) {
@@ -167,6 +171,12 @@ LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const G
     k.uniform_max = su.max;
     k.stress_rms = ss.rms;
     k.stress_max = ss.max;
+    const Stats ru = layoutLookupError(t, c, l, blocks, reportUniform);
+    const Stats rs = layoutLookupError(t, c, l, blocks, reportStress);
+    k.report_uniform_rms = ru.rms;
+    k.report_uniform_max = ru.max;
+    k.report_stress_rms = rs.rms;
+    k.report_stress_max = rs.max;
     k.texel_rms = c.bc4.rmse;
     k.texel_max = c.bc4.max_abs;
     k.encode_seconds = c.bc4.seconds;
@@ -188,6 +198,9 @@ LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const G
     list.push_back({{"layout", layoutJson(dims, k.layout)},
                     {"uniform", {{"rms", k.uniform_rms}, {"max", k.uniform_max}}},
                     {"stress", {{"rms", k.stress_rms}, {"max", k.stress_max}}},
+                    {"report",
+                     {{"uniform", {{"rms", k.report_uniform_rms}, {"max", k.report_uniform_max}}},
+                      {"stress", {{"rms", k.report_stress_rms}, {"max", k.report_stress_max}}}}},
                     {"texel_rms", k.texel_rms},
                     {"texel_max", k.texel_max},
                     {"encode_s", k.encode_seconds},
@@ -197,13 +210,14 @@ LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const G
   out.candidates = std::move(scores);
   out.chosen = chosen;
   const LayoutCandidate& c = out.candidates[chosen];
-  double identityRms = 0.0, identityMax = 0.0;
+  // The table-order layout (what export wrote before the choice), when it is a candidate.
+  const LayoutCandidate* identity = nullptr;
   for (const LayoutCandidate& k : out.candidates) {
-    if (isIdentity(k.layout)) {
-      identityRms = k.uniform_rms;
-      identityMax = k.uniform_max;
-    }
+    if (isIdentity(k.layout)) identity = &k;
   }
+  auto ofIdentity = [&](double LayoutCandidate::*field) {
+    return identity ? nlohmann::json(identity->*field) : nlohmann::json(nullptr);
+  };
   out.json = {
       {"chosen", layoutJson(dims, out.layout)},
       {"rule",
@@ -215,13 +229,20 @@ LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const G
       {"uniform_max", c.uniform_max},
       {"stress_rms", c.stress_rms},
       {"stress_max", c.stress_max},
-      {"identity_uniform_rms", identityRms > 0.0 ? nlohmann::json(identityRms) : nullptr},
-      {"identity_uniform_max", identityMax > 0.0 ? nlohmann::json(identityMax) : nullptr},
+      {"report_uniform_rms", c.report_uniform_rms},
+      {"report_uniform_max", c.report_uniform_max},
+      {"report_stress_max", c.report_stress_max},
+      {"identity_uniform_rms", ofIdentity(&LayoutCandidate::uniform_rms)},
+      {"identity_uniform_max", ofIdentity(&LayoutCandidate::uniform_max)},
+      {"identity_report_uniform_rms", ofIdentity(&LayoutCandidate::report_uniform_rms)},
+      {"identity_report_uniform_max", ofIdentity(&LayoutCandidate::report_uniform_max)},
+      {"identity_report_stress_max", ofIdentity(&LayoutCandidate::report_stress_max)},
       {"candidates", list},
       {"points",
        {{"uniform", o.lobes * kPointsPerLobe},
         {"stress", stressLobes * kPointsPerLobe},
         {"seed", o.seed},
+        {"report_seed", o.report_seed},
         {"exact_cells", cells},
         {"generator", "gtso::makeErrorPoints (the distributions of gtso.json end_to_end)"}}}};
   return out;

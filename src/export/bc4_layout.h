@@ -6,10 +6,10 @@
 // the depth. Each candidate is encoded with the exact encoder and scored end to end as the runtime
 // reads it: BC4 decode, half-texel remap, trilinear filter and 4D fold through the shipped lookup
 // code, against the exact S (gtso::makeErrorPoints at the bake's integrator resolution) on a
-// seeded uniform point set independent of the bake and of gtso's report seeds. Rule: the lowest
-// uniform RMS; candidates within kLayoutRmsTie of it tie, and the tie goes to the lowest uniform
-// max, then to the earlier candidate (identity first). All texel formats of a table (BC4, R16,
-// R8) are written in the chosen layout, so one lookup reads them all.
+// seeded uniform point set independent of the bake and of gtso's report seeds, and reported on a
+// fresh seed. Rule: the lowest uniform RMS; candidates within kLayoutRmsTie of it tie, and the tie
+// goes to the lowest uniform max, then to the earlier candidate (identity first). All texel formats
+// of a table (BC4, R16, R8) are written in the chosen layout, so one lookup reads them all.
 #pragma once
 
 #include <array>
@@ -25,11 +25,13 @@ namespace gtbake {
 
 inline constexpr double kLayoutRmsTie = 0.01;       // relative RMS difference counted as a tie
 inline constexpr std::uint64_t kLayoutSeed = 1001;  // gtso: axes chosen on 1-3, reports 10-12
-inline constexpr int kLayoutLobes = 512;            // uniform lobes x 16 points (stress: a quarter)
+inline constexpr std::uint64_t kLayoutReportSeed = 1002;  // fresh points the choice is reported on
+inline constexpr int kLayoutLobes = 512;  // uniform lobes x 16 points (stress: a quarter)
 
 struct LayoutOptions {
   int lobes = kLayoutLobes;
-  std::uint64_t seed = kLayoutSeed;
+  std::uint64_t seed = kLayoutSeed;               // the points the choice is made on
+  std::uint64_t report_seed = kLayoutReportSeed;  // fresh points every candidate is reported on
   int cells = 0;                       // integrator cells of the exact S; 0 = gtso.json's (or 96)
   const GtsoLayout* forced = nullptr;  // tests: skip the choice, use this layout
 };
@@ -37,6 +39,9 @@ struct LayoutOptions {
 struct LayoutCandidate {
   GtsoLayout layout{};
   double uniform_rms = 0.0, uniform_max = 0.0, stress_rms = 0.0, stress_max = 0.0;
+  // The same on the fresh report seed (not used by the choice).
+  double report_uniform_rms = 0.0, report_uniform_max = 0.0;
+  double report_stress_rms = 0.0, report_stress_max = 0.0;
   double texel_rms = 0.0, texel_max = 0.0;  // decoded texels vs the float table
   double encode_seconds = 0.0;
 };
