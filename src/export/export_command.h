@@ -2,9 +2,13 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace gtbake {
+
+struct GtsoLayouts;  // export/bc4_layout.h
 
 struct ExportOptions {
   std::filesystem::path fit;   // fit.json from `gtbake fit`
@@ -16,6 +20,13 @@ struct ExportOptions {
   std::string command_line;  // recorded in the provenance blocks
   int threads = 0;
   bool progress = true;
+  // BC4 layout choice (bc4_layout.h): uniform lobes of its point set (16 points each), and, for
+  // tests, layouts forced instead of chosen ({x, y, z} table axes; empty: choose).
+  int layout_lobes = 512;
+  std::vector<int> force_layout_3d, force_layout_4d;
+  // Layouts already chosen for these tables (`gtbake all` chooses once for validate-gtso and
+  // export); null: choose here.
+  std::shared_ptr<const GtsoLayouts> layouts;
 };
 
 struct ExportResult {

@@ -6,10 +6,12 @@
 // C++, the BC4 blocks. docs/export.md "Header contents".
 #pragma once
 
+#include <array>
 #include <string>
 
 #include "export/bc4_encoder.h"
 #include "export/export_inputs.h"
+#include "export/runtime/gtso_lookup.h"
 
 namespace gtbake {
 
@@ -18,6 +20,9 @@ struct GeneratedCodeInput {
   const GtsoInput* gtso = nullptr;
   const Bc4Volume* bc4_3d = nullptr;
   const Bc4Volume* bc4_4d = nullptr;
+  // The texture layouts export chose (bc4_layout.h) and the volumes' extents in them.
+  GtsoLayout layout_3d = kGtsoIdentityLayout, layout_4d = kGtsoIdentityLayout;
+  std::array<int, 3> volume_3d{}, volume_4d{};
   std::string command_line;
   std::string version;
 };

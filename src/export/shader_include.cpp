@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "export/bc4_layout.h"
 #include "export/generated_code.h"
 #include "export/runtime/gtso_lookup.h"
 #include "export/runtime_sources.h"
@@ -54,13 +55,16 @@ std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage langu
   std::ostringstream o;
   o << "// gtbake_tables." << d.name
     << ": GTAO multi-bounce, GTSO cone model and table lookups (include file).\n"
-    << provenanceComment(in) << "// Textures: gtso3d.dds/.ktx2 (" << t3.volume[0] << "x"
-    << t3.volume[1] << "x" << t3.volume[2] << ") and gtso4d.dds/.ktx2 (" << t4.volume[0] << "x"
-    << t4.volume[1] << "x" << t4.volume[2]
+    << provenanceComment(in) << "// Textures: gtso3d.dds/.ktx2 (" << in.volume_3d[0] << "x"
+    << in.volume_3d[1] << "x" << in.volume_3d[2] << ") and gtso4d.dds/.ktx2 (" << in.volume_4d[0]
+    << "x" << in.volume_4d[1] << "x" << in.volume_4d[2]
     << "), BC4_UNORM (or the _r16 / _r8 files), sampled with a linear, clamp-to-edge sampler.\n"
+    << "// Their layouts (export.json): GTSO_3D_LAYOUT / GTSO_4D_LAYOUT below take the table axes\n"
+    << "// (A, theta_o or beta, r_p) to texture (x, y, z).\n"
     << "// The functions below the constants are src/export/runtime/gtso_lookup.shader verbatim.\n"
     << "#ifndef GTBAKE_TABLES_INCLUDED\n#define GTBAKE_TABLES_INCLUDED\n\n"
-    << d.macros << "\n"
+    << d.macros << "#define GTSO_3D_LAYOUT(c) (c)." << layoutSwizzle(in.layout_3d) << "\n"
+    << "#define GTSO_4D_LAYOUT(c) (c)." << layoutSwizzle(in.layout_4d) << "\n\n"
     << "// {slope, intercept}: a(rho) = x*rho + y; G = a*A^3 - b*A^2 + c*A (paper Eq. 10).\n"
     << d.constant << " " << d.float2 << " kMultiBounceA = " << d.float2 << "(" << lit(c[0]) << ", "
     << lit(c[1]) << ");\n"

@@ -78,6 +78,13 @@ std::string endToEnd(const nlohmann::json& gj, const char* table, const char* fo
   return "uniform max/RMS " + pair("uniform") + ", stress " + pair("stress");
 }
 
+// "texture x = theta_o, y = r_p, z = A" for a layout.
+std::string layoutText(int dims, const GtsoLayout& l) {
+  const char* names[3] = {"A", dims == 3 ? "theta_o" : "beta", "r_p"};
+  return std::string("x = ") + names[l.axis[0]] + ", y = " + names[l.axis[1]] +
+         ", z = " + names[l.axis[2]];
+}
+
 void emitConstants(std::ostringstream& o, const GeneratedCodeInput& in) {
   const GtsoTable& t3 = in.gtso->table3d;
   const GtsoTable& t4 = in.gtso->table4d;
@@ -100,9 +107,20 @@ void emitConstants(std::ostringstream& o, const GeneratedCodeInput& in) {
     << t3.dims[2] << "};\n"
     << "inline constexpr int kGtso4DSize[4] = {" << t4.dims[0] << ", " << t4.dims[1] << ", "
     << t4.dims[2] << ", " << t4.dims[3] << "};\n"
-    << "// The folded 4D volume: depth = kGtso4DSize[2] * kGtso4DSize[3].\n"
-    << "inline constexpr int kGtso4DVolumeSize[3] = {" << t4.volume[0] << ", " << t4.volume[1]
-    << ", " << t4.volume[2] << "};\n"
+    << "// Texture layouts (chosen by export with the BC4 encoder, docs/export.md): texture x, y, "
+       "z\n"
+    << "// hold table axes axis[0..2] of (0 = A, 1 = theta_o / beta, 2 = r_p); the 4D theta_o\n"
+    << "// folds into the depth. 3D: " << layoutText(3, in.layout_3d)
+    << "; 4D: " << layoutText(4, in.layout_4d) << ".\n"
+    << "inline constexpr GtsoLayout kGtso3DLayout = {{" << in.layout_3d.axis[0] << ", "
+    << in.layout_3d.axis[1] << ", " << in.layout_3d.axis[2] << "}};\n"
+    << "inline constexpr GtsoLayout kGtso4DLayout = {{" << in.layout_4d.axis[0] << ", "
+    << in.layout_4d.axis[1] << ", " << in.layout_4d.axis[2] << "}};\n"
+    << "// The volumes' texture extents in those layouts (4D depth = N_z * kGtso4DSize[3]).\n"
+    << "inline constexpr int kGtso3DVolumeSize[3] = {" << in.volume_3d[0] << ", " << in.volume_3d[1]
+    << ", " << in.volume_3d[2] << "};\n"
+    << "inline constexpr int kGtso4DVolumeSize[3] = {" << in.volume_4d[0] << ", " << in.volume_4d[1]
+    << ", " << in.volume_4d[2] << "};\n"
     << "// Largest |decoded BC4 texel - float table texel| and the RMSE over all texels.\n"
     << "inline constexpr float kGtso3DBC4MaxAbsError = " << f(float(in.bc4_3d->max_abs)) << ";\n"
     << "inline constexpr float kGtso3DBC4Rmse = " << f(float(in.bc4_3d->rmse)) << ";\n"
@@ -115,28 +133,41 @@ void emitConstants(std::ostringstream& o, const GeneratedCodeInput& in) {
 void emitEntryPoints(std::ostringstream& o) {
   o << R"(// S3(A, beta, r_p): specular occlusion with bent normal = n, from the BC4 table above.
 inline float gtso3DLookup(float A, float cosBeta, float rp) {
-  const GtsoVolume v{GtsoTexelFormat::kBc4, kGtso3DBC4, kGtso3DSize[0], kGtso3DSize[1],
-                     kGtso3DSize[2]};
-  return gtso3DLookup(v, kGtso3DSize, A, cosBeta, rp);
+  const GtsoVolume v{GtsoTexelFormat::kBc4, kGtso3DBC4, kGtso3DVolumeSize[0],
+                     kGtso3DVolumeSize[1], kGtso3DVolumeSize[2]};
+  return gtso3DLookup(v, kGtso3DSize, A, cosBeta, rp, kGtso3DLayout);
 }
 // S4(A, beta, r_p, theta_o) from the folded BC4 table: two trilinear fetches and a lerp.
 inline float gtso4DLookup(float A, float cosBeta, float rp, float cosThetaO) {
   const GtsoVolume v{GtsoTexelFormat::kBc4, kGtso4DBC4, kGtso4DVolumeSize[0],
                      kGtso4DVolumeSize[1], kGtso4DVolumeSize[2]};
-  return gtso4DLookup(v, kGtso4DSize, A, cosBeta, rp, cosThetaO);
+  return gtso4DLookup(v, kGtso4DSize, A, cosBeta, rp, cosThetaO, kGtso4DLayout);
 }
-// The same lookups on R16_UNORM, R8_UNORM or float32 texels (gtso3d_r16.dds, gtso3d_r8.dds,
-// gtso3d.f32 payloads; x fastest), kGtso3DSize / kGtso4DVolumeSize texels.
+// The same lookups on R16_UNORM or R8_UNORM texels in texture order (the payloads of
+// gtso3d_r16.dds, gtso3d_r8.dds, ..., kGtso3DVolumeSize / kGtso4DVolumeSize texels, x fastest,
+// in kGtso3DLayout / kGtso4DLayout like the BC4 volumes).
+template <class Texel>
+inline float gtso3DLookupAs(GtsoTexelFormat format, const Texel* texels, float A, float cosBeta,
+                            float rp) {
+  const GtsoVolume v{format, texels, kGtso3DVolumeSize[0], kGtso3DVolumeSize[1],
+                     kGtso3DVolumeSize[2]};
+  return gtso3DLookup(v, kGtso3DSize, A, cosBeta, rp, kGtso3DLayout);
+}
+template <class Texel>
+inline float gtso4DLookupAs(GtsoTexelFormat format, const Texel* texels, float A, float cosBeta,
+                            float rp, float cosThetaO) {
+  const GtsoVolume v{format, texels, kGtso4DVolumeSize[0], kGtso4DVolumeSize[1],
+                     kGtso4DVolumeSize[2]};
+  return gtso4DLookup(v, kGtso4DSize, A, cosBeta, rp, cosThetaO, kGtso4DLayout);
+}
 inline float gtso3DLookupR16(const std::uint16_t* texels, float A, float cosBeta, float rp) {
-  const GtsoVolume v{GtsoTexelFormat::kR16, texels, kGtso3DSize[0], kGtso3DSize[1],
-                     kGtso3DSize[2]};
-  return gtso3DLookup(v, kGtso3DSize, A, cosBeta, rp);
+  return gtso3DLookupAs(GtsoTexelFormat::kR16, texels, A, cosBeta, rp);
 }
 inline float gtso3DLookupR8(const std::uint8_t* texels, float A, float cosBeta, float rp) {
-  const GtsoVolume v{GtsoTexelFormat::kR8, texels, kGtso3DSize[0], kGtso3DSize[1],
-                     kGtso3DSize[2]};
-  return gtso3DLookup(v, kGtso3DSize, A, cosBeta, rp);
+  return gtso3DLookupAs(GtsoTexelFormat::kR8, texels, A, cosBeta, rp);
 }
+// float32: the tables of `gtbake gtso` (gtso3d.f32, gtso4d.f32), which stay in table order
+// (x = A, y = theta_o / beta, z = r_p, 4D w = theta_o folded), whatever the layout above.
 inline float gtso3DLookupFloat(const float* texels, float A, float cosBeta, float rp) {
   const GtsoVolume v{GtsoTexelFormat::kFloat32, texels, kGtso3DSize[0], kGtso3DSize[1],
                      kGtso3DSize[2]};
@@ -144,20 +175,16 @@ inline float gtso3DLookupFloat(const float* texels, float A, float cosBeta, floa
 }
 inline float gtso4DLookupR16(const std::uint16_t* texels, float A, float cosBeta, float rp,
                              float cosThetaO) {
-  const GtsoVolume v{GtsoTexelFormat::kR16, texels, kGtso4DVolumeSize[0], kGtso4DVolumeSize[1],
-                     kGtso4DVolumeSize[2]};
-  return gtso4DLookup(v, kGtso4DSize, A, cosBeta, rp, cosThetaO);
+  return gtso4DLookupAs(GtsoTexelFormat::kR16, texels, A, cosBeta, rp, cosThetaO);
 }
 inline float gtso4DLookupR8(const std::uint8_t* texels, float A, float cosBeta, float rp,
                             float cosThetaO) {
-  const GtsoVolume v{GtsoTexelFormat::kR8, texels, kGtso4DVolumeSize[0], kGtso4DVolumeSize[1],
-                     kGtso4DVolumeSize[2]};
-  return gtso4DLookup(v, kGtso4DSize, A, cosBeta, rp, cosThetaO);
+  return gtso4DLookupAs(GtsoTexelFormat::kR8, texels, A, cosBeta, rp, cosThetaO);
 }
 inline float gtso4DLookupFloat(const float* texels, float A, float cosBeta, float rp,
                                float cosThetaO) {
-  const GtsoVolume v{GtsoTexelFormat::kFloat32, texels, kGtso4DVolumeSize[0],
-                     kGtso4DVolumeSize[1], kGtso4DVolumeSize[2]};
+  const GtsoVolume v{GtsoTexelFormat::kFloat32, texels, kGtso4DSize[0], kGtso4DSize[1],
+                     kGtso4DSize[2] * kGtso4DSize[3]};
   return gtso4DLookup(v, kGtso4DSize, A, cosBeta, rp, cosThetaO);
 }
 
@@ -221,9 +248,12 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
     const char* key = t == &in.gtso->table3d ? "3d" : "4d";
     o << "//   " << t->file << ": lobe-grid rectangles "
       << jsonAt(t->meta, {"lobe_grid_rectangles"}) << ", max |S - reference| "
-      << (reference_error == "null"
-              ? "not measured by this run (bench_gtso measures every texel: docs/gtso.md)"
-              : reference_error)
+      << (reference_error == "null" ? "over all texels not measured by this run" : reference_error)
+      << "; sampled texel check vs 16x reference: max "
+      << jsonAt(t->meta, {"texel_check", "max_abs"}) << ", RMS "
+      << jsonAt(t->meta, {"texel_check", "rms"}) << " over "
+      << jsonAt(t->meta, {"texel_check", "lines"}) << " random lines (seed "
+      << jsonAt(t->meta, {"texel_check", "seed"}) << ")"
       << "\n//     end to end vs direct integration (max over seeds / mean RMS): BC4 "
       << endToEnd(gj, key, "bc4") << "\n//       R16 " << endToEnd(gj, key, "r16")
       << "\n//       R8 " << endToEnd(gj, key, "r8") << "; recommended "

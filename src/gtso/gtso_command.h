@@ -21,6 +21,10 @@ struct GtsoOptions {
   // the lobe samples; 4 gives the SPEC's 16x) and record every texel's error against them in
   // gtso.json. Slow (about reference_factor^2 x the bake); bench_gtso measures the same.
   int reference_factor = 0;
+  // The sampled texel check of every run (gtso/texel_check.h): this many random lines of the 3D
+  // and 4D tables re-integrated at 4x the cells per side (16x reference); clamped to N^2.
+  int texel_check_lines_3d = 64;
+  int texel_check_lines_4d = 16;
 };
 
 struct GtsoResult {

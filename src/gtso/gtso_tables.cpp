@@ -81,7 +81,8 @@ std::array<int, 3> Table::volume() const {
   return {size, size, dims == 4 ? size * size : size};
 }
 
-Table bakeTable(int dims, int size, int cells, Progress* progress) {
+Table bakeTable(int dims, int size, int cells, Progress* progress,
+                const std::vector<std::size_t>* only) {
   validateTableSize(size);
   Table table;
   table.dims = dims;
@@ -90,8 +91,9 @@ Table bakeTable(int dims, int size, int cells, Progress* progress) {
   for (int d = 0; d < dims; ++d) total *= static_cast<std::size_t>(size);
   table.values.assign(total, 0.0);
   // Line (r_p, theta_o): 3D one bent normal b = n (texels y = theta_o), 4D every beta texel.
-  const std::size_t lines = static_cast<std::size_t>(size) * size;
-  tbb::parallel_for(std::size_t{0}, lines, [&](std::size_t line) {
+  const std::size_t lines = only ? only->size() : static_cast<std::size_t>(size) * size;
+  tbb::parallel_for(std::size_t{0}, lines, [&](std::size_t job) {
+    const std::size_t line = only ? (*only)[job] : job;
     const int r = static_cast<int>(line / size), th = static_cast<int>(line % size);
     std::array<int, 4> i = {0, th, r, 0};
     if (dims == 4) i = {0, 0, r, th};

@@ -44,7 +44,10 @@ struct Table {
 // Bakes S over every texel: one integrator lobe per (r_p, theta_o) line (3D: b = n; 4D: every
 // beta of the line from the same lobe, each bent normal with its own warped A cones);
 // TBB-parallel over lines, deterministic. size in [4, 256], a multiple of 4 (BC4 blocks).
-Table bakeTable(int dims, int size, int cells, Progress* progress);
+// `lines` (optional): bake only these lines, line = r_p texel * size + theta_o texel; the other
+// texels stay 0 (the sampled texel check of texel_check.h).
+Table bakeTable(int dims, int size, int cells, Progress* progress,
+                const std::vector<std::size_t>* lines = nullptr);
 void validateTableSize(int size);  // throws gtbake::Error with a one-line reason
 
 // Direct evaluation of S at physical parameters (3D: thetaO is ignored and taken = beta).

@@ -2,10 +2,13 @@
 
 #include <chrono>
 #include <cstdio>
+#include <memory>
 
 #include "common/atomic_file.h"
 #include "common/threads.h"
+#include "export/bc4_layout.h"
 #include "export/export_command.h"
+#include "export/export_inputs.h"
 #include "fit/fit_command.h"
 #include "gtso/gtso_command.h"
 #include "scene/scenes_command.h"
@@ -73,6 +76,12 @@ void runAll(const AllOptions& options) {
   validate_gtso.sweep = sweep.out;
   validate_gtso.luts = options.out;  // <out>/gtso; BC4 encoded here, export rewrites the DDS
   validate_gtso.encode_bc4 = true;
+  // The BC4 layouts export ships, chosen once here for validate-gtso and export (bc4_layout.h).
+  t = std::chrono::steady_clock::now();
+  const auto layouts = std::make_shared<const GtsoLayouts>(
+      chooseLayouts(readGtsoInput(gtso.out), kLayoutLobes, nullptr, nullptr, options.progress));
+  const double layout_seconds = secondsSince(t);
+  validate_gtso.layouts = layouts;
   validate_gtso.progress = options.progress;
   const ValidateGtsoResult validated = runValidateGtso(validate_gtso);
 
@@ -85,6 +94,7 @@ void runAll(const AllOptions& options) {
   exporter.command_line = options.command_line;
   exporter.threads = limit.threads();
   exporter.progress = options.progress;
+  exporter.layouts = layouts;
   t = std::chrono::steady_clock::now();
   const ExportResult exported = runExport(exporter);
   const double export_seconds = secondsSince(t);
@@ -108,9 +118,10 @@ void runAll(const AllOptions& options) {
               exported.bc4_max_4d);
   std::printf(
       "  time             scenes %.1f s, sweep %.1f s (%.1f Mrays/s), fit %.1f s, gtso %.1f s,"
-      " validate-gtso %.1f s, export %.1f s; total %.1f s\n",
+      " BC4 layouts %.1f s, validate-gtso %.1f s, export %.1f s; total %.1f s\n",
       scenes_seconds, swept.seconds, swept.seconds > 0 ? swept.rays / swept.seconds * 1e-6 : 0.0,
-      fit_seconds, baked.seconds, validated.seconds, export_seconds, secondsSince(start));
+      fit_seconds, baked.seconds, layout_seconds, validated.seconds, export_seconds,
+      secondsSince(start));
 }
 
 }  // namespace gtbake

@@ -80,6 +80,14 @@ const char* methodName(Method m) {
       return "S3_float";
     case Method::kS4Float:
       return "S4_float";
+    case Method::kS3R16:
+      return "S3_r16";
+    case Method::kS4R16:
+      return "S4_r16";
+    case Method::kS3R8:
+      return "S3_r8";
+    case Method::kS4R8:
+      return "S4_r8";
     case Method::kConeTableFitU:
       return "cone_u_table_fit";
     case Method::kConePaperU:
@@ -112,6 +120,14 @@ const char* methodDescription(Method m) {
       return "3D table, float texels, same lookup";
     case Method::kS4Float:
       return "4D table, float texels, same lookup";
+    case Method::kS3R16:
+      return "3D table, shipped R16_UNORM texture, same lookup";
+    case Method::kS4R16:
+      return "4D table, shipped R16_UNORM texture, same lookup";
+    case Method::kS3R8:
+      return "3D table, shipped R8_UNORM texture, same lookup";
+    case Method::kS4R8:
+      return "4D table, shipped R8_UNORM texture, same lookup";
     case Method::kConeTableFitU:
       return "cone-to-cone, u fitted to the 3D table (gtso.json)";
     case Method::kConePaperU:
@@ -194,6 +210,10 @@ std::vector<std::vector<float>> evaluateMethods(const std::vector<SpecularSample
     set(Method::kS4Bc4, tables.bc4->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
     set(Method::kS3Float, tables.floats->s3(s.A, s.cos_beta, s.r_p));
     set(Method::kS4Float, tables.floats->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
+    set(Method::kS3R16, tables.r16->s3(s.A, s.cos_beta, s.r_p));
+    set(Method::kS4R16, tables.r16->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
+    set(Method::kS3R8, tables.r8->s3(s.A, s.cos_beta, s.r_p));
+    set(Method::kS4R8, tables.r8->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
     set(Method::kConeTableFitU, coneAt(s, cones.table_fit, false));
     set(Method::kConePaperU, coneAt(s, kPaperU, false));
     set(Method::kConeUludagU, coneAt(s, kUludagU, false));

@@ -36,6 +36,10 @@ enum class Method {
   kS4Bc4,
   kS3Float,
   kS4Float,
+  kS3R16,  // the R16_UNORM and R8_UNORM volumes export writes beside BC4
+  kS4R16,
+  kS3R8,
+  kS4R8,
   kConeTableFitU,
   kConePaperU,
   kConeUludagU,
@@ -46,7 +50,7 @@ enum class Method {
   kLagarde,
   kConeUserU,  // --u U (scored only when given)
 };
-inline constexpr int kMethodCount = 13;
+inline constexpr int kMethodCount = 17;
 const char* methodName(Method m);         // JSON key, e.g. "S4_bc4"
 const char* methodDescription(Method m);  // one line for the page
 

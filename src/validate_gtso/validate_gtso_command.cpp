@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
@@ -36,6 +37,12 @@ constexpr int kPlaneBinCount = 5;
 constexpr float kErrorMapMax = 0.5f;  // |error| mapped to the top of the viridis ramp
 // The methods of each image row after the truth: 3D, 4D (BC4 as shipped), cone (fitted u).
 constexpr Method kImageMethods[] = {Method::kS3Bc4, Method::kS4Bc4, Method::kConeFittedU};
+// The texel formats beside the float table they encode: what a format costs at real pixels.
+constexpr std::pair<Method, Method> kFormatMethods[] = {
+    {Method::kS3Bc4, Method::kS3Float}, {Method::kS3R16, Method::kS3Float},
+    {Method::kS3R8, Method::kS3Float},  {Method::kS4Bc4, Method::kS4Float},
+    {Method::kS4R16, Method::kS4Float}, {Method::kS4R8, Method::kS4Float}};
+constexpr int kFormatMethodCount = 6;
 
 std::vector<Method> scoredMethods(bool user_u) {
   std::vector<Method> methods;
@@ -76,6 +83,7 @@ struct Tables {
   std::vector<std::vector<ErrorStats>> per_roughness;           // [method][roughness]
   std::vector<ErrorStats> overall;                              // [method]
   std::array<std::array<ErrorStats, kPlaneBinCount>, 2> plane;  // S4_bc4, S3_bc4
+  std::array<ErrorStats, kFormatMethodCount> vs_float;          // kFormatMethods: format − float
 };
 
 Tables tabulate(const std::vector<SpecularSample>& samples,
@@ -95,6 +103,11 @@ Tables tabulate(const std::vector<SpecularSample>& samples,
     while (bin + 1 < kPlaneBinCount && s.out_of_plane >= kPlaneBins[bin + 1]) ++bin;
     t.plane[0][bin].add(values[static_cast<int>(Method::kS4Bc4)][i] - s.truth, s.noise_var);
     t.plane[1][bin].add(values[static_cast<int>(Method::kS3Bc4)][i] - s.truth, s.noise_var);
+    for (int f = 0; f < kFormatMethodCount; ++f) {
+      const auto [format, floats] = kFormatMethods[f];
+      t.vs_float[f].add(values[static_cast<int>(format)][i] - values[static_cast<int>(floats)][i],
+                        0.0);
+    }
   }
   for (int m = 0; m < kMethodCount; ++m) {
     for (std::size_t sc = 0; sc < scenes; ++sc) {
@@ -196,7 +209,16 @@ void writePage(const SpecularSweep& sweep, const Tables& t, const std::vector<Me
     o << (j ? "; " : "") << "r_p " << fmt("%.2f", sweep.roughness[j]) << ": "
       << methodName(ranking[j][0]);
   }
-  o << ".</p>\n<h2>Cone aperture u</h2>\n<table><tr><th>convention</th><th>pixels</th><th>u</th>"
+  o << ".</p>\n<h2>Texel formats against the float table at the same pixels</h2>\n"
+       "<table><tr><th>method</th><th>RMS of method &minus; float</th><th>mean signed</th>"
+       "<th>max |method &minus; float|</th></tr>\n";
+  for (int f = 0; f < kFormatMethodCount; ++f) {
+    const ErrorStats& e = t.vs_float[f];
+    o << "<tr><td>" << methodName(kFormatMethods[f].first) << " vs "
+      << methodName(kFormatMethods[f].second) << "</td><td>" << fmt("%.2e", e.rmse()) << "</td><td>"
+      << fmt("%+.2e", e.meanSigned()) << "</td><td>" << fmt("%.2e", e.max_abs) << "</td></tr>\n";
+  }
+  o << "</table>\n<h2>Cone aperture u</h2>\n<table><tr><th>convention</th><th>pixels</th><th>u</th>"
        "<th>5% interval</th><th>RMSE at u</th><th>at 0.01</th><th>at 0.244</th></tr>\n";
   auto fitRow = [&](const char* name, const UFit& f) {
     o << "<tr><td>" << name << "</td><td>" << f.count << "</td><td>" << fmt("%.3g", f.u)
@@ -282,7 +304,7 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   // Read everything before writing anything.
   const SpecularSweep sweep = readSpecularSweep(options.sweep);
   const TablesLookups tables =
-      makeTablesLookups(options.luts, options.encode_bc4, options.progress);
+      makeTablesLookups(options.luts, options.encode_bc4, options.progress, options.layouts.get());
   const std::vector<SpecularSample> samples = gatherSamples(sweep);
 
   const UFits spec = fitConeU(samples, false);
@@ -305,9 +327,11 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
                    {"roughness", sweep.roughness},
                    {"scenes", sweep.scenes.size()},
                    {"pixels", samples.size() / sweep.roughness.size()}};
-  json["tables"] = {{"dir", relativePath(options.luts, out)},
-                    {"bc4_source", tables.info.bc4_source},
-                    {"u_table_fit", tables.info.u_table_fit}};
+  json["tables"] = {
+      {"dir", relativePath(options.luts, out)}, {"bc4_source", tables.info.bc4_source},
+      {"r16_source", tables.info.r16_source},   {"r8_source", tables.info.r8_source},
+      {"layout_3d", tables.info.layout_3d},     {"layout_4d", tables.info.layout_4d},
+      {"u_table_fit", tables.info.u_table_fit}};
   json["roughness_convention"] = "perceptual roughness r_p; GGX alpha = r_p^2";
   json["lagarde_roughness"] =
       "r = alpha = r_p^2: Filament computeSpecularAO(shading_NoV, ao, pixel.roughness) with "
@@ -362,6 +386,17 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
                      {"S3_bc4", statsJson(t.plane[1][b])}});
   }
   json["by_out_of_plane"] = plane;
+  Json vs_float = Json::object();
+  for (int f = 0; f < kFormatMethodCount; ++f) {
+    const ErrorStats& e = t.vs_float[f];
+    vs_float[methodName(kFormatMethods[f].first)] = {
+        {"against", methodName(kFormatMethods[f].second)},
+        {"count", e.count},
+        {"rms", e.rmse()},
+        {"mean_signed", e.meanSigned()},
+        {"max_abs", e.max_abs}};
+  }
+  json["format_vs_float"] = vs_float;
   Json scenes = Json::object();
   for (std::size_t sc = 0; sc < sweep.scenes.size(); ++sc) {
     Json scene = Json::object();

@@ -4,8 +4,11 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 
 namespace gtbake {
+
+struct GtsoLayouts;  // export/bc4_layout.h
 
 struct ValidateGtsoOptions {
   std::filesystem::path sweep;  // a `gtbake sweep` directory traced with specular channels
@@ -15,6 +18,9 @@ struct ValidateGtsoOptions {
   // Encode the BC4 blocks from the float tables with the export's encoder instead of reading
   // the DDS files (what `gtbake all` does: it runs before export rewrites them).
   bool encode_bc4 = false;
+  // With encode_bc4: the layouts export will ship (`gtbake all` chooses them once for both);
+  // null: chosen here (export/bc4_layout.h).
+  std::shared_ptr<const GtsoLayouts> layouts;
   bool progress = true;
 };
 

@@ -20,6 +20,13 @@ float fixtureValue(double tx, double ty, double tz, double tw);
 std::vector<float> fixtureTable3D();
 std::vector<float> fixtureTable4D();
 
+// Non-identity texture layouts the exported fixture is forced to (export_fixture_gen, the shader
+// test), so the generated header and the executed shaders read permuted volumes: 3D texture
+// x = theta_o, y = A, z = r_p (the fixture's 6 r_p texels cannot be in the BC4 block plane); 4D
+// x = beta, y = r_p, z = A (the layout export chooses for the real 4D table).
+inline const std::vector<int> kFixtureLayout3D = {1, 0, 2};
+inline const std::vector<int> kFixtureLayout4D = {1, 2, 0};
+
 // Writes DIR/gtso/{gtso3d.f32, gtso4d.f32, gtso.json} and DIR/fit.json.
 void writeFixture(const std::filesystem::path& dir);
 

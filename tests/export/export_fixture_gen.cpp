@@ -19,6 +19,9 @@ int main(int argc, char** argv) {
   options.out = dir / "out";
   options.command_line = "export_fixture_gen (test fixture)";
   options.progress = false;
+  options.force_layout_3d = gtbake::test::kFixtureLayout3D;
+  options.force_layout_4d = gtbake::test::kFixtureLayout4D;
+  options.layout_lobes = 16;
   gtbake::runExport(options);
   return 0;
 }

@@ -3,6 +3,8 @@
 // literals, and the generated header and shader includes compiled on their own.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -16,8 +18,11 @@
 #include "common/output_set.h"
 #include "export/bc4_block.h"
 #include "export/bc4_encoder.h"
+#include "export/bc4_layout.h"
 #include "export/export_command.h"
+#include "export/export_inputs.h"
 #include "export/generated_code.h"
+#include "export/texture_containers.h"
 #include "export_fixture.h"
 
 namespace gtbake {
@@ -53,6 +58,10 @@ class ExportTest : public ::testing::Test {
     options_.out = dir_ / "out";
     options_.command_line = "gtbake export (test)";
     options_.progress = false;
+    // Byte-level checks against the table order; the layout choice has its own tests below.
+    options_.force_layout_3d = {0, 1, 2};
+    options_.force_layout_4d = {0, 1, 2};
+    options_.layout_lobes = 16;
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -123,6 +132,56 @@ TEST_F(ExportTest, DdsFieldsAndPayload) {
   EXPECT_EQ(s.substr(148), std::string(v.bytes.begin(), v.bytes.end()));
   const std::string s3 = slurp(options_.out / "gtso3d.dds");
   checkPayloadErrors(s3.substr(148), test::fixtureTable3D(), 8, 8, 6, r.bc4_rmse_3d, r.bc4_max_3d);
+}
+
+// Unforced, export chooses each table's layout with the encoder, records every candidate and the
+// choice in export.json by the stated rule, writes every format of the table in that layout and
+// generates code that reads it.
+TEST_F(ExportTest, ChosenLayoutIsWrittenRecordedAndRead) {
+  options_.force_layout_3d.clear();
+  options_.force_layout_4d.clear();
+  runExport(options_);
+  const nlohmann::json j = nlohmann::json::parse(slurp(options_.out / "export.json"));
+  const GtsoInput in = readGtsoInput(options_.gtso);
+  const std::string header = slurp(options_.out / "gtbake_tables.h");
+  const std::string glsl = slurp(options_.out / "gtbake_tables.glsl");
+  for (const auto& [key, table] : {std::pair{"3d", &in.table3d}, std::pair{"4d", &in.table4d}}) {
+    const auto& c = j["layouts"][key];
+    // 3D: the fixture's 6 r_p texels must stay on z (2 of 6 permutations); 4D: 3 block planes.
+    ASSERT_EQ(c["candidates"].size(), std::string(key) == "3d" ? 2u : 3u) << key;
+    double lowest = 1e30;
+    for (const auto& k : c["candidates"])
+      lowest = std::min(lowest, k["uniform"]["rms"].get<double>());
+    int chosen = 0;
+    for (const auto& k : c["candidates"]) {
+      const double rms = k["uniform"]["rms"];
+      if (k["chosen"].get<bool>()) {
+        ++chosen;
+        EXPECT_LE(rms, lowest * (1.0 + kLayoutRmsTie)) << key;
+        EXPECT_EQ(k["layout"]["axis"], c["chosen"]["axis"]);
+      }
+    }
+    EXPECT_EQ(chosen, 1) << key;
+    const auto& axis = c["chosen"]["axis"];
+    const GtsoLayout l{{axis[0].get<int>(), axis[1].get<int>(), axis[2].get<int>()}};
+    const std::vector<float> texels = permuteToLayout(*table, l);
+    const std::array<int, 3> v = layoutVolume(*table, l);
+    const std::string base = std::string("gtso") + key;
+    const Bc4Volume bc4 = encodeBc4Volume(Bc4Encoder(), texels.data(), v[0], v[1], v[2], nullptr);
+    EXPECT_EQ(slurp(options_.out / (base + ".dds")).substr(148),
+              std::string(bc4.bytes.begin(), bc4.bytes.end()));
+    const auto r16 = quantizeUnorm(texels.data(), texels.size(), VolumeFormat::kR16);
+    EXPECT_EQ(slurp(options_.out / (base + "_r16.dds")).substr(148),
+              std::string(r16.begin(), r16.end()));
+    const std::string name = std::string("kGtso") + (key[0] == '3' ? "3" : "4") + "DLayout";
+    const std::string constant = "inline constexpr GtsoLayout " + name + " = {{" +
+                                 std::to_string(l.axis[0]) + ", " + std::to_string(l.axis[1]) +
+                                 ", " + std::to_string(l.axis[2]) + "}};";
+    EXPECT_NE(header.find(constant), std::string::npos) << constant;
+    const std::string macro = std::string("#define GTSO_") + (key[0] == '3' ? "3" : "4") +
+                              "D_LAYOUT(c) (c)." + layoutSwizzle(l);
+    EXPECT_NE(glsl.find(macro), std::string::npos) << macro;
+  }
 }
 
 // R16_UNORM / R8_UNORM beside BC4: DX10 format, row pitch, KTX2 vkFormat, type size and DFD, and

@@ -28,17 +28,56 @@ static_assert(gtbake::gtsoBc4DecodeTexel(0x00000000001100FFull, 1) ==
               "code 2 in the 8-value mode");
 static_assert(sizeof(gtbake::kGtso3DBC4) == 8 * 2 * 2 * 6, "3D fixture: 2x2 blocks x 6 slices");
 
+// The volumes as stored: texture order of the header's layouts (kGtso3DLayout, kGtso4DLayout).
 const gtbake::GtsoVolume kVolume3D{gtbake::GtsoTexelFormat::kBc4, gtbake::kGtso3DBC4,
-                                   gtbake::kGtso3DSize[0], gtbake::kGtso3DSize[1],
-                                   gtbake::kGtso3DSize[2]};
+                                   gtbake::kGtso3DVolumeSize[0], gtbake::kGtso3DVolumeSize[1],
+                                   gtbake::kGtso3DVolumeSize[2]};
 const gtbake::GtsoVolume kVolume4D{gtbake::GtsoTexelFormat::kBc4, gtbake::kGtso4DBC4,
                                    gtbake::kGtso4DVolumeSize[0], gtbake::kGtso4DVolumeSize[1],
                                    gtbake::kGtso4DVolumeSize[2]};
-float decoded3D(int x, int y, int z) {
-  return gtbake::gtsoFetchTexel(kVolume3D, x, y, z);
+// The fixture is exported in non-identity layouts (export_fixture.h), so every check below
+// reads permuted volumes.
+static_assert(gtbake::kGtso3DLayout.axis[0] == 1 && gtbake::kGtso3DLayout.axis[1] == 0,
+              "3D fixture layout: x = theta_o, y = A");
+static_assert(gtbake::kGtso4DLayout.axis[0] == 1 && gtbake::kGtso4DLayout.axis[2] == 0,
+              "4D fixture layout: x = beta, z = A");
+
+// Texture position (x, y, z) of table texel i = (A, theta_o | beta, r_p[, theta_o]).
+struct Texel {
+  int x, y, z;
+};
+Texel texel3D(const int* i) {
+  const auto& l = gtbake::kGtso3DLayout;
+  return {i[l.axis[0]], i[l.axis[1]], i[l.axis[2]]};
 }
-float decoded4D(int x, int y, int z) {
-  return gtbake::gtsoFetchTexel(kVolume4D, x, y, z);
+Texel texel4D(const int* i) {
+  const auto& l = gtbake::kGtso4DLayout;
+  return {i[l.axis[0]], i[l.axis[1]], i[3] * gtbake::kGtso4DSize[l.axis[2]] + i[l.axis[2]]};
+}
+float decoded3D(const int* i) {
+  const Texel t = texel3D(i);
+  return gtbake::gtsoFetchTexel(kVolume3D, t.x, t.y, t.z);
+}
+float decoded4D(const int* i) {
+  const Texel t = texel4D(i);
+  return gtbake::gtsoFetchTexel(kVolume4D, t.x, t.y, t.z);
+}
+// A table in table order (x fastest; 4D folded) rewritten in texture order.
+template <class T>
+std::vector<T> toTexture(const std::vector<T>& table, int dims) {
+  const int* n = dims == 3 ? gtbake::kGtso3DSize : gtbake::kGtso4DSize;
+  const int* v = dims == 3 ? gtbake::kGtso3DVolumeSize : gtbake::kGtso4DVolumeSize;
+  std::vector<T> out(table.size());
+  std::size_t at = 0;
+  for (int w = 0; w < (dims == 4 ? n[3] : 1); ++w)
+    for (int z = 0; z < n[2]; ++z)
+      for (int y = 0; y < n[1]; ++y)
+        for (int x = 0; x < n[0]; ++x) {
+          const int i[4] = {x, y, z, w};
+          const Texel t = dims == 3 ? texel3D(i) : texel4D(i);
+          out[(static_cast<std::size_t>(t.z) * v[1] + t.y) * v[0] + t.x] = table[at++];
+        }
+  return out;
 }
 // Texel centres are read back through the physical-input lookups up to the float rounding of
 // the inputs: near the mirror step the A axis is scaled by sigma = rp^2 + 1e-5 rad, where
@@ -48,17 +87,24 @@ constexpr float kCentreTolerance = 2e-3f;
 TEST(GeneratedHeader, DecodedTablesWithinReportedBc4Error) {
   const std::vector<float> t3 = gtbake::test::fixtureTable3D();
   const std::vector<float> t4 = gtbake::test::fixtureTable4D();
-  const int* s3 = gtbake::kGtso3DSize;
-  const int* s4 = gtbake::kGtso4DVolumeSize;
+  const int* n3 = gtbake::kGtso3DSize;
+  const int* n4 = gtbake::kGtso4DSize;
   float worst3 = 0.0f, worst4 = 0.0f;
-  for (int z = 0; z < s3[2]; ++z)
-    for (int y = 0; y < s3[1]; ++y)
-      for (int x = 0; x < s3[0]; ++x)
-        worst3 = std::max(worst3, std::fabs(decoded3D(x, y, z) - t3[(z * s3[1] + y) * s3[0] + x]));
-  for (int z = 0; z < s4[2]; ++z)
-    for (int y = 0; y < s4[1]; ++y)
-      for (int x = 0; x < s4[0]; ++x)
-        worst4 = std::max(worst4, std::fabs(decoded4D(x, y, z) - t4[(z * s4[1] + y) * s4[0] + x]));
+  std::size_t at = 0;
+  for (int z = 0; z < n3[2]; ++z)
+    for (int y = 0; y < n3[1]; ++y)
+      for (int x = 0; x < n3[0]; ++x) {
+        const int i[3] = {x, y, z};
+        worst3 = std::max(worst3, std::fabs(decoded3D(i) - t3[at++]));
+      }
+  at = 0;
+  for (int w = 0; w < n4[3]; ++w)
+    for (int z = 0; z < n4[2]; ++z)
+      for (int y = 0; y < n4[1]; ++y)
+        for (int x = 0; x < n4[0]; ++x) {
+          const int i[4] = {x, y, z, w};
+          worst4 = std::max(worst4, std::fabs(decoded4D(i) - t4[at++]));
+        }
   EXPECT_LE(worst3, gtbake::kGtso3DBC4MaxAbsError * (1.0f + 1e-6f));
   EXPECT_LE(worst4, gtbake::kGtso4DBC4MaxAbsError * (1.0f + 1e-6f));
   EXPECT_GT(worst3, 0.5f * gtbake::kGtso3DBC4MaxAbsError);  // the reported figure is not loose
@@ -98,12 +144,13 @@ TEST(GeneratedHeader, Lookup3DAtTexelCentresReturnsTexels) {
         const float got =
             gtbake::gtso3DLookup(static_cast<float>(p.A), static_cast<float>(std::cos(p.beta)),
                                  static_cast<float>(p.rp));
-        ASSERT_NEAR(got, decoded3D(x, y, z), kCentreTolerance) << x << " " << y << " " << z;
+        ASSERT_NEAR(got, decoded3D(i), kCentreTolerance) << x << " " << y << " " << z;
       }
   EXPECT_GT(checked, n[0] * n[1] * n[2] * 3 / 5);  // the rest: continuation texels
 }
 
-// The 4D fold: texel (x, y, z, w) sits at volume depth w * N_z + z.
+// The 4D fold: table texel (A, beta, r_p, theta_o) sits at depth theta_o * N_z + (the index on
+// texture z) of the layout.
 TEST(GeneratedHeader, Lookup4DAtTexelCentresReadsTheFoldedVolume) {
   const int* n = gtbake::kGtso4DSize;
   int checked = 0;
@@ -118,14 +165,13 @@ TEST(GeneratedHeader, Lookup4DAtTexelCentresReadsTheFoldedVolume) {
           const float got = gtbake::gtso4DLookup(
               static_cast<float>(p.A), static_cast<float>(std::cos(p.beta)),
               static_cast<float>(p.rp), static_cast<float>(std::cos(p.thetaO)));
-          ASSERT_NEAR(got, decoded4D(x, y, w * n[2] + z), kCentreTolerance)
-              << x << " " << y << " " << z << " " << w;
+          ASSERT_NEAR(got, decoded4D(i), kCentreTolerance) << x << " " << y << " " << z << " " << w;
         }
   EXPECT_GT(checked, n[0] * n[1] * n[2] * n[3] / 3);  // beta > pi/2 rows: continuation texels
 }
 
-// The per-format variants read the same layout: R16 / R8 texels of the float fixture give the
-// float lookup within their quantisation step.
+// The per-format variants read the same layout: R16 / R8 texels of the float fixture (in the
+// header's layouts) give the float lookup (table order) within their quantisation step.
 TEST(GeneratedHeader, PerFormatVariantsAgreeWithFloat) {
   const std::vector<float> t3 = gtbake::test::fixtureTable3D();
   const std::vector<float> t4 = gtbake::test::fixtureTable4D();
@@ -134,9 +180,11 @@ TEST(GeneratedHeader, PerFormatVariantsAgreeWithFloat) {
     for (float f : v) q.push_back(static_cast<decltype(type)>(std::lround(f * scale)));
     return q;
   };
-  const auto r16_3 = quantize(t3, 65535.0, std::uint16_t{}),
-             r16_4 = quantize(t4, 65535.0, std::uint16_t{});
-  const auto r8_3 = quantize(t3, 255.0, std::uint8_t{}), r8_4 = quantize(t4, 255.0, std::uint8_t{});
+  // R16 / R8 volumes are stored in the layouts like BC4; float32 (gtso's .f32) in table order.
+  const auto r16_3 = toTexture(quantize(t3, 65535.0, std::uint16_t{}), 3),
+             r16_4 = toTexture(quantize(t4, 65535.0, std::uint16_t{}), 4);
+  const auto r8_3 = toTexture(quantize(t3, 255.0, std::uint8_t{}), 3),
+             r8_4 = toTexture(quantize(t4, 255.0, std::uint8_t{}), 4);
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f), u11(-1.0f, 1.0f);
   for (int k = 0; k < 2000; ++k) {

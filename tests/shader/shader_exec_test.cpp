@@ -20,6 +20,7 @@
 #include <vulkan/vulkan.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -85,6 +86,9 @@ Exported exportFixture() {
   o.gtso = e.dir / "gtso";
   o.out = e.dir / "out";
   o.progress = false;
+  o.force_layout_3d = gtbake::test::kFixtureLayout3D;  // permuted volumes (export_fixture.h)
+  o.force_layout_4d = gtbake::test::kFixtureLayout4D;
+  o.layout_lobes = 16;
   gtbake::runExport(o);
   e.glsl = gtbake::readFile(e.dir / "out" / "gtbake_tables.glsl");
   e.hlsl = gtbake::readFile(e.dir / "out" / "gtbake_tables.hlsl");
@@ -522,30 +526,50 @@ float footprint(const gtbake::GtsoVolume& v, float cu, float cv, float cw) {
   return hi - lo;
 }
 
+// The fixture's layouts (export_fixture.h) and its volumes' texture extents in them.
+gtbake::GtsoLayout fixtureLayout(const std::vector<int>& axes) {
+  return {{axes[0], axes[1], axes[2]}};
+}
+std::array<int, 3> volume3D() {
+  const gtbake::GtsoLayout l = fixtureLayout(gtbake::test::kFixtureLayout3D);
+  const int* n = gtbake::test::kFixture3D;
+  return {n[l.axis[0]], n[l.axis[1]], n[l.axis[2]]};
+}
+std::array<int, 3> volume4D() {
+  const gtbake::GtsoLayout l = fixtureLayout(gtbake::test::kFixtureLayout4D);
+  const int* n = gtbake::test::kFixture4D;
+  return {n[l.axis[0]], n[l.axis[1]], n[l.axis[2]] * n[3]};
+}
+
 Reference reference(const Exported& e, gtbake::GtsoTexelFormat format, const Input& p) {
   using namespace gtbake;
   const int* n3 = test::kFixture3D;
   const int* n4 = test::kFixture4D;
+  const GtsoLayout l3 = fixtureLayout(test::kFixtureLayout3D);
+  const GtsoLayout l4 = fixtureLayout(test::kFixtureLayout4D);
   const void* d3 = format == GtsoTexelFormat::kBc4 ? e.bc4[0].data() : e.r16[0].data();
   const void* d4 = format == GtsoTexelFormat::kBc4 ? e.bc4[1].data() : e.r16[1].data();
-  const GtsoVolume v3{format, d3, n3[0], n3[1], n3[2]};
-  const GtsoVolume v4{format, d4, n4[0], n4[1], n4[2] * n4[3]};
+  const std::array<int, 3> e3 = volume3D(), e4 = volume4D();
+  const GtsoVolume v3{format, d3, e3[0], e3[1], e3[2]};
+  const GtsoVolume v4{format, d4, e4[0], e4[1], e4[2]};
   Reference r;
-  r.s3 = gtso3DLookup(v3, n3, p.A, p.cosBeta, p.rp);
-  r.s4 = gtso4DLookup(v4, n4, p.A, p.cosBeta, p.rp, p.cosThetaO);
+  r.s3 = gtso3DLookup(v3, n3, p.A, p.cosBeta, p.rp, l3);
+  r.s4 = gtso4DLookup(v4, n4, p.A, p.cosBeta, p.rp, p.cosThetaO, l4);
   r.cone = gtsoConeModel(e.u, p.A, p.cosBeta, p.rp);
   r.mb = gtsoMultiBounce(e.coeffs, e.coeffs + 2, e.coeffs + 4, p.A, p.cosThetaO);
   const GtsoAxisT<float> a3 = gtso3DAxes(p.A, p.cosBeta, p.rp, n3);
-  r.spread3 = footprint(v3, gtsoTexelRemap(a3.t[0], n3[0]), gtsoTexelRemap(a3.t[1], n3[1]),
-                        gtsoTexelRemap(a3.t[2], n3[2]));
+  float c3[3];
+  for (int k = 0; k < 3; ++k) c3[k] = gtsoTexelRemap(a3.t[k], n3[k]);
+  r.spread3 = footprint(v3, c3[l3.axis[0]], c3[l3.axis[1]], c3[l3.axis[2]]);
   const GtsoAxisT<float> a4 = gtso4DAxes(p.A, p.cosBeta, p.rp, p.cosThetaO, n4);
   const float sw = a4.t[3] * static_cast<float>(n4[3] - 1);
   const int s0 = std::min(static_cast<int>(sw), n4[3] - 2);
-  const float zin = a4.t[2] * static_cast<float>(n4[2] - 1) + 0.5f;
-  const float depth = static_cast<float>(n4[2] * n4[3]);
-  const float u = gtsoTexelRemap(a4.t[0], n4[0]), v = gtsoTexelRemap(a4.t[1], n4[1]);
-  r.spread4 = std::max(footprint(v4, u, v, (static_cast<float>(s0 * n4[2]) + zin) / depth),
-                       footprint(v4, u, v, (static_cast<float>((s0 + 1) * n4[2]) + zin) / depth));
+  const int x = l4.axis[0], y = l4.axis[1], z = l4.axis[2];
+  const float zin = a4.t[z] * static_cast<float>(n4[z] - 1) + 0.5f;
+  const float depth = static_cast<float>(n4[z] * n4[3]);
+  const float u = gtsoTexelRemap(a4.t[x], n4[x]), v = gtsoTexelRemap(a4.t[y], n4[y]);
+  r.spread4 = std::max(footprint(v4, u, v, (static_cast<float>(s0 * n4[z]) + zin) / depth),
+                       footprint(v4, u, v, (static_cast<float>((s0 + 1) * n4[z]) + zin) / depth));
   return r;
 }
 
@@ -637,11 +661,10 @@ class ShaderExec : public ::testing::Test {
     const int inBuf =
         vk.buffer(in.size() * sizeof(Input), in.data(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     const int outBuf = vk.buffer(in.size() * 16, nullptr, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    const int* n3 = gtbake::test::kFixture3D;
-    const int* n4 = gtbake::test::kFixture4D;
+    const std::array<int, 3> n3 = volume3D(), n4 = volume4D();  // texture extents
     const bool bc4 = format == gtbake::GtsoTexelFormat::kBc4;
     const int img3 = vk.image(vkFormat, n3[0], n3[1], n3[2], bc4 ? e.bc4[0] : e.r16[0]);
-    const int img4 = vk.image(vkFormat, n4[0], n4[1], n4[2] * n4[3], bc4 ? e.bc4[1] : e.r16[1]);
+    const int img4 = vk.image(vkFormat, n4[0], n4[1], n4[2], bc4 ? e.bc4[1] : e.r16[1]);
     vk.run(spirv, inBuf, outBuf, img3, img4, hlsl, kPoints / kLocalSize);
     const std::vector<float> out = vk.read(outBuf);
     float worst[4] = {0, 0, 0, 0}, worstRatio = 0.0f;

@@ -8,11 +8,15 @@
 #include <cmath>
 #include <random>
 
+#include <nlohmann/json.hpp>
+
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "export/bc4_encoder.h"
+#include "export/bc4_layout.h"
 #include "export/export_inputs.h"
 #include "export/runtime/gtso_lookup.h"
+#include "export/texture_containers.h"
 #include "gtso/cone_intersection.h"
 #include "gtso/gtso_command.h"
 #include "scene/procedural_scenes.h"
@@ -47,19 +51,37 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
   bake.error_seeds = 1;
   bake.progress = false;
   runGtso(bake);
-  const TablesLookups lookups = makeTablesLookups(root, true, false);
   const GtsoInput gtso = readGtsoInput(root / "gtso");
-  fs::remove_all(root);
+  // The layouts export would ship (its choice with the encoder), as `gtbake all` passes them.
+  const GtsoLayouts layouts = chooseLayouts(gtso, 64, nullptr, nullptr, false);
+  const TablesLookups lookups = makeTablesLookups(root, true, false, &layouts);
+  EXPECT_EQ(lookups.info.layout_3d, layoutSwizzle(layouts.t3.layout));
   const GtsoTable& t3 = gtso.table3d;
   const GtsoTable& t4 = gtso.table4d;
-  const Bc4Encoder encoder;
-  auto decoded = [&](const GtsoTable& t) {
-    const Bc4Volume v =
-        encodeBc4Volume(encoder, t.values.data(), t.volume[0], t.volume[1], t.volume[2], nullptr);
-    return decodeBc4Volume(v.bytes.data(), t.volume[0], t.volume[1], t.volume[2]);
+  // The decoded BC4 texels of a table's chosen layout, back in table order.
+  auto decoded = [&](const GtsoTable& t, const LayoutChoice& c) {
+    const std::vector<float> d =
+        decodeBc4Volume(c.bc4.bytes.data(), c.volume[0], c.volume[1], c.volume[2]);
+    GtsoTable index = t;  // permuteToLayout of the texel numbers: texture position -> table index
+    for (std::size_t i = 0; i < index.values.size(); ++i) index.values[i] = static_cast<float>(i);
+    const std::vector<float> where = permuteToLayout(index, c.layout);
+    std::vector<float> out(d.size());
+    for (std::size_t k = 0; k < d.size(); ++k) out[static_cast<std::size_t>(where[k])] = d[k];
+    return out;
   };
-  const std::vector<float> bc4_3 = decoded(t3);
-  const std::vector<float> bc4_4 = decoded(t4);
+  // R16 / R8: what the texture unit returns for texel i, round(v (2^b - 1)) / (2^b - 1).
+  auto quantised = [](const GtsoTable& t, double levels) {
+    std::vector<float> q(t.values.size());
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      const double v = std::clamp(static_cast<double>(t.values[i]), 0.0, 1.0);
+      q[i] = static_cast<float>(std::round(v * levels)) / static_cast<float>(levels);
+    }
+    return q;
+  };
+  const std::vector<float> bc4_3 = decoded(t3, layouts.t3);
+  const std::vector<float> bc4_4 = decoded(t4, layouts.t4);
+  const std::vector<float> r16_3 = quantised(t3, 65535.0), r16_4 = quantised(t4, 65535.0);
+  const std::vector<float> r8_3 = quantised(t3, 255.0), r8_4 = quantised(t4, 255.0);
   const int size3[3] = {t3.dims[0], t3.dims[1], t3.dims[2]};
   const int size4[4] = {t4.dims[0], t4.dims[1], t4.dims[2], t4.dims[3]};
   const int n = size3[0];
@@ -77,6 +99,8 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
         const auto rp = static_cast<float>(p.rp);
         errors.push_back(std::abs(lookups.floats->s3(A, cb, rp) - t3.values[at3]));
         errors.push_back(std::abs(lookups.bc4->s3(A, cb, rp) - bc4_3[at3]));
+        errors.push_back(std::abs(lookups.r16->s3(A, cb, rp) - r16_3[at3]));
+        errors.push_back(std::abs(lookups.r8->s3(A, cb, rp) - r8_3[at3]));
         for (int l : {1, n / 2, n - 2}) {
           const int idx4[4] = {i, j, k, l};
           const GtsoPhysical<double> q = gtsoTexelPhysical<double>(4, idx4, size4);
@@ -89,6 +113,8 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
           const auto rp4 = static_cast<float>(q.rp);
           errors4.push_back(std::abs(lookups.floats->s4(A4, cb4, rp4, ct4) - t4.values[at4]));
           errors4.push_back(std::abs(lookups.bc4->s4(A4, cb4, rp4, ct4) - bc4_4[at4]));
+          errors4.push_back(std::abs(lookups.r16->s4(A4, cb4, rp4, ct4) - r16_4[at4]));
+          errors4.push_back(std::abs(lookups.r8->s4(A4, cb4, rp4, ct4) - r8_4[at4]));
         }
       }
     }
@@ -111,6 +137,49 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
   // trip moves a few coordinates off their centres; 95% must sit within 3e-5 of them.
   EXPECT_LT(median, 1e-6);
   EXPECT_LT(p95, 3e-5);
+
+  // The same volumes written as export writes them (DDS files in the chosen layouts, recorded in
+  // export.json) and read back by --luts: every format gives the lookups of the in-memory
+  // encodings, bit for bit, at random inputs.
+  nlohmann::json exported;
+  for (const auto& [c, name] :
+       {std::pair{&layouts.t3, "gtso3d"}, std::pair{&layouts.t4, "gtso4d"}}) {
+    const auto& v = c->volume;
+    const auto r16 = quantizeUnorm(c->texels.data(), c->texels.size(), VolumeFormat::kR16);
+    const auto r8 = quantizeUnorm(c->texels.data(), c->texels.size(), VolumeFormat::kR8);
+    writeFileAtomically(root / (std::string(name) + ".dds"),
+                        makeDds({v[0], v[1], v[2], &c->bc4.bytes, VolumeFormat::kBc4}));
+    writeFileAtomically(root / (std::string(name) + "_r16.dds"),
+                        makeDds({v[0], v[1], v[2], &r16, VolumeFormat::kR16}));
+    writeFileAtomically(root / (std::string(name) + "_r8.dds"),
+                        makeDds({v[0], v[1], v[2], &r8, VolumeFormat::kR8}));
+    exported["layouts"][name == std::string("gtso3d") ? "3d" : "4d"] = c->json;
+  }
+  writeFileAtomically(root / "export.json", exported.dump());
+  const TablesLookups from_dds = makeTablesLookups(root, false, false);
+  EXPECT_EQ(from_dds.info.layout_4d, layoutSwizzle(layouts.t4.layout));  // from export.json
+  EXPECT_EQ(from_dds.info.r16_source, "gtso3d_r16.dds, gtso4d_r16.dds");
+  EXPECT_EQ(from_dds.info.r8_source, "gtso3d_r8.dds, gtso4d_r8.dds");
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  int differing = 0;
+  float r8_vs_r16 = 0.0f;
+  for (int p = 0; p < 2000; ++p) {
+    const float A = unit(gen), cb = 2.0f * unit(gen) - 1.0f, rp = unit(gen), ct = unit(gen);
+    const std::pair<const GtsoLookup*, const GtsoLookup*> pairs[] = {
+        {lookups.bc4.get(), from_dds.bc4.get()},
+        {lookups.r16.get(), from_dds.r16.get()},
+        {lookups.r8.get(), from_dds.r8.get()}};
+    for (const auto& [mem, file] : pairs) {
+      differing += mem->s3(A, cb, rp) != file->s3(A, cb, rp);
+      differing += mem->s4(A, cb, rp, ct) != file->s4(A, cb, rp, ct);
+    }
+    r8_vs_r16 = std::max(r8_vs_r16,
+                         std::abs(lookups.r8->s4(A, cb, rp, ct) - lookups.r16->s4(A, cb, rp, ct)));
+  }
+  EXPECT_EQ(differing, 0);
+  EXPECT_LE(r8_vs_r16, 0.5f / 255.0f + 1e-5f);  // R8 is R16 re-quantised: half an 8-bit step
+  fs::remove_all(root);
 }
 
 // The cone model from precomputed trig gives gtso::coneSpecularOcclusion's bits.

@@ -326,6 +326,15 @@ struct GtsoVolume {
   int width, height, depth;
 };
 
+// Which table axis each texture axis holds: texture x, y, z = table axes axis[0], axis[1],
+// axis[2] of (0 = A, 1 = theta_o (3D) / beta (4D), 2 = r_p). `gtbake export` chooses it per table
+// (the BC4 block plane is texture (x, y)); the 4D theta_o axis always folds into the depth
+// (texture z' = w * N_z + z, N_z the extent of the axis on z).
+struct GtsoLayout {
+  int axis[3];
+};
+inline constexpr GtsoLayout kGtsoIdentityLayout = {{0, 1, 2}};
+
 // BC4_UNORM decode of texel (4*row + col) of one block as a little-endian uint64, D3D float
 // arithmetic (the definition of the format gtbake encodes against).
 constexpr float gtsoBc4DecodeTexel(std::uint64_t block, int texel) {
@@ -392,30 +401,34 @@ inline float gtsoSampleTrilinear(const GtsoVolume& v, float cu, float cv, float 
   return result;
 }
 
-// S3 from a 3D table of size[3] texels per axis (x = A, y = theta_o, z = r_p).
+// S3 from a 3D table of size[3] texels per axis (A, theta_o, r_p), stored in `layout`
+// (texture extent along x = size[layout.axis[0]], etc.).
 inline float gtso3DLookup(const GtsoVolume& table, const int* size, float A, float cosBeta,
-                          float rp) {
+                          float rp, const GtsoLayout& layout = kGtsoIdentityLayout) {
   const GtsoAxisT<float> a = gtso3DAxes(A, cosBeta, rp, size);
-  return gtsoSampleTrilinear(table, gtsoTexelRemap(a.t[0], size[0]),
-                             gtsoTexelRemap(a.t[1], size[1]), gtsoTexelRemap(a.t[2], size[2]));
+  float c[3];
+  for (int k = 0; k < 3; ++k) c[k] = gtsoTexelRemap(a.t[k], size[k]);
+  return gtsoSampleTrilinear(table, c[layout.axis[0]], c[layout.axis[1]], c[layout.axis[2]]);
 }
 
-// S4 from a 4D table of size[4] texels per axis (x = A, y = beta, z = r_p, w = theta_o) folded
-// into a volume of depth size[2]*size[3] (texel z' = w*size[2] + z): two trilinear fetches in
-// neighbouring w slices and a lerp.
+// S4 from a 4D table of size[4] texels per axis (A, beta, r_p, theta_o): the axes of `layout` on
+// texture x, y, z, theta_o folded into a volume of depth N_z*size[3] (texel z' = w*N_z + z,
+// N_z = size[layout.axis[2]]): two trilinear fetches in neighbouring w slices and a lerp.
 inline float gtso4DLookup(const GtsoVolume& table, const int* size, float A, float cosBeta,
-                          float rp, float cosThetaO) {
+                          float rp, float cosThetaO,
+                          const GtsoLayout& layout = kGtsoIdentityLayout) {
   const GtsoAxisT<float> a = gtso4DAxes(A, cosBeta, rp, cosThetaO, size);
   const float sw = a.t[3] * static_cast<float>(size[3] - 1);
   int s0 = static_cast<int>(sw);
   if (s0 > size[3] - 2) s0 = size[3] - 2;
-  const float zin = a.t[2] * static_cast<float>(size[2] - 1) + 0.5f;
-  const float depth = static_cast<float>(size[2] * size[3]);
-  const float u = gtsoTexelRemap(a.t[0], size[0]), v = gtsoTexelRemap(a.t[1], size[1]);
+  const int x = layout.axis[0], y = layout.axis[1], z = layout.axis[2];
+  const float zin = a.t[z] * static_cast<float>(size[z] - 1) + 0.5f;
+  const float depth = static_cast<float>(size[z] * size[3]);
+  const float u = gtsoTexelRemap(a.t[x], size[x]), v = gtsoTexelRemap(a.t[y], size[y]);
   const float f0 =
-      gtsoSampleTrilinear(table, u, v, (static_cast<float>(s0 * size[2]) + zin) / depth);
+      gtsoSampleTrilinear(table, u, v, (static_cast<float>(s0 * size[z]) + zin) / depth);
   const float f1 =
-      gtsoSampleTrilinear(table, u, v, (static_cast<float>((s0 + 1) * size[2]) + zin) / depth);
+      gtsoSampleTrilinear(table, u, v, (static_cast<float>((s0 + 1) * size[z]) + zin) / depth);
   return f0 + (f1 - f0) * (sw - static_cast<float>(s0));
 }
 

@@ -10,7 +10,9 @@
 // kGtsoThetaLobeFloorF, kGtsoThetaLinearF, kGtsoBetaLinearF (the axis constants of
 // gtso_lookup.h, written by export from the same C++ constants), kGtso3DSize (float3),
 // kGtso4DSize (float4 as x, y, z, w), kConeApertureU and kMultiBounceA/B/C ({slope, intercept}
-// as float2, .x = slope).
+// as float2, .x = slope). GTSO_3D_LAYOUT(c) / GTSO_4D_LAYOUT(c): the swizzle taking the table
+// axes (A, theta_o or beta, r_p) to texture (x, y, z) in the layout export chose (gtso_lookup.h
+// GtsoLayout; e.g. (c).yzx puts theta_o and r_p in the BC4 block plane and A in depth).
 
 // asinh(x) for x >= 0 (HLSL has no asinh).
 float gtsoAsinh(float x) { return log(x + sqrt(x * x + 1.0)); }
@@ -72,8 +74,8 @@ float gtsoSigma(float rp) { return kGtsoSigmaScaleF * rp * rp + kGtsoSigmaFloorF
 // Half-texel remap: t = 0 and t = 1 land on the centres of the first and last texels.
 float gtsoTexelRemap(float t, float n) { return (t * (n - 1.0) + 0.5) / n; }
 
-// 3D table coordinates: x = A (step-warped around alpha_v = theta_o), y = theta_o, z = r_p.
-GTSO_VEC3 gtso3DTexCoord(float A, float cosBeta, float rp) {
+// 3D table-axis coordinates (A step-warped around alpha_v = theta_o, theta_o, r_p), remapped.
+GTSO_VEC3 gtso3DAxisCoord(float A, float cosBeta, float rp) {
   float thetaO = acos(clamp(cosBeta, 0.0, 1.0));
   float r = clamp(rp, 0.0, 1.0);
   float tS = floor((kGtso3DSize.x - 1.0) * 0.5) / (kGtso3DSize.x - 1.0);
@@ -81,6 +83,11 @@ GTSO_VEC3 gtso3DTexCoord(float A, float cosBeta, float rp) {
   return GTSO_VEC3(gtsoTexelRemap(tA, kGtso3DSize.x),
                      gtsoTexelRemap(gtsoThetaWarp(thetaO, r), kGtso3DSize.y),
                      gtsoTexelRemap(sqrt(r), kGtso3DSize.z));
+}
+
+// The 3D volume's texture coordinates: the table axes in the layout export chose.
+GTSO_VEC3 gtso3DTexCoord(float A, float cosBeta, float rp) {
+  return GTSO_3D_LAYOUT(gtso3DAxisCoord(A, cosBeta, rp));
 }
 
 // S3(A, beta, r_p), bent normal = n: one trilinear fetch.
@@ -100,10 +107,14 @@ float gtso4DSample(GTSO_TEXTURE, float A, float cosBeta, float rp, float cosThet
   float v = gtsoTexelRemap(gtsoBetaWarp(beta, thetaO, r, tB), kGtso4DSize.y);
   float sw = gtsoThetaWarp(thetaO, r) * (kGtso4DSize.w - 1.0);
   float s0 = min(floor(sw), kGtso4DSize.w - 2.0);
-  float zin = sqrt(r) * (kGtso4DSize.z - 1.0) + 0.5;
-  float depth = kGtso4DSize.z * kGtso4DSize.w;
-  float f0 = GTSO_SAMPLE(GTSO_VEC3(u, v, (s0 * kGtso4DSize.z + zin) / depth));
-  float f1 = GTSO_SAMPLE(GTSO_VEC3(u, v, ((s0 + 1.0) * kGtso4DSize.z + zin) / depth));
+  // Texel-space positions and extents of (A, beta, r_p) in the layout export chose; the axis on
+  // texture z folds with theta_o (z' = w N_z + z).
+  GTSO_VEC3 p = GTSO_4D_LAYOUT(GTSO_VEC3(u * kGtso4DSize.x, v * kGtso4DSize.y,
+                                         sqrt(r) * (kGtso4DSize.z - 1.0) + 0.5));
+  GTSO_VEC3 n = GTSO_4D_LAYOUT(GTSO_VEC3(kGtso4DSize.x, kGtso4DSize.y, kGtso4DSize.z));
+  float depth = n.z * kGtso4DSize.w;
+  float f0 = GTSO_SAMPLE(GTSO_VEC3(p.x / n.x, p.y / n.y, (s0 * n.z + p.z) / depth));
+  float f1 = GTSO_SAMPLE(GTSO_VEC3(p.x / n.x, p.y / n.y, ((s0 + 1.0) * n.z + p.z) / depth));
   return f0 + (f1 - f0) * (sw - s0);
 }
 
