@@ -28,6 +28,7 @@ enum class TexelSource { kBc4, kFloat };
 struct TablesLookupInfo {
   std::string bc4_source;    // where the BC4 blocks came from (a DDS file or the export encoder)
   double u_table_fit = 0.0;  // gtso.json cone.u: the u fitted against S₃ (shipped before)
+  std::vector<float> s3_closed_form;  // gtso.json closed_form.coefficients, as shipped (float)
 };
 
 // Lookups for the tables in <luts>/gtso (gtso.json, gtso3d.f32, gtso4d.f32). BC4 texels come

@@ -36,6 +36,7 @@ enum class Method {
   kS4Bc4,
   kS3Float,
   kS4Float,
+  kS3ClosedForm,  // gtsoS3ClosedForm with gtso.json closed_form's coefficients
   kConeTableFitU,
   kConePaperU,
   kConeUludagU,
@@ -46,7 +47,7 @@ enum class Method {
   kLagarde,
   kConeUserU,  // --u U (scored only when given)
 };
-inline constexpr int kMethodCount = 13;
+inline constexpr int kMethodCount = 14;
 const char* methodName(Method m);         // JSON key, e.g. "S4_bc4"
 const char* methodDescription(Method m);  // one line for the page
 
