@@ -388,12 +388,13 @@ inline float gtsoConeModel(float u, float A, float cosBeta, float rp) {
 // is monotone in A. `gtbake gtso` fits k by least squares against the integrator
 // (src/gtso/s3_closed_form.h; docs/gtso.md "A closed form for engines short of samplers").
 // Templated on the coefficient type C (float at runtime; double or a Ceres Jet in the fit) and the
-// input type T. ALU (kGtsoS3ClosedFormAlu): 10 exp, 2 log, 4 sqrt, 6 div, ~110 mul/add.
+// input type T. ALU (kGtsoS3ClosedFormAlu): 10 exp, 2 log, 4 sqrt, 7 div, ~120 mul/add (90 of
+// them the nine polynomials, which depend on cos theta_o and rp only).
 inline constexpr int kGtsoS3ClosedFormBasis = 10;
 inline constexpr int kGtsoS3ClosedFormSets = 9;
 inline constexpr int kGtsoS3ClosedFormCoeffs = kGtsoS3ClosedFormSets * kGtsoS3ClosedFormBasis;
 inline constexpr double kGtsoS3ClosedFormAlphaFloor = 1e-4;  // lobe width at rp = 0 (radians)
-inline constexpr const char* kGtsoS3ClosedFormAlu = "10 exp, 2 log, 4 sqrt, 6 div, ~110 mul/add";
+inline constexpr const char* kGtsoS3ClosedFormAlu = "10 exp, 2 log, 4 sqrt, 7 div, ~120 mul/add";
 
 // The polynomial terms: 1, m, rp, m rp, m^2, rp^2, q, q m, q rp, q^2.
 template <class T>
