@@ -1,9 +1,13 @@
 // bench_s3_closed_form: the closed-form S3 fit of `gtbake gtso` (gtso_lookup.h gtsoS3ClosedForm)
 // on its own: fit time, training objective, and the error of the shipped float function on the
 // validation set (another seed of the training distribution) and on the test sets (gtso's 3D
-// end-to-end uniform and stress points), split at r_p = 0.1. Used to choose the form.
+// end-to-end uniform and stress points), split at r_p = 0.1. Used to choose the form (docs/gtso.md
+// §7). --cold fits from closedFormStart() (every polynomial 0) instead of the warm start and prints
+// the coefficients as the C++ initializer of the warm start; --dump prints S and the form along
+// alpha_v for a few lobes.
 //
-// usage: bench_s3_closed_form [--lobes N] [--per-lobe N] [--cells N] [--test-lobes N] [--threads T]
+// usage: bench_s3_closed_form [--cold] [--dump] [--lobes N] [--per-lobe N] [--cells N]
+//                             [--test-lobes N] [--threads T]
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -31,12 +35,27 @@ void print(const char* name, const ClosedFormErrors& e) {
 
 int main(int argc, char** argv) {
   int lobes = 1024, perLobe = 32, cells = 48, testLobes = 1024, threads = 2;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--lobes")) lobes = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--per-lobe")) perLobe = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--cells")) cells = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--test-lobes")) testLobes = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--threads")) threads = std::atoi(argv[i + 1]);
+  bool cold = false, dump = false;
+  for (int i = 1; i < argc; ++i) {
+    const bool value = i + 1 < argc;
+    if (!std::strcmp(argv[i], "--cold")) {
+      cold = true;
+    } else if (!std::strcmp(argv[i], "--dump")) {
+      dump = true;
+    } else if (value && !std::strcmp(argv[i], "--lobes")) {
+      lobes = std::atoi(argv[++i]);
+    } else if (value && !std::strcmp(argv[i], "--per-lobe")) {
+      perLobe = std::atoi(argv[++i]);
+    } else if (value && !std::strcmp(argv[i], "--cells")) {
+      cells = std::atoi(argv[++i]);
+    } else if (value && !std::strcmp(argv[i], "--test-lobes")) {
+      testLobes = std::atoi(argv[++i]);
+    } else if (value && !std::strcmp(argv[i], "--threads")) {
+      threads = std::atoi(argv[++i]);
+    } else {
+      std::fprintf(stderr, "bench_s3_closed_form: unknown option %s\n", argv[i]);
+      return 2;
+    }
   }
   const ThreadLimit limit(threads);
   auto t0 = std::chrono::steady_clock::now();
@@ -46,7 +65,7 @@ int main(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   t0 = std::chrono::steady_clock::now();
   const S3ClosedFormFit fit =
-      fitS3ClosedForm(train, perLobe, getenv("COLD") ? closedFormStart() : closedFormWarmStart());
+      fitS3ClosedForm(train, perLobe, cold ? closedFormStart() : closedFormWarmStart());
   const double fitSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf(
@@ -67,7 +86,7 @@ int main(int argc, char** argv) {
   }
   finishClosedFormErrors(test);
   print("test (seeds 1-3)", test);
-  if (getenv("DUMP")) {
+  if (dump) {
     const double lobes[][2] = {{1.0, 0.5},  {0.97, 0.2}, {0.5, 0.3},
                                {0.5, 0.15}, {0.05, 0.3}, {0.01, 0.15}};
     for (const auto& l : lobes) {
