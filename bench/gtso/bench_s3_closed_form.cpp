@@ -75,6 +75,19 @@ int main(int argc, char** argv) {
       fit.iterations, fit.converged ? "" : " (not converged)", fit.objective_float_k);
   print("training", closedFormErrors(fit.k, train));
   print("validation", closedFormErrors(fit.k, val));
+  // A selection set of gtso's distribution at seeds 50-52 (not the test seeds 1-3): comparable
+  // across training distributions.
+  ClosedFormErrors selection;
+  for (std::uint64_t seed = 50; seed <= 52; ++seed) {
+    addClosedFormErrors(
+        fit.k, makeErrorPoints(3, PointSet::kUniform, testLobes, 16, seed, kDefaultLobeCells),
+        selection);
+    addClosedFormErrors(
+        fit.k, makeErrorPoints(3, PointSet::kStress, testLobes / 4, 16, seed, kDefaultLobeCells),
+        selection);
+  }
+  finishClosedFormErrors(selection);
+  print("selection (seeds 50-52)", selection);
   ClosedFormErrors test;
   for (std::uint64_t seed = 1; seed <= 3; ++seed) {
     addClosedFormErrors(
