@@ -144,6 +144,20 @@ GtsoInput readGtsoInput(const std::filesystem::path& dir) {
   in.u = finiteNumber(cone, "u", where + " cone");
   in.u_se = finiteNumber(cone, "u_se", where + " cone");
   if (!(in.u > 0.0 && in.u < 1.0)) throw Error(where + ": cone.u must lie in (0, 1)");
+  const nlohmann::json& closedForm = member(in.json, "closed_form", where);
+  const nlohmann::json& coeffs = member(closedForm, "coefficients", where + " closed_form");
+  if (!coeffs.is_array() || coeffs.size() != static_cast<std::size_t>(kGtsoS3ClosedFormCoeffs)) {
+    throw Error(where + ": closed_form.coefficients must list " +
+                std::to_string(kGtsoS3ClosedFormCoeffs) +
+                " numbers (the form of this gtbake's runtime); re-run `gtbake gtso`");
+  }
+  for (const auto& c : coeffs) {
+    if (!c.is_number() || !std::isfinite(c.get<double>()) ||
+        !std::isfinite(static_cast<float>(c.get<double>()))) {
+      throw Error(where + ": closed_form.coefficients must be finite float numbers");
+    }
+    in.s3_closed_form.push_back(c.get<double>());
+  }
   return in;
 }
 

@@ -30,8 +30,10 @@ struct GtsoTable {
 struct GtsoInput {
   GtsoTable table3d;
   GtsoTable table4d;
-  double u = 0.0;       // cone-aperture constant: cos αs = u^(α²/2)
-  double u_se = 0.0;    // its standard error
+  double u = 0.0;     // cone-aperture constant: cos αs = u^(α²/2)
+  double u_se = 0.0;  // its standard error
+  // Closed-form S3 (gtso.json closed_form.coefficients): kGtsoS3ClosedFormCoeffs values.
+  std::vector<double> s3_closed_form;
   nlohmann::json json;  // gtso.json verbatim (provenance)
   // Set by applyValidateGtsoU: u fitted to path-traced S (validate_gtso.json) replaces the table
   // fit; validate_gtso is that file verbatim (null: u is gtso.json's table fit).

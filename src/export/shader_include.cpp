@@ -45,6 +45,23 @@ std::string lit(double v) {
   return floatLiteral(static_cast<float>(v));
 }
 
+// The closed-form S3's coefficients (gtso.json closed_form) for gtsoS3ClosedForm.
+std::string closedFormConstants(const GeneratedCodeInput& in, const Dialect& d) {
+  std::ostringstream o;
+  const bool hlsl = std::string(d.name) == "hlsl";
+  o << "// Closed-form S3 (gtsoS3ClosedForm): " << kGtsoS3ClosedFormSets << " sets of "
+    << kGtsoS3ClosedFormBasis << " polynomial coefficients (gtso.json closed_form).\n"
+    << "#define kGtsoS3ClosedFormAlphaFloorF " << lit(kGtsoS3ClosedFormAlphaFloor) << "\n"
+    << d.constant << " float kGtsoS3ClosedForm[" << kGtsoS3ClosedFormCoeffs
+    << "] = " << (hlsl ? "{" : "float[" + std::to_string(kGtsoS3ClosedFormCoeffs) + "](");
+  for (std::size_t i = 0; i < in.gtso->s3_closed_form.size(); ++i) {
+    o << (i == 0 ? "" : ",") << (i % kGtsoS3ClosedFormBasis == 0 ? "\n    " : " ")
+      << lit(in.gtso->s3_closed_form[i]);
+  }
+  o << (hlsl ? "};\n\n" : ");\n\n");
+  return o.str();
+}
+
 }  // namespace
 
 std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage language) {
@@ -84,7 +101,7 @@ std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage langu
   for (const GtsoAxisConstant& k : kGtsoAxisConstants)
     if (k.shaderMacro) o << "#define " << k.shaderMacro << " " << lit(k.value) << "\n";
   o << "\n"
-    << kRuntimeLookupShader
+    << closedFormConstants(in, d) << kRuntimeLookupShader
     << "\n// gtsoConeModel takes perceptual roughness rp (HDRP); this one the GGX width alpha = "
        "rp^2\n"
     << "// (Filament, XeGTAO): the same cone.\n"

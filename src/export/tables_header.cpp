@@ -206,6 +206,31 @@ inline float multiBounce(float A, float albedo) {
 )";
 }
 
+// The closed-form S3 (gtso.json closed_form): its coefficients and the physical-input entry
+// point over the template gtsoS3ClosedForm of gtso_lookup.h.
+void emitClosedForm(std::ostringstream& o, const GeneratedCodeInput& in) {
+  o << "// Closed-form S3 without a sampler (gtsoS3ClosedForm above; gtso.json closed_form): "
+    << kGtsoS3ClosedFormSets << " sets\n// of " << kGtsoS3ClosedFormBasis
+    << " polynomial coefficients. Error vs the integrator on the test points: r_p >= 0.1 max "
+    << jsonAt(in.gtso->json, {"closed_form", "test", "errors", "r_p_ge_0.1", "max"}) << ", RMS "
+    << jsonAt(in.gtso->json, {"closed_form", "test", "errors", "r_p_ge_0.1", "rms"})
+    << ";\n// r_p < 0.1 max "
+    << jsonAt(in.gtso->json, {"closed_form", "test", "errors", "r_p_lt_0.1", "max"}) << ", RMS "
+    << jsonAt(in.gtso->json, {"closed_form", "test", "errors", "r_p_lt_0.1", "rms"})
+    << ". ALU: " << kGtsoS3ClosedFormAlu << ".\n"
+    << "inline constexpr float kGtsoS3ClosedForm[" << kGtsoS3ClosedFormCoeffs << "] = {";
+  for (std::size_t i = 0; i < in.gtso->s3_closed_form.size(); ++i) {
+    o << (i % kGtsoS3ClosedFormBasis == 0 ? "\n    " : " ")
+      << f(static_cast<float>(in.gtso->s3_closed_form[i])) << ",";
+  }
+  o << "\n};\n"
+    << "// S3(A, beta, r_p) with bent normal = n from the closed form: the inputs of "
+       "gtso3DLookup,\n"
+    << "// no texture.\n"
+    << "inline float gtsoS3ClosedForm(float A, float cosBeta, float rp) {\n"
+    << "  return gtsoS3ClosedForm(kGtsoS3ClosedForm, A, cosBeta, rp);\n}\n\n";
+}
+
 }  // namespace
 
 std::string floatLiteral(float value) {
@@ -304,6 +329,7 @@ std::string makeTablesHeader(const GeneratedCodeInput& in) {
   emitBlocks(o, "kGtso3DBC4", *in.bc4_3d);
   emitBlocks(o, "kGtso4DBC4", *in.bc4_4d);
   emitEntryPoints(o);
+  emitClosedForm(o, in);
   o << "}  // namespace gtbake\n";
   return o.str();
 }

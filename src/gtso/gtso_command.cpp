@@ -26,6 +26,7 @@
 #include "gtso/gtso_integrator.h"
 #include "gtso/gtso_tables.h"
 #include "gtso/texel_check.h"
+#include "gtso/s3_closed_form.h"
 
 namespace gtbake {
 
@@ -123,7 +124,9 @@ Json seedSummary(const std::vector<ErrorStats>& perSeed, std::uint64_t firstSeed
 
 struct EndToEnd {
   Json json;
-  gtso::S3Samples coneSamples;  // the first seed's uniform 3D points with their exact S
+  gtso::S3Samples coneSamples;              // the first seed's uniform 3D points with their exact S
+  std::vector<gtso::ErrorPoints> s3Points;  // every seed's 3D uniform and stress points
+  std::vector<std::uint64_t> seeds;
 };
 
 // |runtime lookup - exact S| for every format at fresh uniform and stress points, several seeds.
@@ -174,6 +177,11 @@ EndToEnd measureEndToEnd(const Table& s3, const Table& s4, const GtsoOptions& o,
         stress[f].push_back(gtso::lookupError(table, encoded[f], st));
       }
       if (t == 0 && s == 0) out.coneSamples = {u.points, u.exact};
+      if (t == 0) {
+        out.s3Points.push_back(u);
+        out.s3Points.push_back(st);
+        out.seeds.push_back(kFirstReportSeed + static_cast<std::uint64_t>(s));
+      }
     }
     Json formats;
     // Recommendation: the smallest format whose quantisation does not dominate: uniform max,
@@ -429,6 +437,12 @@ GtsoResult runGtso(const GtsoOptions& options) {
   const Json cone = fitCone(e2e.coneSamples, fit);
   const double fitSeconds = seconds(t0);
 
+  // The closed-form S3 (s3_closed_form.h), tested on the 3D end-to-end points.
+  std::vector<const gtso::ErrorPoints*> closedFormTests;
+  for (const gtso::ErrorPoints& p : e2e.s3Points) closedFormTests.push_back(&p);
+  const gtso::ClosedFormStage closedForm =
+      gtso::runClosedFormStage(closedFormTests, e2e.seeds, cells);
+
   const std::vector<float> f3 = gtso::toFloats(s3), f4 = gtso::toFloats(s4);
   writePreviews(output, f3, f4, n);
 
@@ -451,6 +465,7 @@ GtsoResult runGtso(const GtsoOptions& options) {
   j["tables"]["4d"]["texel_check"] = texelCheckJson(texelCheck.second, n, cells);
   j["end_to_end"] = e2e.json;
   j["cone"] = cone;
+  j["closed_form"] = closedForm.json;
   j["timings"] = {{"threads", limit.threads()},         {"bake_s", bakeSeconds},
                   {"end_to_end_error_s", errorSeconds}, {"cone_fit_s", fitSeconds},
                   {"reference_s", refSeconds},          {"texel_check_s", checkSeconds},
@@ -488,6 +503,13 @@ GtsoResult runGtso(const GtsoOptions& options) {
     }
     std::printf("gtso: u = %.5g +- %.2g (alpha = r_p^2): rmse %.4f max %.4f\n", fit.u, fit.u_se,
                 fit.errors.rmse, fit.errors.max_abs);
+    const Json& cf = closedForm.json["test"]["errors"];
+    std::printf(
+        "gtso: closed-form S3 (test points): r_p >= 0.1 max %.4f rms %.5f; r_p < 0.1 max "
+        "%.4f rms %.5f (%.1f s)\n",
+        cf["r_p_ge_0.1"]["max"].get<double>(), cf["r_p_ge_0.1"]["rms"].get<double>(),
+        cf["r_p_lt_0.1"]["max"].get<double>(), cf["r_p_lt_0.1"]["rms"].get<double>(),
+        closedForm.json["fit_s"].get<double>());
   }
   return {fit.u, fit.u_se, seconds(start)};
 }

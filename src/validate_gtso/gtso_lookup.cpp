@@ -230,6 +230,7 @@ TablesLookups makeTablesLookups(const fs::path& luts, bool encode_bc4, bool prog
       std::make_unique<RuntimeTables>(GtsoTexelFormat::kFloat32, gtso.table3d, gtso.table4d,
                                       nullptr, nullptr, kGtsoIdentityLayout, kGtsoIdentityLayout);
   out.info.u_table_fit = gtso.u;
+  for (double k : gtso.s3_closed_form) out.info.s3_closed_form.push_back(static_cast<float>(k));
   return out;
 }
 

@@ -31,6 +31,7 @@ struct TablesLookupInfo {
   std::string r8_source;   // the same for R8_UNORM
   std::string layout_3d, layout_4d;  // texture layouts of the volumes read, as swizzles ("yzx")
   double u_table_fit = 0.0;          // gtso.json cone.u: the u fitted against S₃ (shipped before)
+  std::vector<float> s3_closed_form;  // gtso.json closed_form.coefficients, as shipped (float)
 };
 
 // Lookups for the tables in <luts>/gtso (gtso.json, gtso3d.f32, gtso4d.f32). BC4 texels come

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "export/runtime/gtso_lookup.h"
 #include "gtso/cone_intersection.h"
 
 namespace gtbake {
@@ -88,6 +89,8 @@ const char* methodName(Method m) {
       return "S3_r8";
     case Method::kS4R8:
       return "S4_r8";
+    case Method::kS3ClosedForm:
+      return "S3_closed_form";
     case Method::kConeTableFitU:
       return "cone_u_table_fit";
     case Method::kConePaperU:
@@ -128,6 +131,8 @@ const char* methodDescription(Method m) {
       return "3D table, shipped R8_UNORM texture, same lookup";
     case Method::kS4R8:
       return "4D table, shipped R8_UNORM texture, same lookup";
+    case Method::kS3ClosedForm:
+      return "closed-form S3 fit (gtsoS3ClosedForm, no texture; cos beta = b.wr)";
     case Method::kConeTableFitU:
       return "cone-to-cone, u fitted to the 3D table (gtso.json)";
     case Method::kConePaperU:
@@ -214,6 +219,8 @@ std::vector<std::vector<float>> evaluateMethods(const std::vector<SpecularSample
     set(Method::kS4R16, tables.r16->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
     set(Method::kS3R8, tables.r8->s3(s.A, s.cos_beta, s.r_p));
     set(Method::kS4R8, tables.r8->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
+    set(Method::kS3ClosedForm,
+        gtsoS3ClosedForm(tables.info.s3_closed_form.data(), s.A, s.cos_beta, s.r_p));
     set(Method::kConeTableFitU, coneAt(s, cones.table_fit, false));
     set(Method::kConePaperU, coneAt(s, kPaperU, false));
     set(Method::kConeUludagU, coneAt(s, kUludagU, false));

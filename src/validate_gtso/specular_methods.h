@@ -40,6 +40,7 @@ enum class Method {
   kS4R16,
   kS3R8,
   kS4R8,
+  kS3ClosedForm,  // gtsoS3ClosedForm with gtso.json closed_form's coefficients
   kConeTableFitU,
   kConePaperU,
   kConeUludagU,
@@ -50,7 +51,7 @@ enum class Method {
   kLagarde,
   kConeUserU,  // --u U (scored only when given)
 };
-inline constexpr int kMethodCount = 17;
+inline constexpr int kMethodCount = 18;
 const char* methodName(Method m);         // JSON key, e.g. "S4_bc4"
 const char* methodDescription(Method m);  // one line for the page
 

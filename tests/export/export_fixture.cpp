@@ -78,6 +78,12 @@ void writeFixture(const std::filesystem::path& dir) {
                {"u_se", 0.0005},
                {"convention", "cos(alpha_s) = u^(alpha^2/2)"},
                {"errors", {{"fitted", {{"rmse", 0.01}, {"max_abs", 0.05}}}}}};
+  g["closed_form"] = {{"coefficients", std::vector<double>(std::begin(kFixtureS3ClosedForm),
+                                                           std::end(kFixtureS3ClosedForm))},
+                      {"test",
+                       {{"errors",
+                         {{"r_p_ge_0.1", {{"max", 0.025}, {"rms", 0.0025}}},
+                          {"r_p_lt_0.1", {{"max", 0.25}, {"rms", 0.006}}}}}}}};
   std::ofstream(dir / "gtso" / "gtso.json") << g.dump(2);
   nlohmann::json fit;
   fit["version"] = "fixture";

@@ -1,9 +1,10 @@
 // Executes the generated shader includes: gtbake_tables.glsl and gtbake_tables.hlsl are compiled to
 // SPIR-V with glslangValidator and run as Vulkan compute shaders on Mesa's CPU device (lavapipe),
-// evaluating the 3D and 4D lookups, the cone model and multi-bounce at 4,096 random points; the
-// results are compared with the C++ lookup code the header ships (export/runtime/gtso_lookup.h) on
-// the same texels. Tables: the export test fixture, exported by this test into a temporary
-// directory; textures uploaded as BC4_UNORM (when the device samples 3D BC4) and R16_UNORM.
+// evaluating the 3D and 4D lookups, the cone model, multi-bounce and the closed-form S3 at 4,096
+// random points; the results are compared with the C++ lookup code the header ships
+// (export/runtime/gtso_lookup.h) on the same texels. Tables: the export test fixture, exported by
+// this test into a temporary directory; textures uploaded as BC4_UNORM (when the device samples 3D
+// BC4) and R16_UNORM.
 //
 // Tolerances (per point, float32 on both sides):
 // - lookups: |shader - C++| <= D (3 * 2^-9 + 1e-3) + 2e-6 (+ 1/255 for BC4), D = max - min of the
@@ -12,6 +13,8 @@
 //   so each of the three weights may be off by 2^-9, moving the result by up to 2^-9 D each; the
 //   1e-3 D covers the texture coordinate (the shader's log-form asinh and the device's acos/atan
 //   against libm). lavapipe decodes and filters BC4 in 8 bits: + 2/255.
+// - closed-form S3: the function's change under the device's float errors of its intermediate
+//   values (closedFormTolerance).
 // - cone model: the device's sin/cos/acos are far less exact than libm (Vulkan only requires
 //   2^-11 absolute for sin/cos), so the tolerance is the model's sensitivity to errors of 2^-11
 //   in each angle and each acos argument (coneTolerance), plus 1e-4. Multi-bounce: 1e-5.
@@ -68,6 +71,7 @@ struct Exported {
   std::vector<std::uint8_t> bc4[2], r16[2];  // payloads of gtso3d / gtso4d
   float coeffs[6] = {};
   float u = 0.0f;
+  float closedForm[gtbake::kGtsoS3ClosedFormCoeffs] = {};  // gtso.json closed_form (fixture)
 };
 
 std::vector<std::uint8_t> ddsPayload(const fs::path& path) {
@@ -99,6 +103,10 @@ Exported exportFixture() {
   }
   for (int i = 0; i < 6; ++i) e.coeffs[i] = static_cast<float>(gtbake::test::kFixtureCoeffs[i]);
   e.u = static_cast<float>(gtbake::test::kFixtureU);
+  static_assert(std::size(gtbake::test::kFixtureS3ClosedForm) == gtbake::kGtsoS3ClosedFormCoeffs);
+  for (int i = 0; i < gtbake::kGtsoS3ClosedFormCoeffs; ++i) {
+    e.closedForm[i] = static_cast<float>(gtbake::test::kFixtureS3ClosedForm[i]);
+  }
   return e;
 }
 
@@ -112,8 +120,10 @@ layout(binding = 3) uniform sampler3D table4D;
 void main() {
   uint i = gl_GlobalInvocationID.x;
   vec4 p = inputs[i];
-  outputs[i] = vec4(gtso3DSample(table3D, p.x, p.y, p.z), gtso4DSample(table4D, p.x, p.y, p.z, p.w),
-                    gtsoConeModel(p.x, p.y, p.z), multiBounce(p.x, p.w));
+  outputs[2 * i] = vec4(gtso3DSample(table3D, p.x, p.y, p.z),
+                        gtso4DSample(table4D, p.x, p.y, p.z, p.w), gtsoConeModel(p.x, p.y, p.z),
+                        multiBounce(p.x, p.w));
+  outputs[2 * i + 1] = vec4(gtsoS3ClosedForm(p.x, p.y, p.z), 0.0, 0.0, 0.0);
 }
 )";
 
@@ -125,9 +135,10 @@ const char* kHlslMain = R"(
 [[vk::binding(4)]] SamplerState linearClamp;
 [numthreads(64, 1, 1)] void main(uint3 id : SV_DispatchThreadID) {
   float4 p = inputs[id.x];
-  outputs[id.x] = float4(gtso3DSample(table3D, linearClamp, p.x, p.y, p.z),
-                         gtso4DSample(table4D, linearClamp, p.x, p.y, p.z, p.w),
-                         gtsoConeModel(p.x, p.y, p.z), multiBounce(p.x, p.w));
+  outputs[2 * id.x] = float4(gtso3DSample(table3D, linearClamp, p.x, p.y, p.z),
+                             gtso4DSample(table4D, linearClamp, p.x, p.y, p.z, p.w),
+                             gtsoConeModel(p.x, p.y, p.z), multiBounce(p.x, p.w));
+  outputs[2 * id.x + 1] = float4(gtsoS3ClosedForm(p.x, p.y, p.z), 0.0, 0.0, 0.0);
 }
 )";
 
@@ -501,7 +512,7 @@ class Vulkan {
 
 // ---- the C++ side ----
 struct Reference {
-  float s3, s4, cone, mb;
+  float s3, s4, cone, mb, closedForm;
   float spread3, spread4;  // D of the tolerance: texel range of the trilinear footprint(s)
 };
 
@@ -557,6 +568,7 @@ Reference reference(const Exported& e, gtbake::GtsoTexelFormat format, const Inp
   r.s4 = gtso4DLookup(v4, n4, p.A, p.cosBeta, p.rp, p.cosThetaO, l4);
   r.cone = gtsoConeModel(e.u, p.A, p.cosBeta, p.rp);
   r.mb = gtsoMultiBounce(e.coeffs, e.coeffs + 2, e.coeffs + 4, p.A, p.cosThetaO);
+  r.closedForm = gtsoS3ClosedForm(e.closedForm, p.A, p.cosBeta, p.rp);
   const GtsoAxisT<float> a3 = gtso3DAxes(p.A, p.cosBeta, p.rp, n3);
   float c3[3];
   for (int k = 0; k < 3; ++k) c3[k] = gtsoTexelRemap(a3.t[k], n3[k]);
@@ -635,6 +647,59 @@ float coneTolerance(const Input& p, float u) {
   return t;
 }
 
+// Sensitivity of the closed-form S3 to the device's float arithmetic. The shader and the C++
+// header evaluate the same float operations, but the device may contract multiply-adds, sum in
+// another order and has looser exp/log (Vulkan: exp 3 + 2|x| ULP, log 3 ULP or 2^-21 absolute).
+// These are bounded as errors of the function's intermediate values: each of the nine
+// polynomials P_s off by 2^-19 of the sum of its terms' magnitudes (ten float products and sums,
+// plus the exp that reads it), the median u_m and the log-odds u each off by
+// 2^-20 (1 + |value|) (their log). Tolerance = 1e-4 + the sum of the function's largest changes
+// under each shift (double precision, both signs). Near the mirror step for r_p -> 0 the slope in
+// u reaches sin(2 theta_o)/(2e-4), and the tolerance grows with it: that is the function's
+// conditioning (a float input there is uncertain by as much), not slack.
+float closedFormTolerance(const Input& in, const float* kf) {
+  using namespace gtbake;
+  constexpr int kB = kGtsoS3ClosedFormBasis;
+  double k[kGtsoS3ClosedFormCoeffs];
+  for (int i = 0; i < kGtsoS3ClosedFormCoeffs; ++i) k[i] = kf[i];
+  const double A = in.A, cb = in.cosBeta, rp = in.rp;
+  if (!(A > 0.0) || !(A < 1.0)) return 1e-4f;  // exact 0 and 1 on both sides
+  const double mu = gtsoClamp01(cb), r = gtsoClamp01(rp);
+  const double alpha = r * r + kGtsoS3ClosedFormAlphaFloor;
+  const double h = mu * std::sqrt(1.0 - mu * mu) / alpha;
+  double b[kB];
+  gtsoS3ClosedFormBasis(std::sqrt(mu), r, h / (1.0 + h), b);
+  const double s0 = gtsoS3ClosedForm(k, A, cb, rp);
+  double tol = 1e-4;
+  auto change = [&](double* kk) { return std::fabs(gtsoS3ClosedForm(kk, A, cb, rp) - s0); };
+  for (int s = 0; s < kGtsoS3ClosedFormSets; ++s) {
+    double mag = 0.0;
+    for (int i = 0; i < kB; ++i) mag += std::fabs(k[s * kB + i] * b[i]);
+    const double eps = std::ldexp(mag, -19);
+    double worst = 0.0;
+    for (double sign : {-1.0, 1.0}) {
+      k[s * kB] += sign * eps;  // basis term 0 is 1: shifts P_s by eps
+      worst = std::max(worst, change(k));
+      k[s * kB] -= sign * eps;
+    }
+    tol += worst;
+  }
+  // The median through P_c (u_m += alpha P_c), and u through A (du/dA = 1 / (2 A (1 - A))).
+  const GtsoS3ClosedFormLobe<double> lobe = gtsoS3ClosedFormLobe(k, cb, rp);
+  const double dm = std::ldexp(1.0 + std::fabs(lobe.median), -20);
+  double worstM = 0.0, worstU = 0.0;
+  const double u = 0.5 * std::log(A / (1.0 - A));
+  const double du = std::ldexp(1.0 + std::fabs(u), -20);
+  for (double sign : {-1.0, 1.0}) {
+    k[2 * kB] += sign * dm / alpha;
+    worstM = std::max(worstM, change(k));
+    k[2 * kB] -= sign * dm / alpha;
+    const double A2 = 1.0 / (1.0 + std::exp(-2.0 * (u + sign * du)));
+    worstU = std::max(worstU, std::fabs(gtsoS3ClosedForm(k, A2, cb, rp) - s0));
+  }
+  return static_cast<float>(tol + worstM + worstU);
+}
+
 class ShaderExec : public ::testing::Test {
  protected:
   static void SetUpTestSuite() { exported_ = new Exported(exportFixture()); }
@@ -660,24 +725,26 @@ class ShaderExec : public ::testing::Test {
     const std::vector<Input> in = randomInputs();
     const int inBuf =
         vk.buffer(in.size() * sizeof(Input), in.data(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    const int outBuf = vk.buffer(in.size() * 16, nullptr, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    const int outBuf = vk.buffer(in.size() * 32, nullptr, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     const std::array<int, 3> n3 = volume3D(), n4 = volume4D();  // texture extents
     const bool bc4 = format == gtbake::GtsoTexelFormat::kBc4;
     const int img3 = vk.image(vkFormat, n3[0], n3[1], n3[2], bc4 ? e.bc4[0] : e.r16[0]);
     const int img4 = vk.image(vkFormat, n4[0], n4[1], n4[2], bc4 ? e.bc4[1] : e.r16[1]);
     vk.run(spirv, inBuf, outBuf, img3, img4, hlsl, kPoints / kLocalSize);
     const std::vector<float> out = vk.read(outBuf);
-    float worst[4] = {0, 0, 0, 0}, worstRatio = 0.0f;
+    float worst[5] = {0, 0, 0, 0, 0}, worstRatio = 0.0f;
     int failures = 0;
     for (int i = 0; i < kPoints; ++i) {
       const Reference r = reference(e, format, in[i]);
-      const float got[4] = {out[4 * i], out[4 * i + 1], out[4 * i + 2], out[4 * i + 3]};
-      const float want[4] = {r.s3, r.s4, r.cone, r.mb};
+      const float got[5] = {out[8 * i], out[8 * i + 1], out[8 * i + 2], out[8 * i + 3],
+                            out[8 * i + 4]};
+      const float want[5] = {r.s3, r.s4, r.cone, r.mb, r.closedForm};
       const float decode = bc4 ? kBc4DecodeTolerance : 0.0f;
-      const float tol[4] = {r.spread3 * kFilterTolerance + decode + 2e-6f,
+      const float tol[5] = {r.spread3 * kFilterTolerance + decode + 2e-6f,
                             r.spread4 * kFilterTolerance + decode + 2e-6f,
-                            coneTolerance(in[i], e.u), 1e-5f};
-      for (int k = 0; k < 4; ++k) {
+                            coneTolerance(in[i], e.u), 1e-5f,
+                            closedFormTolerance(in[i], e.closedForm)};
+      for (int k = 0; k < 5; ++k) {
         const float d = std::fabs(got[k] - want[k]);
         worst[k] = std::max(worst[k], d);
         worstRatio = std::max(worstRatio, d / tol[k]);
@@ -691,9 +758,9 @@ class ShaderExec : public ::testing::Test {
     }
     std::printf(
         "%s on %s, %s textures, %d points: max |shader - C++| S3 %.2e S4 %.2e cone %.2e "
-        "multi-bounce %.2e; worst error / tolerance %.3f\n",
+        "multi-bounce %.2e closed-form S3 %.2e; worst error / tolerance %.3f\n",
         hlsl ? "HLSL" : "GLSL", vk.deviceName.c_str(), bc4 ? "BC4" : "R16", kPoints, worst[0],
-        worst[1], worst[2], worst[3], worstRatio);
+        worst[1], worst[2], worst[3], worst[4], worstRatio);
     EXPECT_EQ(failures, 0);
   }
 

@@ -482,6 +482,116 @@ inline float gtsoConeModel(float u, float A, float cosBeta, float rp) {
                      (2.0f * static_cast<float>(kGtsoPi) * oneMinusCosS));
 }
 
+// ---- closed-form S3 (no sampler): a two-component log-logistic step in the odds of A ----
+//
+// S3(A, theta_o, rp) is the share of the lobe's weighted directions wi with polar angle
+// theta_i <= alpha_v: a CDF in alpha_v, 0 at A = 0 and 1 at A = 1. In the log-odds
+// u = log tan(alpha_v) = log(A / (1 - A)) / 2 (-inf at A = 0, +inf at A = 1) it is close to a
+// logistic step (a sharp core) plus a broad component for GGX's long tails:
+//   S = (1 - w) L(z) + w L(p_t d),  L(z) = 1 / (1 + exp(-z)),  d = u - u_m,
+//   z = p_lo d (d < 0), p_hi d (d >= 0),
+//   exp(2 u_m) = tan^2 theta_m = (tan^2 theta_o + a) / (1 + b tan^2 theta_o) exp(2 alpha P_c),
+//     a = alpha^2 exp(P_a), b = alpha^2 exp(P_b): the median stays inside (0, pi/2) for a lobe
+//     centred on n (theta_o = 0) and for one clipped by the horizon (theta_o = pi/2),
+//   p_lo = hypot(exp(P_0lo), h exp(-P_wlo)), p_hi likewise, h = sin(2 theta_o) / (2 alpha): a lobe
+//     of angular width ~alpha at theta_o has slope ~h in u; exp(P_0) is the slope of a lobe
+//     centred on n (GGX there: S ~ tan^2(alpha_v/2) / (tan^2(alpha_v/2) + alpha^2), slope 2),
+//   w = L(P_w), p_t = exp(P_t),
+// with alpha = rp^2 + kGtsoS3ClosedFormAlphaFloor and each P a polynomial in the basis of
+// gtsoS3ClosedFormBasis: m = sqrt(cos theta_o), rp and q = h / (1 + h) (how far the lobe sits from
+// the pole and the horizon, in lobe widths). Coefficient set s (P_a, P_b, P_c, P_0lo, P_wlo, P_0hi,
+// P_whi, P_w, P_t) is k[s * kGtsoS3ClosedFormBasis + i]. S = 0 at A = 0 and 1 at A = 1 exactly and
+// is monotone in A. `gtbake gtso` fits k by least squares against the integrator
+// (src/gtso/s3_closed_form.h; docs/gtso.md "A closed form for engines short of samplers").
+// Templated on the coefficient type C (float at runtime; double or a Ceres Jet in the fit) and the
+// input type T. ALU (kGtsoS3ClosedFormAlu): 10 exp, 2 log, 4 sqrt, 7 div, ~120 mul/add (90 of
+// them the nine polynomials, which depend on cos theta_o and rp only).
+inline constexpr int kGtsoS3ClosedFormBasis = 10;
+inline constexpr int kGtsoS3ClosedFormSets = 9;
+inline constexpr int kGtsoS3ClosedFormCoeffs = kGtsoS3ClosedFormSets * kGtsoS3ClosedFormBasis;
+inline constexpr double kGtsoS3ClosedFormAlphaFloor = 1e-4;  // lobe width at rp = 0 (radians)
+inline constexpr const char* kGtsoS3ClosedFormAlu = "10 exp, 2 log, 4 sqrt, 7 div, ~120 mul/add";
+
+// The polynomial terms: 1, m, rp, m rp, m^2, rp^2, q, q m, q rp, q^2.
+template <class T>
+void gtsoS3ClosedFormBasis(T m, T rp, T q, T* b) {
+  b[0] = T(1);
+  b[1] = m;
+  b[2] = rp;
+  b[3] = m * rp;
+  b[4] = m * m;
+  b[5] = rp * rp;
+  b[6] = q;
+  b[7] = q * m;
+  b[8] = q * rp;
+  b[9] = q * q;
+}
+
+// 1 / (1 + exp(-z)) without overflow in either direction.
+template <class C>
+C gtsoLogistic(C z) {
+  using std::exp;
+  if (z < C(0)) {
+    const C e = exp(z);
+    return e / (C(1) + e);
+  }
+  return C(1) / (C(1) + exp(-z));
+}
+
+// The parameters of one lobe (cos theta_o, rp): median u_m, core slopes, tail weight and slope.
+template <class C>
+struct GtsoS3ClosedFormLobe {
+  C median, slopeLo, slopeHi, tailWeight, tailSlope;
+};
+
+template <class C, class T>
+GtsoS3ClosedFormLobe<C> gtsoS3ClosedFormLobe(const C* k, T cosThetaO, T rp) {
+  using std::exp;
+  using std::log;
+  using std::sqrt;
+  const T mu = gtsoClamp01(cosThetaO);
+  const T r = gtsoClamp01(rp);
+  const T alpha = r * r + T(kGtsoS3ClosedFormAlphaFloor);
+  const T mu2 = mu * mu, sin2 = T(1) - mu * mu;
+  const T h = mu * std::sqrt(sin2) / alpha;  // sin(2 theta_o) / (2 alpha)
+  T b[kGtsoS3ClosedFormBasis];
+  gtsoS3ClosedFormBasis(std::sqrt(mu), r, h / (T(1) + h), b);
+  C p[kGtsoS3ClosedFormSets];
+  for (int s = 0; s < kGtsoS3ClosedFormSets; ++s) {
+    const C* ks = k + s * kGtsoS3ClosedFormBasis;
+    C sum = ks[0] * b[0];
+    for (int i = 1; i < kGtsoS3ClosedFormBasis; ++i) sum = sum + ks[i] * b[i];
+    p[s] = sum;
+  }
+  const C a = alpha * alpha * exp(p[0]);
+  const C bb = alpha * alpha * exp(p[1]);
+  // tan^2 theta_o = sin2 / mu2, multiplied through by mu2 (finite at grazing, mu = 0).
+  const C median = T(0.5) * log((sin2 + a * mu2) / (mu2 + bb * sin2)) + alpha * p[2];
+  const C lo0 = exp(p[3]), lo1 = h * exp(-p[4]);
+  const C hi0 = exp(p[5]), hi1 = h * exp(-p[6]);
+  return {median, sqrt(lo0 * lo0 + lo1 * lo1), sqrt(hi0 * hi0 + hi1 * hi1), gtsoLogistic(p[7]),
+          exp(p[8])};
+}
+
+// S from the lobe parameters at A (exactly 0 and 1 at the ends).
+template <class C, class T>
+C gtsoS3ClosedFormFromLobe(const GtsoS3ClosedFormLobe<C>& lobe, T A) {
+  if (!(A > T(0))) return C(0);
+  if (!(A < T(1))) return C(1);
+  const T u = T(0.5) * std::log(A / (T(1) - A));
+  const C d = u - lobe.median;
+  const C z = d < C(0) ? d * lobe.slopeLo : d * lobe.slopeHi;
+  return (C(1) - lobe.tailWeight) * gtsoLogistic(z) +
+         lobe.tailWeight * gtsoLogistic(d * lobe.tailSlope);
+}
+
+// S3(A, cosBeta, rp) from the kGtsoS3ClosedFormCoeffs coefficients k; cosBeta = cos theta_o = n.wr
+// (the bent normal taken as n, like gtso3DLookup), rp perceptual roughness (alpha = rp^2).
+template <class C, class T>
+C gtsoS3ClosedForm(const C* k, T A, T cosBeta, T rp) {
+  return gtsoS3ClosedFormFromLobe(gtsoS3ClosedFormLobe(k, cosBeta, rp), A);
+}
+
 }  // namespace gtbake
 
 #endif  // GTBAKE_GTSO_LOOKUP_H

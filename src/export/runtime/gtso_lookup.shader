@@ -156,3 +156,56 @@ float gtsoConeModel(float A, float cosBeta, float rp) {
   return clamp(gtsoCapIntersection(alphaV, alphaS, beta) / (2.0 * kGtsoPiF * oneMinusCosS), 0.0,
                1.0);
 }
+
+// ---- closed-form S3, no sampler (gtso_lookup.h gtsoS3ClosedForm; docs/gtso.md) ----
+// Needs kGtsoS3ClosedForm (float[90]: 9 sets of 10 polynomial coefficients, fitted by
+// `gtbake gtso`) and kGtsoS3ClosedFormAlphaFloorF. S = (1 - w) L(z) + w L(p_t d) in the log-odds
+// u = log(A / (1 - A)) / 2 around the lobe's median u_m; exactly 0 at A = 0 and 1 at A = 1.
+float gtsoLogistic(float z) {
+  if (z < 0.0) {
+    float e = exp(z);
+    return e / (1.0 + e);
+  }
+  return 1.0 / (1.0 + exp(-z));
+}
+
+// cosBeta = cos theta_o = n.wr (bent normal taken as n, like gtso3DSample), rp perceptual
+// roughness (alpha = rp^2).
+float gtsoS3ClosedForm(float A, float cosBeta, float rp) {
+  float mu = clamp(cosBeta, 0.0, 1.0);
+  float r = clamp(rp, 0.0, 1.0);
+  float alpha = r * r + kGtsoS3ClosedFormAlphaFloorF;
+  float mu2 = mu * mu;
+  float sin2 = 1.0 - mu * mu;
+  float h = mu * sqrt(sin2) / alpha;  // sin(2 theta_o) / (2 alpha)
+  float m = sqrt(mu);
+  float q = h / (1.0 + h);
+  float b[10];
+  b[0] = 1.0;
+  b[1] = m;
+  b[2] = r;
+  b[3] = m * r;
+  b[4] = m * m;
+  b[5] = r * r;
+  b[6] = q;
+  b[7] = q * m;
+  b[8] = q * r;
+  b[9] = q * q;
+  float p[9];
+  for (int s = 0; s < 9; ++s) {
+    float sum = kGtsoS3ClosedForm[s * 10] * b[0];
+    for (int i = 1; i < 10; ++i) sum = sum + kGtsoS3ClosedForm[s * 10 + i] * b[i];
+    p[s] = sum;
+  }
+  if (!(A > 0.0)) return 0.0;
+  if (!(A < 1.0)) return 1.0;
+  float a = alpha * alpha * exp(p[0]);
+  float bb = alpha * alpha * exp(p[1]);
+  float median = 0.5 * log((sin2 + a * mu2) / (mu2 + bb * sin2)) + alpha * p[2];
+  float lo0 = exp(p[3]), lo1 = h * exp(-p[4]);
+  float hi0 = exp(p[5]), hi1 = h * exp(-p[6]);
+  float d = 0.5 * log(A / (1.0 - A)) - median;
+  float z = d < 0.0 ? d * sqrt(lo0 * lo0 + lo1 * lo1) : d * sqrt(hi0 * hi0 + hi1 * hi1);
+  float w = gtsoLogistic(p[7]);
+  return (1.0 - w) * gtsoLogistic(z) + w * gtsoLogistic(d * exp(p[8]));
+}
