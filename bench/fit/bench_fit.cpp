@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "common/output_set.h"
 #include "fit/fit_analysis.h"
 #include "fit/fit_outputs.h"
 #include "fit/fit_report.h"
@@ -65,7 +66,11 @@ int main(int argc, char** argv) {
     mark();
     a.floor = fitFloor(a.data);
     mark();
-    writeFitReport("/tmp/bench_fit_report", a, kPaperCoeffs);
+    {
+      OutputSet report("/tmp/bench_fit_report", "fit_report");
+      writeFitReport(report, "", "/tmp/bench_fit_report", a, kPaperCoeffs);
+      report.commit();
+    }
     mark();
     const std::string json = fitJson("/tmp/bench_fit.json", a, kPaperCoeffs).dump(2);
     mark();

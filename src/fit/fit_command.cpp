@@ -40,9 +40,22 @@ FitResult runFit(const FitOptions& options) {
       options.out.parent_path().empty() ? fs::path(".") : options.out.parent_path();
   ensureDirectory(out_dir);
   const fs::path report_dir = options.report ? *options.report : out_dir / "report";
-  writeFitReport(report_dir, a, options.shipped);
-  bar.add(1);
+  // The report is part of the fit set when it lies inside out_dir (gtbake all: luts/report/);
+  // elsewhere it is a set of its own (fit_report.manifest.json), committed first.
+  std::string inside =
+      fs::path(relativePath(report_dir, out_dir)).lexically_normal().generic_string();
+  while (!inside.empty() && inside.back() == '/') inside.pop_back();
+  const bool own = inside.empty() || inside == "." || inside.rfind("..", 0) == 0 ||
+                   fs::path(inside).is_absolute();
   OutputSet output(out_dir, "fit");  // export requires and verifies fit.manifest.json
+  if (own) {
+    OutputSet report(report_dir, "fit_report");
+    writeFitReport(report, "", report_dir, a, options.shipped);
+    report.commit();
+  } else {
+    writeFitReport(output, inside + "/", report_dir, a, options.shipped);
+  }
+  bar.add(1);
   output.add(options.out.filename().string(),
              fitJson(options.out, a, options.shipped).dump(2) + "\n");
   output.commit();

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "common/atomic_file.h"
+#include "common/output_set.h"
 #include "fit/svg_plot.h"
 #include "gtbake_version.h"
 
@@ -62,19 +63,20 @@ std::string curveDistance(const CurveDifference& d) {
   return fmt(d.value, "%.4f") + " (A " + fmt(d.A, "%.2f") + ", &rho; " + fmt(d.rho, "%.2f") + ")";
 }
 
-// Collects the figures of the page: each written beside index.html.
+// Collects the figures of the page: each staged beside index.html.
 class Figures {
  public:
-  explicit Figures(fs::path dir) : dir_(std::move(dir)) {}
+  Figures(OutputSet& set, std::string prefix) : set_(set), prefix_(std::move(prefix)) {}
   void add(const std::string& name, const SvgPlot& plot) {
-    writeFileAtomically(dir_ / name, plot.str());
+    set_.add(prefix_ + name, plot.str());
     html_ += "<img src='" + name + "' alt='" + name + "'>\n";
   }
   void heading(const std::string& text) { html_ += text; }
   std::string html() const { return html_; }
 
  private:
-  fs::path dir_;
+  OutputSet& set_;
+  std::string prefix_;
   std::string html_;
 };
 
@@ -363,9 +365,9 @@ std::string perAlbedoTable(const MultiBounceFit& fit) {
 
 }  // namespace
 
-void writeFitReport(const fs::path& dir, const FitAnalysis& a, const MultiBounceCoeffs& shipped) {
-  ensureDirectory(dir);
-  Figures figures(dir);
+void writeFitReport(OutputSet& set, const std::string& prefix, const fs::path& dir,
+                    const FitAnalysis& a, const MultiBounceCoeffs& shipped) {
+  Figures figures(set, prefix);
   bandFigures(a, shipped, figures);
   figure7(a, shipped, figures);
   figure6(a, figures);
@@ -388,7 +390,7 @@ void writeFitReport(const fs::path& dir, const FitAnalysis& a, const MultiBounce
       ". G = a(&rho;)A&sup3; &minus; b(&rho;)A&sup2; + c(&rho;)A.</p>\n" + headline(a) +
       coefficientTables(a, shipped) + alternativeTables(a) + errorTables(a) + leaveOneOutTable(a) +
       perAlbedoTable(a.fit) + figures.html() + "</body></html>\n";
-  writeFileAtomically(dir / "index.html", html);
+  set.add(prefix + "index.html", html);
 }
 
 }  // namespace gtbake

@@ -9,13 +9,18 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 #include "fit/fit_analysis.h"
 
 namespace gtbake {
 
-// Writes dir/index.html and dir/*.svg (each atomically); creates dir.
-void writeFitReport(const std::filesystem::path& dir, const FitAnalysis& a,
-                    const MultiBounceCoeffs& shipped);
+class OutputSet;
+
+// Stages index.html and the *.svg figures in `set` under `prefix` ("" or "report/"), so the
+// report is committed with (and verified like) the rest of the set; `dir` is the directory the
+// page ends up in (for the relative link to the sweep).
+void writeFitReport(OutputSet& set, const std::string& prefix, const std::filesystem::path& dir,
+                    const FitAnalysis& a, const MultiBounceCoeffs& shipped);
 
 }  // namespace gtbake

@@ -200,52 +200,120 @@ const char* pointSetName(PointSet s) {
   return s == PointSet::kUniform ? "uniform" : "stress";
 }
 
+namespace {
+
+// The random points of one lobe (r_p, cos theta_o) for one table: points, their bent normals and
+// each normal's cones, from the table's own stream (one stream per dims and set).
+struct LobePoints {
+  std::vector<GtsoPoint> points;
+  std::vector<Vec3> b;
+  std::vector<std::vector<double>> cones;
+  int conesPer = 0;
+};
+
+LobePoints drawLobePoints(int dims, PointSet set, const CounterRng& rng, int l, int perLobe,
+                          double rp, double cosO) {
+  const double thetaO = std::acos(cosO);
+  // 3D: one bent normal (n) with perLobe cones; 4D: kBentNormalsPerLobe bent normals with
+  // perLobe / kBentNormalsPerLobe cones each (the lobe grid and each normal's t are shared).
+  const int normals = dims == 3 ? 1 : kBentNormalsPerLobe;
+  LobePoints out;
+  out.conesPer = perLobe / normals;
+  out.cones.resize(normals);
+  for (int k = 0; k < perLobe; ++k) {
+    const int group = k / out.conesPer;
+    const auto v = rng.uniform4(static_cast<std::uint64_t>(l), 1 + k);
+    const auto vb = rng.uniform4(static_cast<std::uint64_t>(l), 1 + perLobe + group);
+    GtsoPoint p{v[0], thetaO, rp, thetaO};
+    // 4D: cos beta uniform over the bent normals above the horizon (cos beta >= -sin theta_o);
+    // the stress set keeps beta <= pi/2, where the mirror step lies inside the A range.
+    const double cosBetaMin = set == PointSet::kStress ? 0.0 : -std::sin(thetaO);
+    if (dims == 4) p.beta = std::acos(1.0 - (1.0 - cosBetaMin) * vb[0]);
+    if (set == PointSet::kStress) {
+      // alpha_v uniform over the part of [s - h, s + h] inside [0, pi/2] (no mass piled up
+      // at the ends by clamping).
+      const double half = kStressLobeWidths * rp * rp + kStressFloor;
+      const double lo = std::clamp(p.beta - half, 0.0, kHalfPi);
+      const double hi = std::clamp(p.beta + half, 0.0, kHalfPi);
+      p.A = sinSq(lo + (hi - lo) * v[1]);
+    }
+    out.points.push_back(p);
+    if (k % out.conesPer == 0) {
+      out.b.push_back(dims == 3 ? Vec3{0.0, 0.0, 1.0} : bentNormal(thetaO, p.beta));
+    }
+    out.cones[group].push_back(std::sqrt(std::clamp(1.0 - p.A, 0.0, 1.0)));
+  }
+  return out;
+}
+
+CounterRng pointStream(int dims, PointSet set, std::uint64_t seed) {
+  return CounterRng(seed, static_cast<std::uint64_t>(dims * 2 + (set == PointSet::kStress)));
+}
+
+// The lobe of random lobe l: r_p and cos theta_o (stress: every other lobe grazing).
+std::pair<double, double> drawLobe(PointSet set, const CounterRng& rng, int l) {
+  const auto u = rng.uniform4(static_cast<std::uint64_t>(l), 0);
+  const bool grazing = set == PointSet::kStress && l % 2 == 1;
+  return {u[0], grazing ? kGrazingCos * u[1] : u[1]};
+}
+
+// Integrates the lobe once for the bent normals of every table drawn on it and stores each
+// point's exact S.
+void integrateLobe(double rp, double cosO, int cells, int l, int perLobe,
+                   const std::vector<std::pair<LobePoints*, ErrorPoints*>>& parts) {
+  std::vector<Vec3> b;
+  std::vector<std::vector<double>> cones;
+  for (const auto& [lobe, out] : parts) {
+    b.insert(b.end(), lobe->b.begin(), lobe->b.end());
+    cones.insert(cones.end(), lobe->cones.begin(), lobe->cones.end());
+  }
+  const auto s = specularOcclusion(rp, cosO, b, cones, cells);
+  std::size_t first = 0;
+  for (const auto& [lobe, out] : parts) {
+    const std::size_t at = static_cast<std::size_t>(l) * perLobe;
+    for (int k = 0; k < perLobe; ++k) {
+      out->points[at + k] = lobe->points[k];
+      out->exact[at + k] = s[first + k / lobe->conesPer][k % lobe->conesPer];
+    }
+    first += lobe->b.size();
+  }
+}
+
+void checkPerLobe(int perLobe) {
+  if (perLobe % kBentNormalsPerLobe != 0) throw Error("error points: perLobe must divide by 4");
+}
+
+}  // namespace
+
 ErrorPoints makeErrorPoints(int dims, PointSet set, int lobes, int perLobe, std::uint64_t seed,
                             int cells) {
-  if (perLobe % kBentNormalsPerLobe != 0) throw Error("error points: perLobe must divide by 4");
-  const CounterRng rng(seed, static_cast<std::uint64_t>(dims * 2 + (set == PointSet::kStress)));
+  checkPerLobe(perLobe);
+  const CounterRng rng = pointStream(dims, set, seed);
   ErrorPoints out;
   out.points.resize(static_cast<std::size_t>(lobes) * perLobe);
   out.exact.resize(out.points.size());
   tbb::parallel_for(0, lobes, [&](int l) {
-    const auto u = rng.uniform4(static_cast<std::uint64_t>(l), 0);
-    const double rp = u[0];
-    const bool grazing = set == PointSet::kStress && l % 2 == 1;
-    const double cosO = grazing ? kGrazingCos * u[1] : u[1];
-    const double thetaO = std::acos(cosO);
-    // 3D: one bent normal (n) with perLobe cones; 4D: kBentNormalsPerLobe bent normals with
-    // perLobe / kBentNormalsPerLobe cones each (the lobe grid and each normal's t are shared).
-    const int normals = dims == 3 ? 1 : kBentNormalsPerLobe;
-    const int conesPer = perLobe / normals;
-    std::vector<Vec3> b;
-    std::vector<std::vector<double>> cones(normals);
-    for (int k = 0; k < perLobe; ++k) {
-      const int group = k / conesPer;
-      const auto v = rng.uniform4(static_cast<std::uint64_t>(l), 1 + k);
-      const auto vb = rng.uniform4(static_cast<std::uint64_t>(l), 1 + perLobe + group);
-      GtsoPoint p{v[0], thetaO, rp, thetaO};
-      // 4D: cos beta uniform over the bent normals above the horizon (cos beta >= -sin theta_o);
-      // the stress set keeps beta <= pi/2, where the mirror step lies inside the A range.
-      const double cosBetaMin = set == PointSet::kStress ? 0.0 : -std::sin(thetaO);
-      if (dims == 4) p.beta = std::acos(1.0 - (1.0 - cosBetaMin) * vb[0]);
-      if (set == PointSet::kStress) {
-        // alpha_v uniform over the part of [s - h, s + h] inside [0, pi/2] (no mass piled up
-        // at the ends by clamping).
-        const double half = kStressLobeWidths * rp * rp + kStressFloor;
-        const double lo = std::clamp(p.beta - half, 0.0, kHalfPi);
-        const double hi = std::clamp(p.beta + half, 0.0, kHalfPi);
-        p.A = sinSq(lo + (hi - lo) * v[1]);
-      }
-      out.points[static_cast<std::size_t>(l) * perLobe + k] = p;
-      if (k % conesPer == 0) {
-        b.push_back(dims == 3 ? Vec3{0.0, 0.0, 1.0} : bentNormal(thetaO, p.beta));
-      }
-      cones[group].push_back(std::sqrt(std::clamp(1.0 - p.A, 0.0, 1.0)));
-    }
-    const auto s = specularOcclusion(rp, cosO, b, cones, cells);
-    for (int k = 0; k < perLobe; ++k) {
-      out.exact[static_cast<std::size_t>(l) * perLobe + k] = s[k / conesPer][k % conesPer];
-    }
+    const auto [rp, cosO] = drawLobe(set, rng, l);
+    LobePoints lp = drawLobePoints(dims, set, rng, l, perLobe, rp, cosO);
+    integrateLobe(rp, cosO, cells, l, perLobe, {{&lp, &out}});
+  });
+  return out;
+}
+
+ErrorPointPair makeErrorPointPair(PointSet set, int lobes, int perLobe, std::uint64_t seed,
+                                  int cells) {
+  checkPerLobe(perLobe);
+  const CounterRng rng3 = pointStream(3, set, seed), rng4 = pointStream(4, set, seed);
+  ErrorPointPair out;
+  for (ErrorPoints* e : {&out.three, &out.four}) {
+    e->points.resize(static_cast<std::size_t>(lobes) * perLobe);
+    e->exact.resize(e->points.size());
+  }
+  tbb::parallel_for(0, lobes, [&](int l) {
+    const auto [rp, cosO] = drawLobe(set, rng4, l);
+    LobePoints three = drawLobePoints(3, set, rng3, l, perLobe, rp, cosO);
+    LobePoints four = drawLobePoints(4, set, rng4, l, perLobe, rp, cosO);
+    integrateLobe(rp, cosO, cells, l, perLobe, {{&three, &out.three}, {&four, &out.four}});
   });
   return out;
 }

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/atomic_file.h"
+#include "common/output_set.h"
 #include "fit/fit_command.h"
 #include "synthetic_sweep.h"
 
@@ -55,6 +56,31 @@ TEST(Report, EveryImageItShowsIsBesideIt) {
   }
   // The band per albedo (7) and G(A) with the band (1), Figure 7 (4), Figure 6 per scene (3).
   EXPECT_EQ(images, 7u + 1u + 4u + 3u);
+}
+
+// The report is committed with the fit's output set when it lies inside it (the default,
+// beside fit.json), every page and figure verified by the manifest; elsewhere it is a set of its
+// own (fit_report.manifest.json).
+TEST(Report, IsPartOfAnOutputSet) {
+  const OutputManifest fit = readOutputSet(report().parent_path(), "fit");
+  ASSERT_NE(fit.find("report/index.html"), nullptr);
+  EXPECT_EQ(fit.readVerified("report/index.html"), readFile(report() / "index.html"));
+  std::size_t svgs = 0;
+  for (const OutputFile& f : fit.files)
+    svgs += f.name.size() > 4 && f.name.rfind(".svg") == f.name.size() - 4;
+  EXPECT_EQ(svgs, 7u + 1u + 4u + 3u);
+
+  FitOptions options;
+  options.sweep = report().parent_path().parent_path() / "report_sweep";
+  options.out = test::freshDir("report_fit_elsewhere") / "fit.json";
+  options.report = test::freshDir("report_elsewhere");
+  options.progress = false;
+  testing::internal::CaptureStdout();
+  runFit(options);
+  testing::internal::GetCapturedStdout();
+  const OutputManifest own = readOutputSet(*options.report, "fit_report");
+  EXPECT_EQ(own.readVerified("index.html"), readFile(*options.report / "index.html"));
+  EXPECT_EQ(readOutputSet(options.out.parent_path(), "fit").find("report/index.html"), nullptr);
 }
 
 // The page leads with the band and the verdict on the shipped constants, before any table.

@@ -69,7 +69,9 @@ TEST(GtsoIntegrator, MirrorLimitIsDeltaVOfReflection) {
 // Brute force for the 2.5e-4 claim, low roughness included: visible-normal sampling (ggx.h, an
 // independent code path from the quadrature) on a jittered 1024 x 1024 grid, 4 independent
 // jitter replicates; S = sum W DeltaV / sum W with W = G2/G1. The replicate spread gives the SE
-// (stratification makes it ~1e-5); the quadrature must agree within 2.5e-4 + 4 SE.
+// (stratification makes it ~1e-5); the quadrature must agree within 2.5e-4 + 4 SE. Each texel
+// also checks the cap of half-angle pi - alpha_v (cos = -c, wider than a hemisphere): the
+// continuation texels beyond A = 1 of the tables (docs/gtso.md §3).
 TEST(GtsoIntegrator, MatchesVisibleNormalBruteForceWithin2p5em4) {
   const CounterRng pick(21, 0);
   constexpr int kGrid = 1024, kReplicates = 4;
@@ -79,26 +81,34 @@ TEST(GtsoIntegrator, MatchesVisibleNormalBruteForceWithin2p5em4) {
     const double thetaO = 1.5 * u[3], c = std::sqrt(1.0 - A);
     const Vec3 b = bentNormal(thetaO, beta), wo = viewDirection(std::cos(thetaO));
     const GgxDistribution ggx(rp * rp);
-    double sum = 0.0, sumSq = 0.0;
+    double sum[2] = {0.0, 0.0}, sumSq[2] = {0.0, 0.0};
     for (int r = 0; r < kReplicates; ++r) {
       const CounterRng jitter(99 + r, texel);
-      double num = 0.0, den = 0.0;
+      double num[2] = {0.0, 0.0}, den = 0.0;
       for (int i = 0; i < kGrid; ++i)
         for (int j = 0; j < kGrid; ++j) {
           const auto v = jitter.uniform4(static_cast<std::uint64_t>(i) * kGrid + j, 0);
           const Vec3 wi = ggx.sampleWi(wo, {(i + v[0]) / kGrid, (j + v[1]) / kGrid});
           const double w = ggx.weight(wo, wi);
           den += w;
-          num += dot(wi, b) >= c ? w : 0.0;
+          num[0] += dot(wi, b) >= c ? w : 0.0;
+          num[1] += dot(wi, b) >= -c ? w : 0.0;
         }
-      sum += num / den;
-      sumSq += (num / den) * (num / den);
+      for (int k = 0; k < 2; ++k) {
+        sum[k] += num[k] / den;
+        sumSq[k] += (num[k] / den) * (num[k] / den);
+      }
     }
-    const double S = sum / kReplicates;
-    const double se = std::sqrt(std::max(0.0, sumSq / kReplicates - S * S) / (kReplicates - 1));
-    const double got = specularOcclusion(rp, std::cos(thetaO), {b}, std::vector<double>{c})[0];
-    EXPECT_NEAR(got, S, 2.5e-4 + 4.0 * se)
-        << "A " << A << " beta " << beta << " r_p " << rp << " theta_o " << thetaO << " se " << se;
+    const std::vector<double> got =
+        specularOcclusion(rp, std::cos(thetaO), {b}, std::vector<double>{c, -c});
+    for (int k = 0; k < 2; ++k) {
+      const double S = sum[k] / kReplicates;
+      const double se =
+          std::sqrt(std::max(0.0, sumSq[k] / kReplicates - S * S) / (kReplicates - 1));
+      EXPECT_NEAR(got[k], S, 2.5e-4 + 4.0 * se)
+          << "A " << A << " beta " << beta << " r_p " << rp << " theta_o " << thetaO << " se " << se
+          << (k ? " (cap wider than a hemisphere)" : "");
+    }
   }
 }
 

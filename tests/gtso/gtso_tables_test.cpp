@@ -174,6 +174,26 @@ TEST(GtsoTables, ShippedLayoutLookupMatchesDirectIntegration) {
   }
 }
 
+// The paired sets integrate each lobe once for both tables: the 4D set is the 4D stream's own,
+// the 3D points sit on the same lobes, and every exact value is evaluateS at its point.
+TEST(GtsoTables, PairedErrorPointsShareLobesAndStayExact) {
+  constexpr int kCells = 12, kLobes = 8, kPerLobe = 8;
+  for (PointSet set : {PointSet::kUniform, PointSet::kStress}) {
+    const ErrorPointPair pair = makeErrorPointPair(set, kLobes, kPerLobe, 5, kCells);
+    const ErrorPoints four = makeErrorPoints(4, set, kLobes, kPerLobe, 5, kCells);
+    EXPECT_EQ(pair.four.exact, four.exact);
+    ASSERT_EQ(pair.three.points.size(), four.points.size());
+    for (std::size_t i = 0; i < pair.three.points.size(); ++i) {
+      const GtsoPoint& p = pair.three.points[i];
+      EXPECT_EQ(p.r_p, four.points[i].r_p);
+      EXPECT_EQ(p.thetaO, four.points[i].thetaO);
+      EXPECT_EQ(p.beta, p.thetaO);
+      EXPECT_NEAR(pair.three.exact[i], evaluateS(3, p, kCells), 1e-12) << i;
+      EXPECT_NEAR(pair.four.exact[i], evaluateS(4, pair.four.points[i], kCells), 1e-12) << i;
+    }
+  }
+}
+
 TEST(GtsoTables, UnormFormatsQuantiseTheTexels) {
   const Table t = bakeTable(3, 8, 8, nullptr);
   const EncodedTable r16 = encodeTable(t, TexelFormat::kR16);
