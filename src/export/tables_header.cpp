@@ -277,7 +277,8 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
       << "; sampled texel check vs 16x reference: max "
       << jsonAt(t->meta, {"texel_check", "max_abs"}) << ", RMS "
       << jsonAt(t->meta, {"texel_check", "rms"}) << " over "
-      << jsonAt(t->meta, {"texel_check", "lines"}) << " random lines (seed "
+      << jsonAt(t->meta, {"texel_check", "lines"})
+      << " random lines, half at the theta_o ends (seed "
       << jsonAt(t->meta, {"texel_check", "seed"}) << ")"
       << "\n//     end to end vs direct integration (max over seeds / mean RMS): BC4 "
       << endToEnd(gj, key, "bc4") << "\n//       R16 " << endToEnd(gj, key, "r16")

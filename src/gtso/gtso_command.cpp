@@ -245,7 +245,7 @@ std::pair<gtso::TexelCheck, gtso::TexelCheck> sampledTexelCheck(const Table& s3,
   Progress progress("gtso: texel check", static_cast<std::uint64_t>(lines3 + lines4), o.progress);
   auto check = [&](const Table& t, int lines) {
     return gtso::checkTexels(t, cells, gtso::kTexelCheckFactor,
-                             gtso::sampleLines(t.dims, t.size, lines, kTexelCheckSeed),
+                             gtso::sampleStratifiedLines(t.dims, t.size, lines, kTexelCheckSeed),
                              kTexelCheckSeed, &progress);
   };
   std::pair<gtso::TexelCheck, gtso::TexelCheck> out{check(s3, lines3), check(s4, lines4)};
@@ -257,27 +257,41 @@ Json texelCheckJson(const gtso::TexelCheck& c, int size, int cells) {
   Json lines = Json::array();
   for (std::size_t l : c.lines) lines.push_back(l);
   const auto& w = c.worst_index;
-  return {{"method",
-           "seeded random lines (one integrator lobe each: r_p texel, theta_o texel) re-integrated "
-           "with factor x the lobe cells per side; every texel of each line compared"},
-          {"factor", c.factor},
-          {"reference_lobe_grid_rectangles", 2 * cells * cells * c.factor * c.factor},
-          {"seed", c.seed},
-          {"lines", c.lines.size()},
-          {"lines_total", size * size},
-          {"line_indices", lines},
-          {"texels", c.texels},
-          {"max_abs", c.max},
-          {"rms", c.rms},
-          {"worst",
-           {{"index", {w[0], w[1], w[2], w[3]}},
-            {"A", c.worst.A},
-            {"beta", c.worst.beta},
-            {"r_p", c.worst.r_p},
-            {"theta_o", c.worst.thetaO},
-            {"value", c.worst_value},
-            {"reference", c.worst_reference}}},
-          {"seconds", c.seconds}};
+  const std::string k = std::to_string(gtso::kTexelCheckEdgeColumns);
+  auto stratum = [](const gtso::TexelStratum& st, const std::string& lines) {
+    return Json{{"lines_from", lines},
+                {"lines", st.lines},
+                {"texels", st.texels},
+                {"max_abs", st.max},
+                {"rms", st.rms}};
+  };
+  return {
+      {"method",
+       "seeded random lines (one integrator lobe each: r_p texel, theta_o texel), half from the "
+       "edge stratum and half from the interior, re-integrated with factor x the lobe cells "
+       "per side; every texel of each line compared"},
+      {"strata",
+       {{"edge", stratum(c.strata[0],
+                         "theta_o texel < " + k + " or >= N - " + k + " (normal view, grazing)")},
+        {"interior", stratum(c.strata[1], "the other theta_o texels")}}},
+      {"factor", c.factor},
+      {"reference_lobe_grid_rectangles", 2 * cells * cells * c.factor * c.factor},
+      {"seed", c.seed},
+      {"lines", c.lines.size()},
+      {"lines_total", size * size},
+      {"line_indices", lines},
+      {"texels", c.texels},
+      {"max_abs", c.max},
+      {"rms", c.rms},
+      {"worst",
+       {{"index", {w[0], w[1], w[2], w[3]}},
+        {"A", c.worst.A},
+        {"beta", c.worst.beta},
+        {"r_p", c.worst.r_p},
+        {"theta_o", c.worst.thetaO},
+        {"value", c.worst_value},
+        {"reference", c.worst_reference}}},
+      {"seconds", c.seconds}};
 }
 
 Json coneErrorsJson(const gtso::ConeErrors& e) {

@@ -22,6 +22,14 @@ class Progress;
 namespace gtbake::gtso {
 
 inline constexpr int kTexelCheckFactor = 4;  // cells per side of the reference: 16x rectangles
+// The edge stratum: lines whose theta_o texel is within this many of either end (normal view and
+// grazing, where the refined theta_o axis crowds its texels and the quadrature is hardest).
+inline constexpr int kTexelCheckEdgeColumns = 3;
+
+struct TexelStratum {
+  std::size_t lines = 0, texels = 0;
+  double max = 0.0, rms = 0.0;
+};
 
 struct TexelCheck {
   int factor = kTexelCheckFactor;
@@ -33,12 +41,18 @@ struct TexelCheck {
   std::array<int, 4> worst_index{};  // texel (x, y, z, w) of the largest error
   GtsoPoint worst{};                 // its physical parameters
   double worst_value = 0.0, worst_reference = 0.0;
-  double seconds = 0.0;  // wall time of the re-integration
+  double seconds = 0.0;    // wall time of the re-integration
+  TexelStratum strata[2];  // [edge, interior] (isEdgeLine)
 };
 
 // `count` distinct lines of an N x N line grid, uniform without replacement, ascending;
 // deterministic in seed (and distinct streams for 3D and 4D).
 std::vector<std::size_t> sampleLines(int dims, int size, int count, std::uint64_t seed);
+// The sample of every run: half the lines (rounded up) from the edge stratum and the rest from
+// the interior, each uniform without replacement (a stratum too small gives its remainder to the
+// other); every line when count >= N^2. Ascending, deterministic in seed.
+std::vector<std::size_t> sampleStratifiedLines(int dims, int size, int count, std::uint64_t seed);
+bool isEdgeLine(int size, std::size_t line);  // theta_o texel < k or >= N - k
 
 // Re-integrates `lines` of t at cells * factor and compares every texel on them.
 TexelCheck checkTexels(const Table& t, int cells, int factor, const std::vector<std::size_t>& lines,

@@ -33,6 +33,29 @@ TEST(TexelCheck, SampledLinesAreDistinctDeterministicAndSeeded) {
   EXPECT_ANY_THROW(sampleLines(3, 8, 65, 1));
 }
 
+// The sample of every run: half from the edge stratum (theta_o texels at both ends), half from the
+// interior, distinct; every line when asked for at least N^2; the check splits its texels by
+// stratum.
+TEST(TexelCheck, StratifiedSampleTakesHalfFromTheEdgeColumns) {
+  const std::vector<std::size_t> s = sampleStratifiedLines(4, 32, 16, 1);
+  ASSERT_EQ(s.size(), 16u);
+  EXPECT_EQ(std::set<std::size_t>(s.begin(), s.end()).size(), 16u);
+  EXPECT_EQ(std::count_if(s.begin(), s.end(), [](std::size_t l) { return isEdgeLine(32, l); }), 8);
+  EXPECT_TRUE(isEdgeLine(32, 5 * 32 + 0) && isEdgeLine(32, 5 * 32 + 31) &&
+              !isEdgeLine(32, 5 * 32 + 3) && !isEdgeLine(32, 5 * 32 + 28));
+  EXPECT_EQ(sampleStratifiedLines(3, 8, 64, 1).size(), 64u);
+  EXPECT_EQ(sampleStratifiedLines(3, 8, 100, 1).size(), 64u);
+  // Size 8: 48 edge lines and 16 interior ones; of 40, the interior gives all 16, the edge 24.
+  const std::vector<std::size_t> t = sampleStratifiedLines(3, 8, 40, 2);
+  EXPECT_EQ(std::count_if(t.begin(), t.end(), [](std::size_t l) { return !isEdgeLine(8, l); }), 16);
+  const Table table = bakeTable(3, 8, 8, nullptr);
+  const TexelCheck c = checkTexels(table, 8, kTexelCheckFactor, t, 2, nullptr);
+  EXPECT_EQ(c.strata[0].lines, 24u);
+  EXPECT_EQ(c.strata[1].lines, 16u);
+  EXPECT_EQ(c.strata[0].texels + c.strata[1].texels, c.texels);
+  EXPECT_EQ(std::max(c.strata[0].max, c.strata[1].max), c.max);
+}
+
 // At size 8 the sampled check at the sampled texels equals the full 4x reference (what
 // `--reference-factor 4` bakes) at those texels: same maximum, same RMS, same worst texel.
 TEST(TexelCheck, AgreesWithTheFullReferenceAtTheSampledTexels) {
@@ -101,6 +124,8 @@ TEST(TexelCheck, CommandReportsTheCheckAndMatchesTheFullReference) {
   runGtso(o);
   json = nlohmann::json::parse(readFile(dir / "gtso.json"));
   const auto& c4 = json["tables"]["4d"]["texel_check"];
+  EXPECT_EQ(c4["strata"]["edge"]["lines"].get<int>() + c4["strata"]["interior"]["lines"].get<int>(),
+            3);
   EXPECT_EQ(c4["lines"], 3);
   EXPECT_EQ(c4["texels"], 3 * 64);
   EXPECT_EQ(c4["seed"], 1);
