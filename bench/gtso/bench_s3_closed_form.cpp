@@ -34,7 +34,7 @@ void print(const char* name, const ClosedFormErrors& e) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int lobes = 1024, perLobe = 32, cells = 48, testLobes = 1024, threads = 2;
+  int lobes = 2048, perLobe = 32, cells = 48, testLobes = 1024, threads = 2;
   bool cold = false, dump = false;
   for (int i = 1; i < argc; ++i) {
     const bool value = i + 1 < argc;

@@ -41,7 +41,8 @@ struct S3ClosedFormFit {
   int points = 0, iterations = 0;
   bool converged = false;
   // Flatness: standard errors sqrt(diag((J^T J)^-1) * 2 objective / (points - coefficients)),
-  // empty if the covariance is rank deficient; and the objective at the float-rounded k.
+  // empty if J^T J is rank deficient (reciprocal condition < 1e-14); and the objective at the
+  // float-rounded k.
   std::vector<double> standard_errors;
   double objective_float_k = 0.0;
 };
