@@ -25,8 +25,8 @@
 #include "gtso/cone_fit.h"
 #include "gtso/gtso_integrator.h"
 #include "gtso/gtso_tables.h"
-#include "gtso/texel_check.h"
 #include "gtso/s3_closed_form.h"
+#include "gtso/texel_check.h"
 
 namespace gtbake {
 
