@@ -8,26 +8,28 @@
 //   scene-level band (fit.json scene_jackknife): max SE of G 0.018538118943040763 at A = 0.3, rho = 0.9; weighting pixel; scenes ["cavity","wedge","corner","spheres","wells","clutter","terrain"]
 //   shipped constants vs the band: consistent with the path-traced data at the scene-mix uncertainty: max |dG|/band 2.07 <= 2.45 (at A = 1.000, rho = 0.24)
 // gtso.json: version 2; roughness perceptual roughness r_p; GGX alpha = r_p^2; texel rule texel i holds the value at the inverse axis map of i/(N-1)
-//   gtso3d.f32: lobe-grid rectangles 18432, max |S - reference| not measured by this run (bench_gtso measures every texel: docs/gtso.md)
-//     end to end vs direct integration (max over seeds / mean RMS): BC4 uniform max/RMS 0.02838813721124256 / 0.0038363388819580915, stress 0.05099499151004727 / 0.005351251794629871
-//       R16 uniform max/RMS 0.01349235968308693 / 0.001107490545616628, stress 0.07000023051990445 / 0.0029027468832458487
-//       R8 uniform max/RMS 0.013129546210339127 / 0.0012635682624482498, stress 0.07003810927165921 / 0.0029572337920232995; recommended r8
-//   gtso4d.f32: lobe-grid rectangles 18432, max |S - reference| not measured by this run (bench_gtso measures every texel: docs/gtso.md)
-//     end to end vs direct integration (max over seeds / mean RMS): BC4 uniform max/RMS 0.027597940743475546 / 0.0034642763675197565, stress 0.6376898612761811 / 0.01395772052730663
-//       R16 uniform max/RMS 0.03289226371100484 / 0.001551735570240548, stress 0.6378877486968354 / 0.012965592641423997
-//       R8 uniform max/RMS 0.032810784161596884 / 0.0016281524553222225, stress 0.6369037356162385 / 0.012959570473730322; recommended r8
+//   gtso3d.f32: lobe-grid rectangles 18432, max |S - reference| over all texels not measured by this run; sampled texel check vs 16x reference: max 0.00013419255933622143, RMS 2.1792594496110903e-05 over 64 random lines, half at the theta_o ends (seed 1)
+//     end to end vs direct integration (max over seeds / mean RMS): BC4 uniform max/RMS 0.028074574767398275 / 0.0038532580763993413, stress 0.03479044182197205 / 0.005012706994365723
+//       R16 uniform max/RMS 0.00929098060472322 / 0.0008859963434816511, stress 0.02207649066099282 / 0.001868401727236426
+//       R8 uniform max/RMS 0.009276690168248947 / 0.001081596564477675, stress 0.022456231852856834 / 0.001968503571047124; recommended r8
+//   gtso4d.f32: lobe-grid rectangles 18432, max |S - reference| over all texels not measured by this run; sampled texel check vs 16x reference: max 9.128293268845233e-05, RMS 2.114641681267163e-05 over 16 random lines, half at the theta_o ends (seed 1)
+//     end to end vs direct integration (max over seeds / mean RMS): BC4 uniform max/RMS 0.02782637638367813 / 0.003255346758517744, stress 0.028534456296591904 / 0.0045640857358732355
+//       R16 uniform max/RMS 0.013027134723000933 / 0.0011310577511843688, stress 0.022062911792426254 / 0.0019132683478166159
+//       R8 uniform max/RMS 0.01382476407938521 / 0.0012374028911317622, stress 0.022059961362509872 / 0.001971969998310148; recommended r8
 // Cone aperture u = 0.0038868413670058656 from validate_gtso.json, 5% profile interval [3.59996463e-09, 0.158368991], convention cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2
 //   objective: least squares of S_cone(u) - path-traced S over every unmasked pixel and roughness r_p > 0 (Ceres, log10 u); interval: RMSE within 5% of the optimum
 //   data: {"dir":".","pixels":258048,"roughness":[0.1,0.25,0.4,0.6,0.8],"scenes":7,"specular_spp":64,"spp":384}
 //   RMSE at u, 0.01, 0.244: 0.1744998820634312, 0.1747803192306685, 0.18702967967751732; perceptual reading u^(r_p^2/2): {"rmse":0.16127628512121062,"rmse_u_0.01":0.17013146321633715,"rmse_u_0.244":0.1631238040888409,"samples":1290240,"u":0.12521345919056015,"u_interval":[0.011844113373852081,0.4168519550333447],"u_interval_open":[false,false]}
-//   diagnostic: u fitted to the 3D table (gtso.json) = 0.0001273083224487834
-//   errors of S_cone vs S3: {"fitted":{"max_abs":0.559653075881867,"rmse":0.16167459073534352,"samples":16384},"fitted_r_p_ge_0.3":{"max_abs":0.559653075881867,"rmse":0.19063594098941636,"samples":11600},"u_0.01":{"all":{"max_abs":0.6277197395174314,"rmse":0.16667415985692952,"samples":16384},"r_p_ge_0.3":{"max_abs":0.6277197395174314,"rmse":0.19567728301917192,"samples":11600}},"u_0.244":{"all":{"max_abs":0.7617666239637004,"rmse":0.20036514360479316,"samples":16384},"r_p_ge_0.3":{"max_abs":0.7617666239637004,"rmse":0.23440885816294643,"samples":11600}}}
-// BC4 vs the float tables (exact per-block optimum, D3D float decode): 3D RMSE 0.00573535979, max 0.066868145; 4D RMSE 0.0053232882, max 0.0989102647
+//   diagnostic: u fitted to the 3D table (gtso.json) = 4.7602524887379054e-05
+//   errors of S_cone vs S3: {"fitted":{"max_abs":0.5473435273195179,"rmse":0.15990236062089597,"samples":16384},"fitted_r_p_ge_0.3":{"max_abs":0.5473435273195179,"rmse":0.18939310189918915,"samples":11440},"u_0.01":{"all":{"max_abs":0.6437338195559165,"rmse":0.16610353610475018,"samples":16384},"r_p_ge_0.3":{"max_abs":0.6437338195559165,"rmse":0.19550936314035963,"samples":11440}},"u_0.244":{"all":{"max_abs":0.7806399813592345,"rmse":0.1998675971674599,"samples":16384},"r_p_ge_0.3":{"max_abs":0.7806399813592345,"rmse":0.23424442208325327,"samples":11440}}}
+// BC4 vs the float tables (exact per-block optimum, D3D float decode): 3D RMSE 0.00347189933, max 0.0482003093; 4D RMSE 0.00333391041, max 0.05927068
 // Roughness axes use perceptual roughness r_p, GGX alpha = r_p^2.
 // Texel i of an axis holds the inverse axis map of i/(N-1); lookups remap by half a
 // texel: u = (t*(N-1) + 0.5)/N. The 4D table is folded into a volume of depth
 // N_z*N_w (z_texel = w_slice*N_z + z) and sampled as two trilinear fetches + a lerp.
 // Textures: gtso3d.dds/.ktx2 (32x32x32) and gtso4d.dds/.ktx2 (32x32x1024), BC4_UNORM (or the _r16 / _r8 files), sampled with a linear, clamp-to-edge sampler.
+// Their layouts (export.json): GTSO_3D_LAYOUT / GTSO_4D_LAYOUT below take the table axes
+// (A, theta_o or beta, r_p) to texture (x, y, z).
 // The functions below the constants are src/export/runtime/gtso_lookup.shader verbatim.
 #ifndef GTBAKE_TABLES_INCLUDED
 #define GTBAKE_TABLES_INCLUDED
@@ -36,6 +38,8 @@
 #define GTSO_ATAN2(y, x) atan2(y, x)
 #define GTSO_TEXTURE Texture3D<float> tex, SamplerState linearClamp
 #define GTSO_SAMPLE(c) tex.SampleLevel(linearClamp, c, 0.0)
+#define GTSO_3D_LAYOUT(c) (c).yzx
+#define GTSO_4D_LAYOUT(c) (c).yzx
 
 // {slope, intercept}: a(rho) = x*rho + y; G = a*A^3 - b*A^2 + c*A (paper Eq. 10).
 static const float2 kMultiBounceA = float2(2.39798856, -0.361085325);
@@ -48,9 +52,26 @@ static const float3 kGtso3DSize = float3(32.0, 32.0, 32.0);
 static const float4 kGtso4DSize = float4(32.0, 32.0, 32.0, 32.0);
 // Axis constants (gtso_lookup.h).
 #define kGtsoPiF 3.14159274
-#define kGtsoSigmaScaleF 0.5
+#define kGtsoSigmaScaleF 1.0
 #define kGtsoSigmaFloorF 9.99999975e-06
-#define kGtsoThetaLinearF 0.5
+#define kGtsoSpanFloorF 0.150000006
+#define kGtsoThetaLobeScaleF 0.25
+#define kGtsoThetaLobeFloorF 0.00300000003
+#define kGtsoThetaLinearF 0.400000006
+#define kGtsoBetaLinearF 0.5
+
+// Closed-form S3 (gtsoS3ClosedForm): 9 sets of 10 polynomial coefficients (gtso.json closed_form).
+#define kGtsoS3ClosedFormAlphaFloorF 9.99999975e-05
+static const float kGtsoS3ClosedForm[90] = {
+    9.75488281, -3.31893015, -5.4086256, 5.54219675, -5.10556746, -0.989231586, -10.4967241, 10.9599924, -0.252841473, -0.631443501,
+    2.19622183, -0.0194718763, 3.25174546, -1.06119823, 1.02771831, -3.34319711, -1.13682652, -0.310314089, -1.09337938, -0.119492188,
+    3.44109178, -1.56064165, -2.23770547, 0.927638948, -1.09976244, 0.378174931, -3.47838044, 3.4230144, 0.557965994, -0.701816082,
+    0.283472896, 0.680386543, 0.744310319, -0.0592264794, -0.400082022, -0.506193638, -1.10519421, -0.0984669179, 0.117260106, 2.86761594,
+    -2.85528135, -4.31650352, 67.8226929, 0.86735791, 0.0178802796, -43.8099174, 4.59089279, 4.28756809, -61.6178131, -1.95824492,
+    0.615088463, 0.622007012, -0.395059735, 0.378987998, -0.509276152, 0.00545769883, -0.369843692, -0.437808722, -0.0257470421, 2.19508481,
+    37.9552612, -2.72996044, 2.13119602, -1.91041911, -0.29944858, -17.2145901, -74.5344543, 3.33769131, 2.82412887, 36.1882973,
+    -4.84618235, -8.22310925, 10.6116543, 1.69502711, 1.75196445, -8.2382803, 10.90553, 5.96062899, 2.71711373, -9.62756824,
+    0.288591772, 0.277522296, 2.96195149, 3.92612553, -3.25230289, -3.22887135, -1.23453319, 4.61708736, -5.63397074, 0.609188676};
 
 // GTSO lookups, cone model and multi-bounce for HLSL and GLSL: the shader port of
 // gtso_lookup.h (same axis maps, same half-texel remap and 4D fold; the texture unit does the
@@ -60,10 +81,13 @@ static const float4 kGtso4DSize = float4(32.0, 32.0, 32.0, 32.0);
 //
 // Needs before it: GTSO_VEC3, GTSO_ATAN2(y, x), GTSO_TEXTURE (parameter declaration of
 // one volume texture), GTSO_SAMPLE(coord) (its filtered value at coord), and the constants
-// kGtsoPiF, kGtsoSigmaScaleF, kGtsoSigmaFloorF, kGtsoThetaLinearF (the axis constants of
+// kGtsoPiF, kGtsoSigmaScaleF, kGtsoSigmaFloorF, kGtsoSpanFloorF, kGtsoThetaLobeScaleF,
+// kGtsoThetaLobeFloorF, kGtsoThetaLinearF, kGtsoBetaLinearF (the axis constants of
 // gtso_lookup.h, written by export from the same C++ constants), kGtso3DSize (float3),
 // kGtso4DSize (float4 as x, y, z, w), kConeApertureU and kMultiBounceA/B/C ({slope, intercept}
-// as float2, .x = slope).
+// as float2, .x = slope). GTSO_3D_LAYOUT(c) / GTSO_4D_LAYOUT(c): the swizzle taking the table
+// axes (A, theta_o or beta, r_p) to texture (x, y, z) in the layout export chose (gtso_lookup.h
+// GtsoLayout; e.g. (c).yzx puts theta_o and r_p in the BC4 block plane and A in depth).
 
 // asinh(x) for x >= 0 (HLSL has no asinh).
 float gtsoAsinh(float x) { return log(x + sqrt(x * x + 1.0)); }
@@ -73,24 +97,51 @@ float gtsoAlphaV(float A) {
   return GTSO_ATAN2(sqrt(a), sqrt(1.0 - a));
 }
 
+// The span of each side of the step (gtsoSpanAbove / gtsoSpanBelow of gtso_lookup.h).
+float gtsoSpanAbove(float s) {
+  float d = max(0.5 * kGtsoPiF - s, 0.0);
+  return sqrt(d * d + kGtsoSpanFloorF * kGtsoSpanFloorF);
+}
+float gtsoSpanBelow(float s) { return sqrt(s * s + kGtsoSpanFloorF * kGtsoSpanFloorF); }
+
 // alpha_v -> t on the step-warped A axis (step s, width sigma, step texel tS).
 float gtsoStepWarp(float alphaV, float s, float sigma, float tS) {
   if (alphaV >= s) {
-    float span = gtsoAsinh((0.5 * kGtsoPiF - s) / sigma);
-    return span > 0.0 ? tS + (1.0 - tS) * clamp(gtsoAsinh((alphaV - s) / sigma) / span, 0.0, 1.0)
-                      : tS;
+    float span = gtsoAsinh(gtsoSpanAbove(s) / sigma);
+    return tS + (1.0 - tS) * clamp(gtsoAsinh((alphaV - s) / sigma) / span, 0.0, 1.0);
   }
-  return tS - tS * clamp(gtsoAsinh((s - alphaV) / sigma) / gtsoAsinh(s / sigma), 0.0, 1.0);
+  return tS - tS * clamp(gtsoAsinh((s - alphaV) / sigma) / gtsoAsinh(gtsoSpanBelow(s) / sigma),
+                         0.0, 1.0);
 }
 
-float gtsoThetaWarp(float thetaO) {
-  float x = clamp(thetaO / (0.5 * kGtsoPiF), 0.0, 1.0);
-  return kGtsoThetaLinearF * x + (1.0 - kGtsoThetaLinearF) * (1.0 - sqrt(1.0 - x));
+// The lobe scale lambda of the theta_o and beta axes.
+float gtsoThetaLambda(float rp) { return kGtsoThetaLobeScaleF * rp * rp + kGtsoThetaLobeFloorF; }
+
+// theta_o axis, refined at normal view and at grazing on the scale lambda.
+float gtsoThetaWarp(float thetaO, float rp) {
+  float th = clamp(thetaO, 0.0, 0.5 * kGtsoPiF);
+  float lambda = gtsoThetaLambda(rp);
+  float L = gtsoAsinh(0.5 * kGtsoPiF / lambda);
+  float ends = (gtsoAsinh(th / lambda) - gtsoAsinh((0.5 * kGtsoPiF - th) / lambda) + L) / (2.0 * L);
+  return clamp(kGtsoThetaLinearF * th / (0.5 * kGtsoPiF) + (1.0 - kGtsoThetaLinearF) * ends, 0.0,
+               1.0);
 }
 
-float gtsoBetaWarp(float beta, float thetaO, float tB) {
-  if (beta >= thetaO) return clamp(tB + (1.0 - tB) * (beta - thetaO) / (0.5 * kGtsoPiF), 0.0, 1.0);
-  return tB * beta / thetaO;
+// F(beta) of the beta axis (refined at beta = 0 on the scale lambda).
+float gtsoBetaDensity(float beta, float rp) {
+  float lambda = gtsoThetaLambda(rp);
+  return kGtsoBetaLinearF * beta / (0.5 * kGtsoPiF) +
+         (1.0 - kGtsoBetaLinearF) * gtsoAsinh(beta / lambda) / gtsoAsinh(0.5 * kGtsoPiF / lambda);
+}
+
+// 4D beta axis over [0, theta_o + pi/2], split at beta = theta_o on texel tB.
+float gtsoBetaWarp(float beta, float thetaO, float rp, float tB) {
+  float b = max(beta, 0.0);
+  float fo = gtsoBetaDensity(thetaO, rp);
+  float f = gtsoBetaDensity(b, rp);
+  if (b < thetaO) return tB * f / fo;
+  float fe = gtsoBetaDensity(thetaO + 0.5 * kGtsoPiF, rp);
+  return clamp(tB + (1.0 - tB) * (f - fo) / (fe - fo), 0.0, 1.0);
 }
 
 float gtsoSigma(float rp) { return kGtsoSigmaScaleF * rp * rp + kGtsoSigmaFloorF; }
@@ -98,15 +149,20 @@ float gtsoSigma(float rp) { return kGtsoSigmaScaleF * rp * rp + kGtsoSigmaFloorF
 // Half-texel remap: t = 0 and t = 1 land on the centres of the first and last texels.
 float gtsoTexelRemap(float t, float n) { return (t * (n - 1.0) + 0.5) / n; }
 
-// 3D table coordinates: x = A (step-warped around alpha_v = theta_o), y = theta_o, z = r_p.
-GTSO_VEC3 gtso3DTexCoord(float A, float cosBeta, float rp) {
+// 3D table-axis coordinates (A step-warped around alpha_v = theta_o, theta_o, r_p), remapped.
+GTSO_VEC3 gtso3DAxisCoord(float A, float cosBeta, float rp) {
   float thetaO = acos(clamp(cosBeta, 0.0, 1.0));
   float r = clamp(rp, 0.0, 1.0);
   float tS = floor((kGtso3DSize.x - 1.0) * 0.5) / (kGtso3DSize.x - 1.0);
   float tA = gtsoStepWarp(gtsoAlphaV(A), thetaO, gtsoSigma(r), tS);
   return GTSO_VEC3(gtsoTexelRemap(tA, kGtso3DSize.x),
-                     gtsoTexelRemap(gtsoThetaWarp(thetaO), kGtso3DSize.y),
+                     gtsoTexelRemap(gtsoThetaWarp(thetaO, r), kGtso3DSize.y),
                      gtsoTexelRemap(sqrt(r), kGtso3DSize.z));
+}
+
+// The 3D volume's texture coordinates: the table axes in the layout export chose.
+GTSO_VEC3 gtso3DTexCoord(float A, float cosBeta, float rp) {
+  return GTSO_3D_LAYOUT(gtso3DAxisCoord(A, cosBeta, rp));
 }
 
 // S3(A, beta, r_p), bent normal = n: one trilinear fetch.
@@ -123,13 +179,17 @@ float gtso4DSample(GTSO_TEXTURE, float A, float cosBeta, float rp, float cosThet
   float tS = floor((kGtso4DSize.x - 1.0) * 0.5) / (kGtso4DSize.x - 1.0);
   float tB = floor(kGtso4DSize.y / 3.0) / (kGtso4DSize.y - 1.0);
   float u = gtsoTexelRemap(gtsoStepWarp(gtsoAlphaV(A), beta, gtsoSigma(r), tS), kGtso4DSize.x);
-  float v = gtsoTexelRemap(gtsoBetaWarp(beta, thetaO, tB), kGtso4DSize.y);
-  float sw = gtsoThetaWarp(thetaO) * (kGtso4DSize.w - 1.0);
+  float v = gtsoTexelRemap(gtsoBetaWarp(beta, thetaO, r, tB), kGtso4DSize.y);
+  float sw = gtsoThetaWarp(thetaO, r) * (kGtso4DSize.w - 1.0);
   float s0 = min(floor(sw), kGtso4DSize.w - 2.0);
-  float zin = sqrt(r) * (kGtso4DSize.z - 1.0) + 0.5;
-  float depth = kGtso4DSize.z * kGtso4DSize.w;
-  float f0 = GTSO_SAMPLE(GTSO_VEC3(u, v, (s0 * kGtso4DSize.z + zin) / depth));
-  float f1 = GTSO_SAMPLE(GTSO_VEC3(u, v, ((s0 + 1.0) * kGtso4DSize.z + zin) / depth));
+  // Texel-space positions and extents of (A, beta, r_p) in the layout export chose; the axis on
+  // texture z folds with theta_o (z' = w N_z + z).
+  GTSO_VEC3 p = GTSO_4D_LAYOUT(GTSO_VEC3(u * kGtso4DSize.x, v * kGtso4DSize.y,
+                                         sqrt(r) * (kGtso4DSize.z - 1.0) + 0.5));
+  GTSO_VEC3 n = GTSO_4D_LAYOUT(GTSO_VEC3(kGtso4DSize.x, kGtso4DSize.y, kGtso4DSize.z));
+  float depth = n.z * kGtso4DSize.w;
+  float f0 = GTSO_SAMPLE(GTSO_VEC3(p.x / n.x, p.y / n.y, (s0 * n.z + p.z) / depth));
+  float f1 = GTSO_SAMPLE(GTSO_VEC3(p.x / n.x, p.y / n.y, ((s0 + 1.0) * n.z + p.z) / depth));
   return f0 + (f1 - f0) * (sw - s0);
 }
 
@@ -170,6 +230,59 @@ float gtsoConeModel(float A, float cosBeta, float rp) {
   float alphaS = 2.0 * asin(sqrt(0.5 * oneMinusCosS));
   return clamp(gtsoCapIntersection(alphaV, alphaS, beta) / (2.0 * kGtsoPiF * oneMinusCosS), 0.0,
                1.0);
+}
+
+// ---- closed-form S3, no sampler (gtso_lookup.h gtsoS3ClosedForm; docs/gtso.md) ----
+// Needs kGtsoS3ClosedForm (float[90]: 9 sets of 10 polynomial coefficients, fitted by
+// `gtbake gtso`) and kGtsoS3ClosedFormAlphaFloorF. S = (1 - w) L(z) + w L(p_t d) in the log-odds
+// u = log(A / (1 - A)) / 2 around the lobe's median u_m; exactly 0 at A = 0 and 1 at A = 1.
+float gtsoLogistic(float z) {
+  if (z < 0.0) {
+    float e = exp(z);
+    return e / (1.0 + e);
+  }
+  return 1.0 / (1.0 + exp(-z));
+}
+
+// cosBeta = cos theta_o = n.wr (bent normal taken as n, like gtso3DSample), rp perceptual
+// roughness (alpha = rp^2).
+float gtsoS3ClosedForm(float A, float cosBeta, float rp) {
+  float mu = clamp(cosBeta, 0.0, 1.0);
+  float r = clamp(rp, 0.0, 1.0);
+  float alpha = r * r + kGtsoS3ClosedFormAlphaFloorF;
+  float mu2 = mu * mu;
+  float sin2 = 1.0 - mu * mu;
+  float h = mu * sqrt(sin2) / alpha;  // sin(2 theta_o) / (2 alpha)
+  float m = sqrt(mu);
+  float q = h / (1.0 + h);
+  float b[10];
+  b[0] = 1.0;
+  b[1] = m;
+  b[2] = r;
+  b[3] = m * r;
+  b[4] = m * m;
+  b[5] = r * r;
+  b[6] = q;
+  b[7] = q * m;
+  b[8] = q * r;
+  b[9] = q * q;
+  float p[9];
+  for (int s = 0; s < 9; ++s) {
+    float sum = kGtsoS3ClosedForm[s * 10] * b[0];
+    for (int i = 1; i < 10; ++i) sum = sum + kGtsoS3ClosedForm[s * 10 + i] * b[i];
+    p[s] = sum;
+  }
+  if (!(A > 0.0)) return 0.0;
+  if (!(A < 1.0)) return 1.0;
+  float a = alpha * alpha * exp(p[0]);
+  float bb = alpha * alpha * exp(p[1]);
+  float median = 0.5 * log((sin2 + a * mu2) / (mu2 + bb * sin2)) + alpha * p[2];
+  float lo0 = exp(p[3]), lo1 = h * exp(-p[4]);
+  float hi0 = exp(p[5]), hi1 = h * exp(-p[6]);
+  float d = 0.5 * log(A / (1.0 - A)) - median;
+  float z = d < 0.0 ? d * sqrt(lo0 * lo0 + lo1 * lo1) : d * sqrt(hi0 * hi0 + hi1 * hi1);
+  float w = gtsoLogistic(p[7]);
+  return (1.0 - w) * gtsoLogistic(z) + w * gtsoLogistic(d * exp(p[8]));
 }
 
 // gtsoConeModel takes perceptual roughness rp (HDRP); this one the GGX width alpha = rp^2
