@@ -95,10 +95,12 @@ double lastDigitUnit(const std::string& token) {
   return std::pow(10.0, exponent - decimals);
 }
 
-// Keys whose values measure the run (time, speed, machine, ray counts), not its results. Ray
-// counts are exact on one machine but move by a few rays with another CPU's Embree kernels.
+// Keys whose values measure the run (time, speed, machine, ray counts), not its results: the
+// names above and every "<stage>_s" (seconds: bake_s, fit_s, encode_s, ...). Ray counts are exact
+// on one machine but move by a few rays with another CPU's Embree kernels.
 bool isVolatileKey(const std::string& key) {
-  static const std::regex kPattern(".*(seconds|per_second|timing|threads|elapsed|duration).*|rays");
+  static const std::regex kPattern(
+      ".*(seconds|per_second|timing|threads|elapsed|duration).*|rays|[a-z0-9_]+_s");
   return std::regex_match(key, kPattern);
 }
 
