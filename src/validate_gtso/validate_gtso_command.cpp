@@ -135,7 +135,7 @@ std::vector<std::vector<Method>> rank(const Tables& t, const std::vector<Method>
 
 // Per scene one RGB image: a row per roughness of panels truth | S₃ | S₄ | cone | |S₄ − truth|.
 void writeSceneImages(const SpecularSweep& sweep, const std::vector<SpecularSample>& samples,
-                      const std::vector<std::vector<float>>& values, const fs::path& dir) {
+                      const std::vector<std::vector<float>>& values, OutputSet& output) {
   constexpr int kPanels = 5;
   for (std::size_t sc = 0; sc < sweep.scenes.size(); ++sc) {
     const SpecularScene& scene = sweep.scenes[sc];
@@ -164,7 +164,8 @@ void writeSceneImages(const SpecularSweep& sweep, const std::vector<SpecularSamp
       const float err = std::abs(panel_values[2] - panel_values[0]);
       put(s.roughness, 4, s.pixel, toViridis8({err}, 0.0f, kErrorMapMax).data());
     }
-    writePng(dir / ("validate_gtso_" + scene.name + ".png"), kPanels * w, rows * h, 3, rgb);
+    output.add("report/validate_gtso_" + scene.name + ".png",
+               encodePng(kPanels * w, rows * h, 3, rgb));
   }
 }
 
@@ -181,7 +182,7 @@ std::string intervalText(const UFit& f) {
 
 void writePage(const SpecularSweep& sweep, const Tables& t, const std::vector<Method>& methods,
                const std::vector<std::vector<Method>>& ranking, const UFits& spec,
-               const UFits& perceptual, const fs::path& dir) {
+               const UFits& perceptual, OutputSet& output) {
   std::ostringstream o;
   o << "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>gtbake validate-gtso</title>"
        "<style>body{font-family:sans-serif;max-width:1100px;margin:1em auto}table{border-"
@@ -250,7 +251,7 @@ void writePage(const SpecularSweep& sweep, const Tables& t, const std::vector<Me
       << scene.name << "\">\n";
   }
   o << "</body></html>\n";
-  writeFileAtomically(dir / "validate_gtso.html", o.str());
+  output.add("report/validate_gtso.html", o.str());
 }
 
 void printSummary(const SpecularSweep& sweep, std::size_t pixels, const Tables& t,
@@ -412,12 +413,12 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   json["timings"] = {{"seconds", seconds}};
 
-  const fs::path report = out / "report";
-  ensureDirectory(report);
-  writeSceneImages(sweep, samples, values, report);
-  writePage(sweep, t, methods, ranking, spec, perceptual, report);
+  // The page and its images are part of the set (report/ beside validate_gtso.json): a failed
+  // run leaves the previous page with the previous JSON.
   const fs::path json_path = out / "validate_gtso.json";
   OutputSet output(out, "validate_gtso");  // export requires and verifies it
+  writeSceneImages(sweep, samples, values, output);
+  writePage(sweep, t, methods, ranking, spec, perceptual, output);
   output.add(json_path.filename().string(), json.dump(2) + "\n");
   output.commit();
   printSummary(sweep, samples.size() / sweep.roughness.size(), t, methods, ranking, spec,

@@ -25,6 +25,8 @@
 #include <vector>
 
 #include "cli_harness.h"
+#include "common/atomic_file.h"
+#include "common/output_set.h"
 
 namespace gtbake::test {
 namespace {
@@ -236,6 +238,17 @@ TEST(Luts, FreshAllReproducesCommittedLuts) {
   const RunResult run = runGtbake("all --quiet --out " + fresh.path().string());
   ASSERT_EQ(run.exit_code, 0) << run.err;
   expectSameOutputs(committed, fresh.path());
+  // The HTML pages and their images belong to their commands' output sets, verified like the
+  // JSON beside them.
+  const std::pair<const char*, const char*> pages[] = {
+      {"fit", "report/index.html"},
+      {"validate_gtso", "report/validate_gtso.html"},
+      {"validate_gtso", "report/validate_gtso_cavity.png"}};
+  for (const auto& [command, page] : pages) {
+    const OutputManifest set = readOutputSet(fresh.path(), command);
+    ASSERT_NE(set.find(page), nullptr) << command << " " << page;
+    EXPECT_EQ(set.readVerified(page), readFile(fresh.path() / page));
+  }
 }
 
 // The tolerances accept what another machine's Embree does to luts/, and no more: a change of a
