@@ -231,18 +231,23 @@ T gtsoThetaWarp(T thetaO, T rp) {
   const T ends = (std::asinh(th / lambda) - std::asinh((halfPi - th) / lambda) + L) / (T(2) * L);
   return gtsoClamp01(w * th / halfPi + (T(1) - w) * ends);
 }
+// The x in [lo, hi] with warp(x) = t for a strictly increasing warp: bisection until the
+// interval no longer splits in T (the bake's inverse of the theta_o and beta axes).
+template <class T, class Warp>
+T gtsoBisect(T lo, T hi, T t, const Warp& warp) {
+  for (int k = 0; k < 200; ++k) {
+    const T mid = T(0.5) * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    (warp(mid) < t ? lo : hi) = mid;
+  }
+  return T(0.5) * (lo + hi);
+}
 template <class T>
 T gtsoThetaUnwarp(T t, T rp) {
   const T halfPi = T(kGtsoPi / 2);
   if (t <= T(0)) return T(0);
   if (t >= T(1)) return halfPi;
-  T lo = T(0), hi = halfPi;
-  for (int k = 0; k < 200 && hi - lo > T(0); ++k) {
-    const T mid = T(0.5) * (lo + hi);
-    if (mid <= lo || mid >= hi) break;
-    (gtsoThetaWarp(mid, rp) < t ? lo : hi) = mid;
-  }
-  return T(0.5) * (lo + hi);
+  return gtsoBisect(T(0), halfPi, t, [rp](T x) { return gtsoThetaWarp(x, rp); });
 }
 // 4D beta axis over [0, theta_o + pi/2] (bent normals above the horizon), refined at beta = 0
 // (b on the reflection vector) on the lobe scale lambda, split at beta = theta_o (b = n) on
@@ -273,12 +278,7 @@ T gtsoBetaUnwarp(T t, T thetaO, T rp, T tB) {
   T hi = t < tB ? thetaO : thetaO + T(kGtsoPi / 2);
   if (t <= T(0)) return T(0);
   if (t >= T(1)) return hi;
-  for (int k = 0; k < 200; ++k) {
-    const T mid = T(0.5) * (lo + hi);
-    if (mid <= lo || mid >= hi) break;
-    (gtsoBetaWarp(mid, thetaO, rp, tB) < t ? lo : hi) = mid;
-  }
-  return T(0.5) * (lo + hi);
+  return gtsoBisect(lo, hi, t, [&](T x) { return gtsoBetaWarp(x, thetaO, rp, tB); });
 }
 
 static_assert(kGtsoRoughPower == 0.5, "gtsoRoughWarp evaluates rp^kGtsoRoughPower as a sqrt");
