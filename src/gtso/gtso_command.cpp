@@ -1,4 +1,4 @@
-// `gtbake gtso`: bakes S3 and S4 (SPEC §1.4) on the warped axes of export/runtime/gtso_lookup.h,
+// `gtbake gtso`: bakes S3 and S4 (SPEC §1.4) on the warped axes of runtime/gtso_runtime.h,
 // measures what the runtime reads (float32, BC4, R16, R8 through the shipped lookup code) against
 // direct integration at random and stress points over several seeds, fits the cone-aperture
 // constant u, and writes gtso3d.f32, gtso4d.f32, gtso.json and PNG previews. See docs/gtso.md.
@@ -21,12 +21,12 @@
 #include "common/output_set.h"
 #include "common/progress.h"
 #include "common/threads.h"
-#include "export/runtime/gtso_lookup.h"
 #include "gtso/cone_fit.h"
 #include "gtso/gtso_integrator.h"
 #include "gtso/gtso_tables.h"
 #include "gtso/s3_closed_form.h"
 #include "gtso/texel_check.h"
+#include "runtime/gtso_runtime.h"
 
 namespace gtbake {
 
@@ -34,7 +34,7 @@ namespace {
 
 using gtso::ErrorStats;
 using gtso::Table;
-using gtso::TexelFormat;
+
 using Json = nlohmann::json;
 
 constexpr int kPointsPerLobe = 16;     // (A, beta) points per random lobe of the error sets
@@ -192,11 +192,11 @@ EndToEnd measureEndToEnd(const Table& s3, const Table& s4, const GtsoOptions& o,
     for (std::size_t f = 0; f < encoded.size(); ++f) {
       const Json us = seedSummary(uniform[f], kFirstReportSeed);
       const Json ss = seedSummary(stress[f], kFirstReportSeed);
-      formats[gtso::formatName(encoded[f].format)] = {{"bytes", encoded[f].bytes.size()},
-                                                      {"texel_max_error", encoded[f].texel_max},
-                                                      {"texel_rms_error", encoded[f].texel_rms},
-                                                      {"uniform", us},
-                                                      {"stress", ss}};
+      formats[texelFormatName(encoded[f].format)] = {{"bytes", encoded[f].bytes.size()},
+                                                     {"texel_max_error", encoded[f].texel_max},
+                                                     {"texel_rms_error", encoded[f].texel_rms},
+                                                     {"uniform", us},
+                                                     {"stress", ss}};
       auto within = [](const Json& a, const Json& b, const char* k) {
         return a[k].get<double>() <= kRecommendRatio * b[k].get<double>();
       };
@@ -205,7 +205,7 @@ EndToEnd measureEndToEnd(const Table& s3, const Table& s4, const GtsoOptions& o,
       if (ok && encoded[f].bytes.size() < encoded[best].bytes.size()) best = f;
     }
     j[key] = {{"formats", formats},
-              {"recommended", gtso::formatName(encoded[best].format)},
+              {"recommended", texelFormatName(encoded[best].format)},
               {"bars", {{"uniform_max", kUniformBar[t]}, {"stress_max", kStressBar[t]}}}};
   }
   j["recommendation_rule"] =
@@ -502,8 +502,8 @@ GtsoResult runGtso(const GtsoOptions& options) {
       const Json& fm = e2e.json[key]["formats"];
       std::printf("gtso: %s end to end (max over %d seeds / mean RMS):", key, options.error_seeds);
       for (TexelFormat f : kFormats) {
-        const Json& u = fm[gtso::formatName(f)]["uniform"];
-        std::printf(" %s %.4f/%.5f", gtso::formatName(f), u["max"].get<double>(),
+        const Json& u = fm[texelFormatName(f)]["uniform"];
+        std::printf(" %s %.4f/%.5f", texelFormatName(f), u["max"].get<double>(),
                     u["rms"].get<double>());
       }
       std::printf("; recommended %s\n", e2e.json[key]["recommended"].get<std::string>().c_str());

@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "common/error.h"
-#include "export/runtime/gtso_lookup.h"
 #include "gtso/cone_intersection.h"
+#include "runtime/gtso_runtime.h"
 
 namespace gtbake {
 

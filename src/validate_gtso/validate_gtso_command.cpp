@@ -304,8 +304,7 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   const fs::path out = options.out.empty() ? options.luts : options.out;
   // Read everything before writing anything.
   const SpecularSweep sweep = readSpecularSweep(options.sweep);
-  const TablesLookups tables =
-      makeTablesLookups(options.luts, options.encode_bc4, options.progress, options.layouts.get());
+  const TablesLookups tables = makeTablesLookups(options.luts);
   const std::vector<SpecularSample> samples = gatherSamples(sweep);
 
   const UFits spec = fitConeU(samples, false);

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "common/error.h"
-#include "export/bc4_block.h"
-#include "export/bc4_encoder.h"
+#include "texture/bc4_block.h"
+#include "texture/bc4_encoder.h"
 
 namespace gtbake {
 namespace {

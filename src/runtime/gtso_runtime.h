@@ -5,7 +5,7 @@
 // This file is the single C++ definition of the table axes: `gtbake gtso` bakes texel i of each
 // axis at the inverse map of i/(N-1), the lookups here apply the forward map, and `gtbake export`
 // copies this file verbatim into the generated gtbake_tables.h (so the shipped header carries
-// exactly this tested code). gtso_lookup.glsl / .hlsl are the shader ports, executed against
+// exactly this tested code). gtso_runtime.shader is the HLSL/GLSL port, executed against
 // this file by tests/shader. Self-contained C++17 (<cmath>, <cstdint>), namespace gtbake.
 //
 // Inputs: A (ambient occlusion, cos(alpha_v) = sqrt(1 - A), paper Eq. 18), cosBeta (cosine of the

@@ -1,4 +1,4 @@
-#include "export/bc4_layout.h"
+#include "encode/bc4_layout.h"
 
 #include <tbb/parallel_for.h>
 
@@ -54,16 +54,6 @@ Stats layoutLookupError(const GtsoTable& t, const LayoutChoice& c, const GtsoLay
   }
   s.rms = std::sqrt(s.rms / static_cast<double>(std::max<std::size_t>(err.size(), 1)));
   return s;
-}
-
-std::vector<std::uint64_t> toBlocks(const std::vector<std::uint8_t>& bytes) {
-  std::vector<std::uint64_t> blocks(bytes.size() / kBc4BlockBytes, 0);
-  for (std::size_t b = 0; b < blocks.size(); ++b) {
-    for (int i = 0; i < kBc4BlockBytes; ++i) {
-      blocks[b] |= static_cast<std::uint64_t>(bytes[kBc4BlockBytes * b + i]) << (8 * i);
-    }
-  }
-  return blocks;
 }
 
 nlohmann::json layoutJson(int dims, const GtsoLayout& l) {
@@ -162,7 +152,7 @@ LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const G
     c.texels = permuteToLayout(t, l);
     c.bc4 =
         encodeBc4Volume(encoder, c.texels.data(), c.volume[0], c.volume[1], c.volume[2], progress);
-    const std::vector<std::uint64_t> blocks = toBlocks(c.bc4.bytes);
+    const std::vector<std::uint64_t> blocks = bc4BlockWords(c.bc4.bytes);
     LayoutCandidate k;
     k.layout = l;
     const Stats su = layoutLookupError(t, c, l, blocks, uniform);

@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "common/progress.h"
-#include "export/bc4_block.h"
+#include "texture/bc4_block.h"
 
 namespace gtbake {
 

@@ -1,4 +1,4 @@
-#include "export/bc4_encoder.h"
+#include "texture/bc4_encoder.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
