@@ -150,8 +150,21 @@ LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const G
     c.layout = l;
     c.volume = layoutVolume(t, l);
     c.texels = permuteToLayout(t, l);
-    c.bc4 =
-        encodeBc4Volume(encoder, c.texels.data(), c.volume[0], c.volume[1], c.volume[2], progress);
+    // An x/y swap of a candidate already encoded holds the same blocks transposed.
+    const LayoutChoice* swap = nullptr;
+    for (const LayoutChoice& e : encoded) {
+      if (e.layout.axis[0] == l.axis[1] && e.layout.axis[1] == l.axis[0] &&
+          e.layout.axis[2] == l.axis[2]) {
+        swap = &e;
+      }
+    }
+    if (swap) {
+      c.bc4 = swapBc4VolumeXY(swap->bc4, c.texels.data(), c.volume[0], c.volume[1], c.volume[2]);
+      if (progress) progress->add(c.texels.size() / kBc4BlockTexels);
+    } else {
+      c.bc4 = encodeBc4Volume(encoder, c.texels.data(), c.volume[0], c.volume[1], c.volume[2],
+                              progress);
+    }
     const std::vector<std::uint64_t> blocks = bc4BlockWords(c.bc4.bytes);
     LayoutCandidate k;
     k.layout = l;
