@@ -1,5 +1,6 @@
 // The inputs of `gtbake export`: fit.json from `gtbake fit` and the directory of `gtbake gtso`
-// (SPEC §1.3–§1.5), read and validated into plain structs. Every problem is one gtbake::Error line.
+// (docs/fit.md §1–§1.5), read and validated into plain structs. Every problem is one gtbake::Error
+// line.
 #pragma once
 
 #include <array>

@@ -1,4 +1,4 @@
-// `gtbake gtso`: bakes S3 and S4 (SPEC §1.4) on the warped axes of runtime/gtso_runtime.h,
+// `gtbake gtso`: bakes S3 and S4 (docs/gtso.md §1) on the warped axes of runtime/gtso_runtime.h,
 // measures what the runtime reads (float32, BC4, R16, R8 through the shipped lookup code) against
 // direct integration at random and stress points over several seeds, fits the cone-aperture
 // constant u, and writes gtso3d.f32, gtso4d.f32, gtso.json and PNG previews. See docs/gtso.md.
@@ -48,7 +48,7 @@ constexpr double kUludagU = 0.244;  // Uludag 2014, quoted in Appendix B
 constexpr int kPreviewScale = 8;    // PNG pixels per texel
 constexpr TexelFormat kFormats[] = {TexelFormat::kFloat32, TexelFormat::kBc4, TexelFormat::kR16,
                                     TexelFormat::kR8};
-// SPEC §3 / issue 12 bars for what the runtime reads: uniform max, stress max (3D, 4D).
+// The bars of docs/gtso.md §3a for what the runtime reads: uniform max, stress max (3D, 4D).
 constexpr double kUniformBar[2] = {0.03, 0.06};
 constexpr double kStressBar[2] = {0.05, 0.10};
 constexpr double kRecommendRatio = 1.5;  // a format's error vs float32's for the recommendation
@@ -362,7 +362,7 @@ void writeSlice(OutputSet& output, const std::string& name, const std::vector<fl
   output.add(name, encodePng(w, w, 3, toViridis8(img, 0.f, 1.f)));
 }
 
-// Bounds on a bake's cost (issue 9: --samples and --size were unbounded). The time estimate
+// Bounds on a bake's cost (docs/limits.md "Bounded work and memory"). The time estimate
 // scales the measured default bake
 // (size 32, 96 cells: 9.1 s on 2 cores, docs/gtso.md) by size^4 and cells^2, and the memory
 // estimate is three float copies of the 4D table.

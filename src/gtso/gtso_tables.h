@@ -2,7 +2,7 @@
 // texel formats an engine reads (float32, BC4_UNORM, R16_UNORM, R8_UNORM), and the end-to-end
 // error of what the runtime reads against direct integration at random and stress points.
 //
-// Axes and texel order (SPEC §1.4): x = A (step-warped), y = beta (3D: theta_o), z = r_p,
+// Axes and texel order (docs/gtso.md §1): x = A (step-warped), y = beta (3D: theta_o), z = r_p,
 // w = theta_o (4D), x fastest; the 4D table is folded into a volume of depth N_z * N_w. The axis
 // maps themselves live in gtso_runtime.h (one definition for bake, lookup and generated code).
 #pragma once

@@ -1,4 +1,4 @@
-// GTSO runtime lookup (SPEC §1.4-1.5): the axis warps of the 3D and 4D tables and the texture
+// GTSO runtime lookup (docs/gtso.md §1-1.5): the axis warps of the 3D and 4D tables and the texture
 // reads a shader performs (BC4 decode, half-texel remap, trilinear filter, 4D fold), for float32,
 // BC4_UNORM, R16_UNORM and R8_UNORM texels; the cone-to-cone model and the multi-bounce fit.
 //

@@ -1,4 +1,5 @@
-// DDS and KTX2 containers for BC4_UNORM, R16_UNORM and R8_UNORM volume textures (SPEC §1.5).
+// DDS and KTX2 containers for BC4_UNORM, R16_UNORM and R8_UNORM volume textures (docs/export.md
+// §2).
 //
 // Both files hold one mip level of a width × height × depth volume in the texture's memory
 // order: BC4 blocks by z slices, in each slice rows of blocks top to bottom, blocks left to right

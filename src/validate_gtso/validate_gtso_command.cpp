@@ -226,7 +226,7 @@ void writePage(const SpecularSweep& sweep, const Tables& t, const std::vector<Me
       << "</td><td>" << intervalText(f) << "</td><td>" << fmt("%.4f", f.rmse) << "</td><td>"
       << fmt("%.4f", f.rmse_paper) << "</td><td>" << fmt("%.4f", f.rmse_uludag) << "</td></tr>\n";
   };
-  fitRow("u^(alpha^2/2), alpha = r_p^2 (SPEC), all r_p", spec.all);
+  fitRow("u^(alpha^2/2), alpha = r_p^2 (docs/gtso.md §1), all r_p", spec.all);
   fitRow("u^(alpha^2/2), r_p &ge; 0.3", spec.rp_ge_0_3);
   fitRow("u^(r_p^2/2) (perceptual), all r_p", perceptual.all);
   fitRow("u^(r_p^2/2), r_p &ge; 0.3", perceptual.rp_ge_0_3);

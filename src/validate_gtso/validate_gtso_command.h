@@ -1,6 +1,6 @@
-// `gtbake validate-gtso` (SPEC §1.4, §2; docs/validate_gtso.md): scores the shipped GTSO tables,
-// the cone-to-cone model and the baselines an engine would otherwise use against the sweep's
-// path-traced specular occlusion, and fits the cone-aperture constant u there.
+// `gtbake validate-gtso` (docs/gtso.md §1, docs/index.md "Pipeline"; docs/validate_gtso.md): scores
+// the shipped GTSO tables, the cone-to-cone model and the baselines an engine would otherwise use
+// against the sweep's path-traced specular occlusion, and fits the cone-aperture constant u there.
 #pragma once
 
 #include <filesystem>
@@ -17,7 +17,7 @@ struct ValidateGtsoOptions {
 
 struct ValidateGtsoResult {
   std::filesystem::path json;
-  double u = 0.0;  // fitted, SPEC convention
+  double u = 0.0;  // fitted, cos αs = u^(α²/2) with α = r_p² (docs/gtso.md §1)
   double u_low = 0.0;
   double u_high = 0.0;
   double seconds = 0.0;

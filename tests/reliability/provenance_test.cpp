@@ -1,6 +1,6 @@
-// Output sets end to end (issue 9): sweep, fit, gtso and export commit whole sets; readers verify
-// them against their manifests and check EXR provenance against sweep.json; hostile EXR headers
-// and sweep.json/gtso.json entries are refused before any large allocation.
+// Output sets end to end (docs/limits.md "Output sets"): sweep, fit, gtso and export commit whole
+// sets; readers verify them against their manifests and check EXR provenance against sweep.json;
+// hostile EXR headers and sweep.json/gtso.json entries are refused before any large allocation.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>

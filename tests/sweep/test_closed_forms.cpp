@@ -1,5 +1,5 @@
-// A, p_k and G against closed forms (SPEC §1.1; docs/sweep.md "Tests"). Each estimate must lie
-// within 3 standard errors of its closed form, the standard error taken from the multinomial
+// A, p_k and G against closed forms (docs/sweep.md §1; docs/sweep.md "Tests"). Each estimate must
+// lie within 3 standard errors of its closed form, the standard error taken from the multinomial
 // variance p(1 − p)/N of N independent walks (an upper bound: stratifying the first bounce only
 // lowers the variance). Where the mesh only approximates the curved surface, the closed form is
 // widened by the tessellation's effect, which each test derives exactly from the mesh.
