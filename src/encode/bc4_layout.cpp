@@ -15,7 +15,7 @@ namespace gtbake {
 
 namespace {
 
-constexpr int kPointsPerLobe = 16;  // as gtso's end-to-end sets
+using gtso::kPointsPerLobe;
 constexpr int kStressDivisor = 4;
 
 const char* axisName(int dims, int axis) {
@@ -114,79 +114,100 @@ std::string layoutSwizzle(const GtsoLayout& l) {
   return {xyz[l.axis[0]], xyz[l.axis[1]], xyz[l.axis[2]]};
 }
 
-LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const GtsoInput& gtso,
-                          const LayoutOptions& o, Progress* progress) {
-  const int dims = static_cast<int>(t.dims.size());
-  int cells = o.cells;
-  if (cells == 0) {
-    const auto& j = gtso.json;
-    cells = j.contains("integrator") && j["integrator"].contains("cells")
-                ? j["integrator"]["cells"].get<int>()
-                : gtso::kDefaultLobeCells;
-  }
+namespace {
+
+// The integrator cells of the exact S: the option, else gtso.json's, else the default.
+int exactCells(const GtsoInput& gtso, const LayoutOptions& o) {
+  if (o.cells != 0) return o.cells;
+  const auto& j = gtso.json;
+  return j.contains("integrator") && j["integrator"].contains("cells")
+             ? j["integrator"]["cells"].get<int>()
+             : gtso::kDefaultLobeCells;
+}
+
+// The candidates of the choice: every BC4 layout of the table, or the forced one.
+std::vector<GtsoLayout> chosenCandidates(const GtsoTable& t, const LayoutOptions& o) {
   std::vector<GtsoLayout> candidates = layoutCandidates(t);
-  if (o.forced) {
-    const GtsoLayout f = *o.forced;
-    if (std::find_if(candidates.begin(), candidates.end(), [&](const GtsoLayout& l) {
-          return l.axis[0] == f.axis[0] && l.axis[1] == f.axis[1] && l.axis[2] == f.axis[2];
-        }) == candidates.end()) {
-      throw Error("export: layout " + layoutSwizzle(f) + " is not a BC4 layout of " + t.file);
-    }
-    candidates = {f};
+  if (!o.forced) return candidates;
+  const GtsoLayout f = *o.forced;
+  if (std::find_if(candidates.begin(), candidates.end(), [&](const GtsoLayout& l) {
+        return l.axis[0] == f.axis[0] && l.axis[1] == f.axis[1] && l.axis[2] == f.axis[2];
+      }) == candidates.end()) {
+    throw Error("encode: layout " + layoutSwizzle(f) + " is not a BC4 layout of " + t.file);
   }
-  const int stressLobes = std::max(1, o.lobes / kStressDivisor);
-  const gtso::ErrorPoints uniform =
-      gtso::makeErrorPoints(dims, gtso::PointSet::kUniform, o.lobes, kPointsPerLobe, o.seed, cells);
-  const gtso::ErrorPoints stress = gtso::makeErrorPoints(dims, gtso::PointSet::kStress, stressLobes,
-                                                         kPointsPerLobe, o.seed, cells);
-  const gtso::ErrorPoints reportUniform = gtso::makeErrorPoints(
-      dims, gtso::PointSet::kUniform, o.lobes, kPointsPerLobe, o.report_seed, cells);
-  const gtso::ErrorPoints reportStress = gtso::makeErrorPoints(
-      dims, gtso::PointSet::kStress, stressLobes, kPointsPerLobe, o.report_seed, cells);
-  std::vector<LayoutCandidate> scores;
-  std::vector<LayoutChoice> encoded;
-  for (const GtsoLayout& l : candidates) {
-    LayoutChoice c;
-    c.layout = l;
-    c.volume = layoutVolume(t, l);
-    c.texels = permuteToLayout(t, l);
-    // An x/y swap of a candidate already encoded holds the same blocks transposed.
-    const LayoutChoice* swap = nullptr;
-    for (const LayoutChoice& e : encoded) {
-      if (e.layout.axis[0] == l.axis[1] && e.layout.axis[1] == l.axis[0] &&
-          e.layout.axis[2] == l.axis[2]) {
-        swap = &e;
-      }
+  return {f};
+}
+
+// The four point sets every candidate is scored on: the choice's seed and the report seed.
+struct LayoutPoints {
+  gtso::ErrorPoints uniform, stress, report_uniform, report_stress;
+  int stress_lobes = 0;
+};
+
+LayoutPoints makeLayoutPoints(int dims, const LayoutOptions& o, int cells) {
+  LayoutPoints p;
+  p.stress_lobes = std::max(1, o.lobes / kStressDivisor);
+  auto make = [&](gtso::PointSet set, int lobes, std::uint64_t seed) {
+    return gtso::makeErrorPoints(dims, set, lobes, kPointsPerLobe, seed, cells);
+  };
+  p.uniform = make(gtso::PointSet::kUniform, o.lobes, o.seed);
+  p.stress = make(gtso::PointSet::kStress, p.stress_lobes, o.seed);
+  p.report_uniform = make(gtso::PointSet::kUniform, o.lobes, o.report_seed);
+  p.report_stress = make(gtso::PointSet::kStress, p.stress_lobes, o.report_seed);
+  return p;
+}
+
+// One candidate's BC4 volume: an x/y swap of a candidate already encoded holds the same blocks
+// transposed; any other is encoded.
+LayoutChoice encodeCandidate(const Bc4Encoder& encoder, const GtsoTable& t, const GtsoLayout& l,
+                             const std::vector<LayoutChoice>& encoded, Progress* progress) {
+  LayoutChoice c;
+  c.layout = l;
+  c.volume = layoutVolume(t, l);
+  c.texels = permuteToLayout(t, l);
+  const LayoutChoice* swap = nullptr;
+  for (const LayoutChoice& e : encoded) {
+    if (e.layout.axis[0] == l.axis[1] && e.layout.axis[1] == l.axis[0] &&
+        e.layout.axis[2] == l.axis[2]) {
+      swap = &e;
     }
-    if (swap) {
-      c.bc4 = swapBc4VolumeXY(swap->bc4, c.texels.data(), c.volume[0], c.volume[1], c.volume[2]);
-      if (progress) progress->add(c.texels.size() / kBc4BlockTexels);
-    } else {
-      c.bc4 = encodeBc4Volume(encoder, c.texels.data(), c.volume[0], c.volume[1], c.volume[2],
-                              progress);
-    }
-    const std::vector<std::uint64_t> blocks = bc4BlockWords(c.bc4.bytes);
-    LayoutCandidate k;
-    k.layout = l;
-    const Stats su = layoutLookupError(t, c, l, blocks, uniform);
-    const Stats ss = layoutLookupError(t, c, l, blocks, stress);
-    k.uniform_rms = su.rms;
-    k.uniform_max = su.max;
-    k.stress_rms = ss.rms;
-    k.stress_max = ss.max;
-    const Stats ru = layoutLookupError(t, c, l, blocks, reportUniform);
-    const Stats rs = layoutLookupError(t, c, l, blocks, reportStress);
-    k.report_uniform_rms = ru.rms;
-    k.report_uniform_max = ru.max;
-    k.report_stress_rms = rs.rms;
-    k.report_stress_max = rs.max;
-    k.texel_rms = c.bc4.rmse;
-    k.texel_max = c.bc4.max_abs;
-    k.encode_seconds = c.bc4.seconds;
-    scores.push_back(k);
-    encoded.push_back(std::move(c));
   }
-  // The lowest uniform RMS; within kLayoutRmsTie of it the lowest uniform max; then the order.
+  if (swap) {
+    c.bc4 = swapBc4VolumeXY(swap->bc4, c.texels.data(), c.volume[0], c.volume[1], c.volume[2]);
+    if (progress) progress->add(c.texels.size() / kBc4BlockTexels);
+  } else {
+    c.bc4 =
+        encodeBc4Volume(encoder, c.texels.data(), c.volume[0], c.volume[1], c.volume[2], progress);
+  }
+  return c;
+}
+
+// The end-to-end errors of one encoded candidate on the four point sets.
+LayoutCandidate scoreCandidate(const GtsoTable& t, const LayoutChoice& c, const LayoutPoints& p) {
+  const std::vector<std::uint64_t> blocks = bc4BlockWords(c.bc4.bytes);
+  const GtsoLayout& l = c.layout;
+  LayoutCandidate k;
+  k.layout = l;
+  const Stats su = layoutLookupError(t, c, l, blocks, p.uniform);
+  const Stats ss = layoutLookupError(t, c, l, blocks, p.stress);
+  k.uniform_rms = su.rms;
+  k.uniform_max = su.max;
+  k.stress_rms = ss.rms;
+  k.stress_max = ss.max;
+  const Stats ru = layoutLookupError(t, c, l, blocks, p.report_uniform);
+  const Stats rs = layoutLookupError(t, c, l, blocks, p.report_stress);
+  k.report_uniform_rms = ru.rms;
+  k.report_uniform_max = ru.max;
+  k.report_stress_rms = rs.rms;
+  k.report_stress_max = rs.max;
+  k.texel_rms = c.bc4.rmse;
+  k.texel_max = c.bc4.max_abs;
+  k.encode_seconds = c.bc4.seconds;
+  return k;
+}
+
+// The lowest uniform RMS; within kLayoutRmsTie of it the lowest uniform max; then the order.
+int pickLayout(const std::vector<LayoutCandidate>& scores) {
   double lowest = HUGE_VAL;
   for (const LayoutCandidate& k : scores) lowest = std::min(lowest, k.uniform_rms);
   int chosen = -1;
@@ -195,6 +216,15 @@ LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const G
     if (k.uniform_rms > lowest * (1.0 + kLayoutRmsTie)) continue;
     if (chosen < 0 || k.uniform_max < scores[chosen].uniform_max) chosen = i;
   }
+  return chosen;
+}
+
+// encode.json layouts/<3d|4d>: the choice, the rule, every candidate and the points.
+nlohmann::json choiceJson(int dims, const LayoutChoice& out, const LayoutOptions& o,
+                          const LayoutPoints& p, int cells) {
+  const std::vector<LayoutCandidate>& scores = out.candidates;
+  const int chosen = out.chosen;
+  const int stressLobes = p.stress_lobes;
   nlohmann::json list = nlohmann::json::array();
   for (int i = 0; i < static_cast<int>(scores.size()); ++i) {
     const LayoutCandidate& k = scores[i];
@@ -209,11 +239,8 @@ LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const G
                     {"encode_s", k.encode_seconds},
                     {"chosen", i == chosen}});
   }
-  LayoutChoice out = std::move(encoded[chosen]);
-  out.candidates = std::move(scores);
-  out.chosen = chosen;
   const LayoutCandidate& c = out.candidates[chosen];
-  // The table-order layout (what export wrote before the choice), when it is a candidate.
+  // The table-order layout, when it is a candidate: the baseline the choice is compared with.
   const LayoutCandidate* identity = nullptr;
   for (const LayoutCandidate& k : out.candidates) {
     if (isIdentity(k.layout)) identity = &k;
@@ -221,33 +248,52 @@ LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const G
   auto ofIdentity = [&](double LayoutCandidate::*field) {
     return identity ? nlohmann::json(identity->*field) : nlohmann::json(nullptr);
   };
-  out.json = {
-      {"chosen", layoutJson(dims, out.layout)},
-      {"rule",
-       "lowest uniform RMS of |runtime BC4 lookup - exact S|; candidates within 1% of it "
-       "tie and the tie goes to the lowest uniform max, then to the earlier candidate"},
-      {"volume", {out.volume[0], out.volume[1], out.volume[2]}},
-      {"forced", o.forced != nullptr},
-      {"uniform_rms", c.uniform_rms},
-      {"uniform_max", c.uniform_max},
-      {"stress_rms", c.stress_rms},
-      {"stress_max", c.stress_max},
-      {"report_uniform_rms", c.report_uniform_rms},
-      {"report_uniform_max", c.report_uniform_max},
-      {"report_stress_max", c.report_stress_max},
-      {"identity_uniform_rms", ofIdentity(&LayoutCandidate::uniform_rms)},
-      {"identity_uniform_max", ofIdentity(&LayoutCandidate::uniform_max)},
-      {"identity_report_uniform_rms", ofIdentity(&LayoutCandidate::report_uniform_rms)},
-      {"identity_report_uniform_max", ofIdentity(&LayoutCandidate::report_uniform_max)},
-      {"identity_report_stress_max", ofIdentity(&LayoutCandidate::report_stress_max)},
-      {"candidates", list},
-      {"points",
-       {{"uniform", o.lobes * kPointsPerLobe},
-        {"stress", stressLobes * kPointsPerLobe},
-        {"seed", o.seed},
-        {"report_seed", o.report_seed},
-        {"exact_cells", cells},
-        {"generator", "gtso::makeErrorPoints (the distributions of gtso.json end_to_end)"}}}};
+  return {{"chosen", layoutJson(dims, out.layout)},
+          {"rule",
+           "lowest uniform RMS of |runtime BC4 lookup - exact S|; candidates within 1% of it "
+           "tie and the tie goes to the lowest uniform max, then to the earlier candidate"},
+          {"volume", {out.volume[0], out.volume[1], out.volume[2]}},
+          {"forced", o.forced != nullptr},
+          {"uniform_rms", c.uniform_rms},
+          {"uniform_max", c.uniform_max},
+          {"stress_rms", c.stress_rms},
+          {"stress_max", c.stress_max},
+          {"report_uniform_rms", c.report_uniform_rms},
+          {"report_uniform_max", c.report_uniform_max},
+          {"report_stress_max", c.report_stress_max},
+          {"identity_uniform_rms", ofIdentity(&LayoutCandidate::uniform_rms)},
+          {"identity_uniform_max", ofIdentity(&LayoutCandidate::uniform_max)},
+          {"identity_report_uniform_rms", ofIdentity(&LayoutCandidate::report_uniform_rms)},
+          {"identity_report_uniform_max", ofIdentity(&LayoutCandidate::report_uniform_max)},
+          {"identity_report_stress_max", ofIdentity(&LayoutCandidate::report_stress_max)},
+          {"candidates", list},
+          {"points",
+           {{"uniform", o.lobes * kPointsPerLobe},
+            {"stress", stressLobes * kPointsPerLobe},
+            {"seed", o.seed},
+            {"report_seed", o.report_seed},
+            {"exact_cells", cells},
+            {"generator", "gtso::makeErrorPoints (the distributions of gtso.json end_to_end)"}}}};
+}
+
+}  // namespace
+
+LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const GtsoInput& gtso,
+                          const LayoutOptions& o, Progress* progress) {
+  const int dims = static_cast<int>(t.dims.size());
+  const int cells = exactCells(gtso, o);
+  const LayoutPoints points = makeLayoutPoints(dims, o, cells);
+  std::vector<LayoutCandidate> scores;
+  std::vector<LayoutChoice> encoded;
+  for (const GtsoLayout& l : chosenCandidates(t, o)) {
+    encoded.push_back(encodeCandidate(encoder, t, l, encoded, progress));
+    scores.push_back(scoreCandidate(t, encoded.back(), points));
+  }
+  const int chosen = pickLayout(scores);
+  LayoutChoice out = std::move(encoded[chosen]);
+  out.candidates = std::move(scores);
+  out.chosen = chosen;
+  out.json = choiceJson(dims, out, o, points, cells);
   return out;
 }
 

@@ -37,7 +37,7 @@ using gtso::Table;
 
 using Json = nlohmann::json;
 
-constexpr int kPointsPerLobe = 16;     // (A, beta) points per random lobe of the error sets
+using gtso::kPointsPerLobe;
 constexpr int kStressLobeDivisor = 4;  // the stress set has a quarter of the uniform lobes
 // Seeds 1-3 chose the axis constants (bench_gtso_axes, docs/gtso.md §3); the report uses fresh
 // seeds from 10.

@@ -84,6 +84,7 @@ const char* pointSetName(PointSet s);
 // alpha_v uniform in [s - h, s + h] intersected with [0, pi/2], h = 6 alpha + 0.02 rad (3 widths
 // of ~2 alpha plus a floor), s = beta (3D: theta_o); 4D stress beta in [0, pi/2] (cos beta
 // uniform).
+inline constexpr int kPointsPerLobe = 16;  // points per random lobe of every end-to-end set
 struct ErrorPoints {
   std::vector<GtsoPoint> points;
   std::vector<double> exact;

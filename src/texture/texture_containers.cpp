@@ -156,14 +156,24 @@ std::vector<std::uint8_t> quantizeUnorm(const float* values, std::size_t count,
   return out;
 }
 
-std::vector<float> dequantizeUnorm(const std::vector<std::uint8_t>& texels, TexelFormat format) {
-  const std::uint32_t tb = texelBytes(format);
-  if (tb == 0) throw Error("dequantizeUnorm: only R16 and R8 are unorm formats");
-  std::vector<float> out(texels.size() / tb);
+std::vector<std::uint16_t> r16Words(const std::vector<std::uint8_t>& texels) {
+  std::vector<std::uint16_t> out(texels.size() / 2);
   for (std::size_t i = 0; i < out.size(); ++i) {
-    out[i] = tb == 2 ? static_cast<float>(texels[2 * i] | texels[2 * i + 1] << 8) / 65535.0f
-                     : static_cast<float>(texels[i]) / 255.0f;
+    out[i] = static_cast<std::uint16_t>(texels[2 * i] | texels[2 * i + 1] << 8);
   }
+  return out;
+}
+
+std::vector<float> dequantizeUnorm(const std::vector<std::uint8_t>& texels, TexelFormat format) {
+  if (format == TexelFormat::kR16) {
+    const std::vector<std::uint16_t> words = r16Words(texels);
+    std::vector<float> out(words.size());
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<float>(words[i]) / 65535.0f;
+    return out;
+  }
+  if (format != TexelFormat::kR8) throw Error("dequantizeUnorm: only R16 and R8 are unorm formats");
+  std::vector<float> out(texels.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<float>(texels[i]) / 255.0f;
   return out;
 }
 

@@ -28,6 +28,8 @@ struct VolumeImage {
 // R16_UNORM / R8_UNORM texels of float values: round(clamp(v, 0, 1) * (2^bits - 1)),
 // little-endian, same order as `values`.
 std::vector<std::uint8_t> quantizeUnorm(const float* values, std::size_t count, TexelFormat format);
+// R16 texels as little-endian 16-bit words (GtsoVolume's R16 texels).
+std::vector<std::uint16_t> r16Words(const std::vector<std::uint8_t>& texels);
 // The inverse read of R16 / R8 texels: q / (2^bits - 1) in float, as the runtime fetch decodes.
 std::vector<float> dequantizeUnorm(const std::vector<std::uint8_t>& texels, TexelFormat format);
 

@@ -57,10 +57,7 @@ class RuntimeTables final : public GtsoLookup {
         blocks_[k] = bc4BlockWords(*bytes);
         break;
       case TexelFormat::kR16:
-        r16_[k].resize(bytes->size() / 2);
-        for (std::size_t i = 0; i < r16_[k].size(); ++i) {
-          r16_[k][i] = static_cast<std::uint16_t>((*bytes)[2 * i] | (*bytes)[2 * i + 1] << 8);
-        }
+        r16_[k] = r16Words(*bytes);
         break;
       case TexelFormat::kR8:
         r8_[k] = *bytes;

@@ -3,13 +3,13 @@
 
 #include <cmath>
 
+#include "common/math_constants.h"
 #include "common/rng.h"
 #include "gtso/gtso_integrator.h"
 
 namespace gtbake::gtso {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kCells = 48;  // coarser than the default: these are invariants, not accuracy
 
 std::vector<double> aAxis(int n) {

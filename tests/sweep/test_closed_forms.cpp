@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "closed_form_scenes.h"
+#include "common/math_constants.h"
 #include "gtso/ggx.h"
 #include "scene/procedural_scenes.h"
 #include "sweep/escape_image.h"
@@ -20,8 +21,6 @@
 
 namespace gtbake {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 double binomialSe(double p, double n) {
   return std::sqrt(std::max(p * (1.0 - p), 0.0) / n);

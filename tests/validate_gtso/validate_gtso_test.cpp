@@ -12,6 +12,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/math_constants.h"
 #include "encode/bc4_layout.h"
 #include "encode/encode_command.h"
 #include "encode/shipped_volumes.h"
@@ -34,7 +35,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kPi = 3.14159265358979323846;
 // At a texel centre the trilinear filter returns that texel: the float lookup gives the float
 // table's value and the BC4 lookup the decoded DDS block's, for texels all over both tables (the
 // 4D fold included). The inputs are the texel's physical parameters (gtsoTexelPhysical, the
