@@ -130,12 +130,9 @@ struct EndToEnd {
 };
 
 // |runtime lookup - exact S| for every format at fresh uniform and stress points, several seeds.
-EndToEnd measureEndToEnd(const Table& s3, const Table& s4, const GtsoOptions& o, int cells,
-                         const std::string& exact) {
-  EndToEnd out;
-  const int stressLobes = std::max(1, o.error_lobes / kStressLobeDivisor);
-  Json j;
-  j["points"] = {
+// gtso.json end_to_end/points: the point sets and their distributions.
+Json endToEndPointsJson(const GtsoOptions& o, int stressLobes, const std::string& exact) {
+  return {
       {"uniform", o.error_lobes * kPointsPerLobe},
       {"stress", stressLobes * kPointsPerLobe},
       {"lobes_uniform", o.error_lobes},
@@ -152,6 +149,44 @@ EndToEnd measureEndToEnd(const Table& s3, const Table& s4, const GtsoOptions& o,
       {"stress_distribution",
        "half the lobes grazing (cos theta_o in [0, 0.1]); alpha_v uniform within 6 alpha + 0.02 "
        "rad of the mirror step alpha_v = beta (3D: theta_o); 4D beta <= pi/2"}};
+}
+
+// gtso.json end_to_end/<3d|4d>: every format's errors over the seeds and the recommendation.
+Json formatsJson(const std::vector<gtso::EncodedTable>& encoded,
+                 const std::vector<std::vector<ErrorStats>>& uniform,
+                 const std::vector<std::vector<ErrorStats>>& stress, int t) {
+  Json formats;
+  // Recommendation: the smallest format whose quantisation does not dominate: uniform max,
+  // uniform RMS and stress max each within 1.5x those of the float32 table.
+  const Json floatUniform = seedSummary(uniform[0], kFirstReportSeed);
+  const Json floatStress = seedSummary(stress[0], kFirstReportSeed);
+  std::size_t best = 0;
+  for (std::size_t f = 0; f < encoded.size(); ++f) {
+    const Json us = seedSummary(uniform[f], kFirstReportSeed);
+    const Json ss = seedSummary(stress[f], kFirstReportSeed);
+    formats[texelFormatName(encoded[f].format)] = {{"bytes", encoded[f].bytes.size()},
+                                                   {"texel_max_error", encoded[f].texel_max},
+                                                   {"texel_rms_error", encoded[f].texel_rms},
+                                                   {"uniform", us},
+                                                   {"stress", ss}};
+    auto within = [](const Json& a, const Json& b, const char* k) {
+      return a[k].get<double>() <= kRecommendRatio * b[k].get<double>();
+    };
+    const bool ok = within(us, floatUniform, "max") && within(us, floatUniform, "rms") &&
+                    within(ss, floatStress, "max");
+    if (ok && encoded[f].bytes.size() < encoded[best].bytes.size()) best = f;
+  }
+  return {{"formats", formats},
+          {"recommended", texelFormatName(encoded[best].format)},
+          {"bars", {{"uniform_max", kUniformBar[t]}, {"stress_max", kStressBar[t]}}}};
+}
+
+EndToEnd measureEndToEnd(const Table& s3, const Table& s4, const GtsoOptions& o, int cells,
+                         const std::string& exact) {
+  EndToEnd out;
+  const int stressLobes = std::max(1, o.error_lobes / kStressLobeDivisor);
+  Json j;
+  j["points"] = endToEndPointsJson(o, stressLobes, exact);
   Progress progress("gtso: end-to-end error", o.error_seeds, o.progress);
   std::vector<gtso::ErrorPointPair> uniformPoints, stressPoints;
   for (int s = 0; s < o.error_seeds; ++s) {
@@ -183,30 +218,7 @@ EndToEnd measureEndToEnd(const Table& s3, const Table& s4, const GtsoOptions& o,
         out.seeds.push_back(kFirstReportSeed + static_cast<std::uint64_t>(s));
       }
     }
-    Json formats;
-    // Recommendation: the smallest format whose quantisation does not dominate: uniform max,
-    // uniform RMS and stress max each within 1.5x those of the float32 table.
-    const Json floatUniform = seedSummary(uniform[0], kFirstReportSeed);
-    const Json floatStress = seedSummary(stress[0], kFirstReportSeed);
-    std::size_t best = 0;
-    for (std::size_t f = 0; f < encoded.size(); ++f) {
-      const Json us = seedSummary(uniform[f], kFirstReportSeed);
-      const Json ss = seedSummary(stress[f], kFirstReportSeed);
-      formats[texelFormatName(encoded[f].format)] = {{"bytes", encoded[f].bytes.size()},
-                                                     {"texel_max_error", encoded[f].texel_max},
-                                                     {"texel_rms_error", encoded[f].texel_rms},
-                                                     {"uniform", us},
-                                                     {"stress", ss}};
-      auto within = [](const Json& a, const Json& b, const char* k) {
-        return a[k].get<double>() <= kRecommendRatio * b[k].get<double>();
-      };
-      const bool ok = within(us, floatUniform, "max") && within(us, floatUniform, "rms") &&
-                      within(ss, floatStress, "max");
-      if (ok && encoded[f].bytes.size() < encoded[best].bytes.size()) best = f;
-    }
-    j[key] = {{"formats", formats},
-              {"recommended", texelFormatName(encoded[best].format)},
-              {"bars", {{"uniform_max", kUniformBar[t]}, {"stress_max", kStressBar[t]}}}};
+    j[key] = formatsJson(encoded, uniform, stress, t);
   }
   j["recommendation_rule"] =
       "smallest format whose uniform max, uniform RMS and stress max are each within 1.5x those of "

@@ -25,6 +25,36 @@ void banner(const char* stage, bool enabled) {
   if (enabled) std::fprintf(stderr, "\n== gtbake all: %s ==\n", stage);
 }
 
+// The seconds of the stages whose results carry no time of their own.
+struct StageTimes {
+  double scenes, fit, exporter, total;
+};
+
+void printSummary(const AllOptions& options, const SweepResult& swept, const FitResult& fitted,
+                  const GtsoResult& baked, const EncodeResult& encoded,
+                  const ValidateGtsoResult& validated, const StageTimes& times) {
+  std::printf("\ngtbake all: summary (%s)\n", options.out.c_str());
+  std::printf("  Equation 10      refit ± SE scenes (SE Monte Carlo)   paper     refit - paper\n");
+  for (size_t i = 0; i < 6; ++i) {
+    std::printf("  %-4s %16.4f ± %.4f (%.5f) %12.4f %+12.4f\n", kCoeffNames[i], fitted.linear[i],
+                fitted.scene_se[i], fitted.linear_se[i], kPaperCoeffs[i],
+                fitted.linear[i] - kPaperCoeffs[i]);
+  }
+  std::printf("  curve band       max SE of G %.4f; paper: %s\n", fitted.band_max,
+              fitted.verdict.c_str());
+  std::printf(
+      "  cone aperture u  %.3g, 5%% interval [%.3g, %.3g] vs path-traced S (paper: 0.01;"
+      " table fit %.3g; docs/validate_gtso.md)\n",
+      validated.u, validated.u_low, validated.u_high, baked.u);
+  std::printf("  BC4 3D table     RMSE %.2e  max %.2e\n", encoded.bc4_rmse_3d, encoded.bc4_max_3d);
+  std::printf("  BC4 4D table     RMSE %.2e  max %.2e\n", encoded.bc4_rmse_4d, encoded.bc4_max_4d);
+  std::printf(
+      "  time             scenes %.1f s, sweep %.1f s (%.1f Mrays/s), fit %.1f s, gtso %.1f s,"
+      " encode %.1f s, validate-gtso %.1f s, export %.1f s; total %.1f s\n",
+      times.scenes, swept.seconds, swept.seconds > 0 ? swept.rays / swept.seconds * 1e-6 : 0.0,
+      times.fit, baked.seconds, encoded.seconds, validated.seconds, times.exporter, times.total);
+}
+
 }  // namespace
 
 void runAll(const AllOptions& options) {
@@ -96,27 +126,8 @@ void runAll(const AllOptions& options) {
   runExport(exporter);
   const double export_seconds = secondsSince(t);
 
-  std::printf("\ngtbake all: summary (%s)\n", options.out.c_str());
-  std::printf("  Equation 10      refit ± SE scenes (SE Monte Carlo)   paper     refit - paper\n");
-  for (size_t i = 0; i < 6; ++i) {
-    std::printf("  %-4s %16.4f ± %.4f (%.5f) %12.4f %+12.4f\n", kCoeffNames[i], fitted.linear[i],
-                fitted.scene_se[i], fitted.linear_se[i], kPaperCoeffs[i],
-                fitted.linear[i] - kPaperCoeffs[i]);
-  }
-  std::printf("  curve band       max SE of G %.4f; paper: %s\n", fitted.band_max,
-              fitted.verdict.c_str());
-  std::printf(
-      "  cone aperture u  %.3g, 5%% interval [%.3g, %.3g] vs path-traced S (paper: 0.01;"
-      " table fit %.3g; docs/validate_gtso.md)\n",
-      validated.u, validated.u_low, validated.u_high, baked.u);
-  std::printf("  BC4 3D table     RMSE %.2e  max %.2e\n", encoded.bc4_rmse_3d, encoded.bc4_max_3d);
-  std::printf("  BC4 4D table     RMSE %.2e  max %.2e\n", encoded.bc4_rmse_4d, encoded.bc4_max_4d);
-  std::printf(
-      "  time             scenes %.1f s, sweep %.1f s (%.1f Mrays/s), fit %.1f s, gtso %.1f s,"
-      " encode %.1f s, validate-gtso %.1f s, export %.1f s; total %.1f s\n",
-      scenes_seconds, swept.seconds, swept.seconds > 0 ? swept.rays / swept.seconds * 1e-6 : 0.0,
-      fit_seconds, baked.seconds, encoded.seconds, validated.seconds, export_seconds,
-      secondsSince(start));
+  StageTimes times{scenes_seconds, fit_seconds, export_seconds, secondsSince(start)};
+  printSummary(options, swept, fitted, baked, encoded, validated, times);
 }
 
 }  // namespace gtbake
