@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <string>
 
 #include "common/error.h"
 #include "common/progress.h"
@@ -147,8 +148,11 @@ struct LayoutPoints {
 LayoutPoints makeLayoutPoints(int dims, const LayoutOptions& o, int cells) {
   LayoutPoints p;
   p.stress_lobes = std::max(1, o.lobes / kStressDivisor);
+  const std::string label = o.progress_label ? o.progress_label : "";
+  Progress progress(label + ": exact S at the points", 2 * (o.lobes + p.stress_lobes),
+                    o.progress_label != nullptr);
   auto make = [&](gtso::PointSet set, int lobes, std::uint64_t seed) {
-    return gtso::makeErrorPoints(dims, set, lobes, kPointsPerLobe, seed, cells);
+    return gtso::makeErrorPoints(dims, set, lobes, kPointsPerLobe, seed, cells, &progress);
   };
   p.uniform = make(gtso::PointSet::kUniform, o.lobes, o.seed);
   p.stress = make(gtso::PointSet::kStress, p.stress_lobes, o.seed);
@@ -279,16 +283,22 @@ nlohmann::json choiceJson(int dims, const LayoutChoice& out, const LayoutOptions
 }  // namespace
 
 LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const GtsoInput& gtso,
-                          const LayoutOptions& o, Progress* progress) {
+                          const LayoutOptions& o) {
   const int dims = static_cast<int>(t.dims.size());
   const int cells = exactCells(gtso, o);
   const LayoutPoints points = makeLayoutPoints(dims, o, cells);
+  const std::vector<GtsoLayout> candidates = chosenCandidates(t, o);
+  const auto& v = t.volume;
+  const std::string label = o.progress_label ? o.progress_label : "";
+  Progress progress(label + ": encoding", candidates.size() * (v[0] / 4) * (v[1] / 4) * v[2],
+                    o.progress_label != nullptr);
   std::vector<LayoutCandidate> scores;
   std::vector<LayoutChoice> encoded;
-  for (const GtsoLayout& l : chosenCandidates(t, o)) {
-    encoded.push_back(encodeCandidate(encoder, t, l, encoded, progress));
+  for (const GtsoLayout& l : candidates) {
+    encoded.push_back(encodeCandidate(encoder, t, l, encoded, &progress));
     scores.push_back(scoreCandidate(t, encoded.back(), points));
   }
+  progress.finish();
   const int chosen = pickLayout(scores);
   LayoutChoice out = std::move(encoded[chosen]);
   out.candidates = std::move(scores);
@@ -304,12 +314,8 @@ GtsoLayouts chooseLayouts(const GtsoInput& gtso, int lobes, const GtsoLayout* fo
     LayoutOptions o;
     o.lobes = lobes;
     o.forced = forced;
-    const std::size_t candidates = forced ? 1 : layoutCandidates(t).size();
-    const auto& v = t.volume;
-    Progress bar(label, candidates * (v[0] / 4) * (v[1] / 4) * v[2], progress);
-    LayoutChoice c = chooseLayout(encoder, t, gtso, o, &bar);
-    bar.finish();
-    return c;
+    o.progress_label = progress ? label : nullptr;
+    return chooseLayout(encoder, t, gtso, o);
   };
   return {one(gtso.table3d, forced3, "BC4 3D layouts"),
           one(gtso.table4d, forced4, "BC4 4D layouts")};

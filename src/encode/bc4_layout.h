@@ -34,6 +34,9 @@ struct LayoutOptions {
   std::uint64_t report_seed = kLayoutReportSeed;  // fresh points every candidate is reported on
   int cells = 0;                       // integrator cells of the exact S; 0 = gtso.json's (or 96)
   const GtsoLayout* forced = nullptr;  // tests: skip the choice, use this layout
+  // Progress bars (exact S at the points per lobe, then the candidates' blocks) under this
+  // label; nullptr: silent.
+  const char* progress_label = nullptr;
 };
 
 struct LayoutCandidate {
@@ -68,7 +71,7 @@ std::vector<float> permuteToLayout(const GtsoTable& t, const GtsoLayout& layout)
 std::string layoutSwizzle(const GtsoLayout& layout);
 
 LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const GtsoInput& gtso,
-                          const LayoutOptions& options, Progress* progress);
+                          const LayoutOptions& options);
 
 // Both tables' choices: what export writes, and what `gtbake all` hands to validate-gtso (which
 // runs before export) so both read the same blocks without choosing twice.

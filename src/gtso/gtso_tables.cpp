@@ -267,7 +267,7 @@ void checkPerLobe(int perLobe) {
 }  // namespace
 
 ErrorPoints makeErrorPoints(int dims, PointSet set, int lobes, int perLobe, std::uint64_t seed,
-                            int cells) {
+                            int cells, Progress* progress) {
   checkPerLobe(perLobe);
   const CounterRng rng = pointStream(dims, set, seed);
   ErrorPoints out;
@@ -277,6 +277,7 @@ ErrorPoints makeErrorPoints(int dims, PointSet set, int lobes, int perLobe, std:
     const auto [rp, cosO] = drawLobe(set, rng, l);
     LobePoints lp = drawLobePoints(dims, set, rng, l, perLobe, rp, cosO);
     integrateLobe(rp, cosO, cells, l, perLobe, {{&lp, &out}});
+    if (progress) progress->add(1);
   });
   return out;
 }

@@ -89,8 +89,9 @@ struct ErrorPoints {
   std::vector<GtsoPoint> points;
   std::vector<double> exact;
 };
+// `progress` (optional) advances by one per lobe.
 ErrorPoints makeErrorPoints(int dims, PointSet set, int lobes, int perLobe, std::uint64_t seed,
-                            int cells);
+                            int cells, Progress* progress = nullptr);
 // The 3D and 4D sets of one seed drawn on the same random lobes (the 4D stream's lobes; the 3D
 // points from the 3D stream), each lobe integrated once for both: the end-to-end measurement of
 // `gtbake gtso` at about the cost of the 4D set alone.
