@@ -188,6 +188,8 @@ Subcommand addGtsoCommand(CLI::App& app) {
       ->capture_default_str();
   parser->add_option("--error-seeds", options->error_seeds, "Seeds of the end-to-end error")
       ->capture_default_str();
+  parser->add_option("--closed-form-lobes", options->closed_form_lobes,
+                     "Training lobes of the closed-form S3 fit (0 = default 2048)");
   addThreadsOption(parser, options->threads);
   parser->add_option("--reference-factor", options->reference_factor,
                      "Also bake a reference with this many times the cells per axis and record "

@@ -76,6 +76,9 @@ void validateOptions(const GtsoOptions& o) {
   if (o.reference_factor < 0 || o.reference_factor > 8) {
     throw Error("gtso: --reference-factor must be in [0, 8]");
   }
+  if (o.closed_form_lobes != 0 && (o.closed_form_lobes < 16 || o.closed_form_lobes > 1 << 16)) {
+    throw Error("gtso: --closed-form-lobes must be 0 (default) or in [16, 65536]");
+  }
   if (o.texel_check_lines_3d < 1 || o.texel_check_lines_4d < 1) {
     throw Error("gtso: the texel check needs at least one line per table");
   }
@@ -466,8 +469,9 @@ GtsoResult runGtso(const GtsoOptions& options) {
   // The closed-form S3 (s3_closed_form.h), tested on the 3D end-to-end points.
   std::vector<const gtso::ErrorPoints*> closedFormTests;
   for (const gtso::ErrorPoints& p : e2e.s3Points) closedFormTests.push_back(&p);
-  const gtso::ClosedFormStage closedForm =
-      gtso::runClosedFormStage(closedFormTests, e2e.seeds, cells);
+  const gtso::ClosedFormStage closedForm = gtso::runClosedFormStage(
+      closedFormTests, e2e.seeds, cells,
+      options.closed_form_lobes != 0 ? options.closed_form_lobes : gtso::kClosedFormTrainLobes);
 
   const std::vector<float> f3 = gtso::toFloats(s3), f4 = gtso::toFloats(s4);
   writePreviews(output, f3, f4, n);

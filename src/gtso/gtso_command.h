@@ -25,6 +25,9 @@ struct GtsoOptions {
   // and 4D tables re-integrated at 4x the cells per side (16x reference); clamped to N^2.
   int texel_check_lines_3d = 64;
   int texel_check_lines_4d = 16;
+  // Training lobes of the closed-form S3 fit (s3_closed_form.h; validation gets a quarter);
+  // 0 = the shipped 2,048. Fewer fit faster and worse: tests of the stage's plumbing use 64.
+  int closed_form_lobes = 0;
 };
 
 struct GtsoResult {

@@ -29,8 +29,7 @@ constexpr double kRoughBand = 0.1;                  // the issue's r_p >= 0.1 ta
 constexpr std::uint64_t kPointStream = 0x53334346;  // "S3CF": apart from makeErrorPoints' streams
 // Point sets of the stage: lobes x cones; training at half the bake's cells (integration error
 // ~4x the bake's 1.6e-4, far below the fit's residuals), validation at the bake's cells.
-constexpr int kTrainLobes = 2048;
-constexpr int kValidationLobes = 512;
+constexpr int kValidationLobesDivisor = 4;  // validation lobes = training lobes / 4
 constexpr int kConesPerLobe = 32;
 constexpr int kTrainCellsDivisor = 2;
 constexpr double kMinReciprocalCondition = 1e-14;  // J^T J: smallest / largest eigenvalue
@@ -276,13 +275,15 @@ nlohmann::json errorsJson(const ClosedFormErrors& e) {
 }  // namespace
 
 ClosedFormStage runClosedFormStage(const std::vector<const ErrorPoints*>& tests,
-                                   const std::vector<std::uint64_t>& testSeeds, int cells) {
+                                   const std::vector<std::uint64_t>& testSeeds, int cells,
+                                   int trainLobes) {
   const auto t0 = std::chrono::steady_clock::now();
   const int trainCells = std::max(4, cells / kTrainCellsDivisor);
   const ErrorPoints train =
-      makeClosedFormPoints(kTrainLobes, kConesPerLobe, kClosedFormTrainSeed, trainCells);
+      makeClosedFormPoints(trainLobes, kConesPerLobe, kClosedFormTrainSeed, trainCells);
   const ErrorPoints validation =
-      makeClosedFormPoints(kValidationLobes, kConesPerLobe, kClosedFormValidationSeed, cells);
+      makeClosedFormPoints(std::max(1, trainLobes / kValidationLobesDivisor), kConesPerLobe,
+                           kClosedFormValidationSeed, cells);
   const S3ClosedFormFit fit = fitS3ClosedForm(train, kConesPerLobe, closedFormWarmStart());
   const ClosedFormErrors val = closedFormErrors(fit.k, validation);
   ClosedFormErrors test;
@@ -329,7 +330,7 @@ ClosedFormStage runClosedFormStage(const std::vector<const ErrorPoints*>& tests,
        "the objective "
        "by about 1/2 residual variance (0.5 * rms_residual^2); empty if rank deficient"}};
   j["training"] = {{"points", train.points.size()},
-                   {"lobes", kTrainLobes},
+                   {"lobes", trainLobes},
                    {"points_per_lobe", kConesPerLobe},
                    {"seed", kClosedFormTrainSeed},
                    {"integrator_cells", trainCells},

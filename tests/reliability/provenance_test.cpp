@@ -254,6 +254,7 @@ struct ExportFixture {
     g.error_seeds = 1;
     g.progress = false;
     g.threads = 1;
+    g.closed_form_lobes = 64;  // the fit's plumbing, not its accuracy (s3_closed_form_test.cpp)
     runGtso(g);
     // fit.json as `gtbake fit` writes it (the fields export reads), sealed as its set.
     json doc;
@@ -343,6 +344,9 @@ TEST(GtsoBounds, SamplesAndSizeAreBoundedBeforeWork) {
   g.lobe_cells = 2000000000;
   EXPECT_ERROR(runGtso(g), "--lobe-cells must be");
   g.lobe_cells = 0;
+  g.closed_form_lobes = 8;
+  EXPECT_ERROR(runGtso(g), "--closed-form-lobes must be");
+  g.closed_form_lobes = 0;
   g.size = 6;  // export's BC4 blocks need multiples of 4
   EXPECT_ERROR(runGtso(g), "multiple of 4");
   g.size = 256;

@@ -52,6 +52,7 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
   bake.error_lobes = 16;
   bake.error_seeds = 1;
   bake.progress = false;
+  bake.closed_form_lobes = 64;  // the lookups, not the closed form (s3_closed_form_test.cpp)
   runGtso(bake);
   const GtsoInput gtso = readGtsoInput(root / "gtso");
   EncodeOptions encode;
