@@ -21,6 +21,7 @@
 #include "sweep/escape_image.h"
 #include "validate_gtso/cone_u_fit.h"
 #include "validate_gtso/gtso_lookup.h"
+#include "validate_gtso/scene_statistics.h"
 #include "validate_gtso/specular_methods.h"
 #include "validate_gtso/specular_sweep.h"
 
@@ -66,8 +67,10 @@ Json statsJson(const ErrorStats& e) {
 Json fitJson(const UFit& f) {
   Json j;
   j["u"] = f.u;
-  j["u_interval"] = {f.low, f.high};
-  j["u_interval_open"] = {f.low_open, f.high_open};
+  // The u range whose pooled RMSE is within 5% of the optimum: a flatness measure of the
+  // objective, not a confidence interval (u_scene_interval is that).
+  j["rmse_within_5pct"] = {f.low, f.high};
+  j["rmse_within_5pct_open"] = {f.low_open, f.high_open};
   j["rmse"] = f.rmse;
   j["rmse_u_0.01"] = f.rmse_paper;
   j["rmse_u_0.244"] = f.rmse_uludag;
@@ -319,6 +322,8 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   const std::vector<Method> methods = scoredMethods(options.u > 0.0);
   const Tables t = tabulate(samples, values, sweep.scenes.size(), sweep.roughness.size());
   const std::vector<std::vector<Method>> ranking = rank(t, methods, sweep.roughness.size());
+  const SceneStatistics scene_stats = sceneStatistics(sweep, samples, values, methods);
+  const USceneInterval& u_scene = scene_stats.u.interval[0];
 
   Json json;
   json["gtbake_version"] = GTBAKE_VERSION;
@@ -339,10 +344,11 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
       "pixel.roughness = perceptualRoughnessToRoughness(perceptualRoughness); HDRP "
       "GetSpecularOcclusionFromAmbientOcclusion(NdotV, ao, PerceptualSmoothnessToRoughness(...))";
   json["u"] = spec.all.u;
-  json["u_interval"] = {spec.all.low, spec.all.high};
+  json["u_interval"] = {u_scene.low, u_scene.high};  // scene-level, u_scene_interval/alpha
+  json["u_se"] = u_scene.u_se;
   json["u_fit"] = {{"objective",
                     "least squares of S_cone(u) - path-traced S over every unmasked pixel and "
-                    "roughness r_p > 0 (Ceres, log10 u); interval: RMSE within 5% of the optimum"},
+                    "roughness r_p > 0 (Ceres, log10 u); rmse_within_5pct: flatness, not a CI"},
                    {"alpha",
                     {{"convention", "cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2"},
                      {"all", fitJson(spec.all)},
@@ -409,6 +415,7 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
     scenes[sweep.scenes[sc].name] = scene;
   }
   json["scenes"] = scenes;
+  addSceneStatisticsJson(sweep, scene_stats, json);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   json["timings"] = {{"seconds", seconds}};
@@ -427,8 +434,8 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   ValidateGtsoResult result;
   result.json = json_path;
   result.u = spec.all.u;
-  result.u_low = spec.all.low;
-  result.u_high = spec.all.high;
+  result.u_low = u_scene.low;
+  result.u_high = u_scene.high;
   result.seconds = seconds;
   return result;
 }
