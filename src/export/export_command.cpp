@@ -76,6 +76,8 @@ ExportResult runExport(const ExportOptions& options) {
   code.layout_4d = layout4.layout;
   code.volume_3d = layout3.volume;
   code.volume_4d = layout4.volume;
+  code.embedded_3d = &layout3.candidates[static_cast<std::size_t>(layout3.chosen)];
+  code.embedded_4d = &layout4.candidates[static_cast<std::size_t>(layout4.chosen)];
   code.command_line = options.command_line.empty() ? "gtbake export" : options.command_line;
   code.version = GTBAKE_VERSION;
   const std::string writer = "gtbake " + code.version;

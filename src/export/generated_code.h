@@ -10,6 +10,7 @@
 #include <string>
 
 #include "export/bc4_encoder.h"
+#include "export/bc4_layout.h"
 #include "export/export_inputs.h"
 #include "export/runtime/gtso_lookup.h"
 
@@ -23,6 +24,10 @@ struct GeneratedCodeInput {
   // The texture layouts export chose (bc4_layout.h) and the volumes' extents in them.
   GtsoLayout layout_3d = kGtsoIdentityLayout, layout_4d = kGtsoIdentityLayout;
   std::array<int, 3> volume_3d{}, volume_4d{};
+  // The embedded layouts' end-to-end BC4 errors on export's report seed (bc4_layout.h); null:
+  // the provenance quotes gtso.json's table-order encoding only.
+  const LayoutCandidate* embedded_3d = nullptr;
+  const LayoutCandidate* embedded_4d = nullptr;
   std::string command_line;
   std::string version;
 };
