@@ -114,7 +114,7 @@ SceneStatistics sceneStatistics(const SpecularSweep& sweep,
                                     clusterRmse(samples, values, methods, s.cluster_of, S, jj),
                                     pooledRmse(samples, values, methods, jj)));
   }
-  s.floor = soFloor(samples, s.cluster_of, S, R);
+  s.floor = soFloor(samples, s.cluster_of, S, R, values[static_cast<int>(Method::kS4Float)]);
   s.out_of_plane = outOfPlaneOccluded(samples, values[static_cast<int>(Method::kS4Bc4)],
                                       values[static_cast<int>(Method::kS3Bc4)]);
   return s;
@@ -159,8 +159,11 @@ void addSceneStatisticsJson(const SpecularSweep& sweep, const SceneStatistics& s
   json["so_floor"] = {
       {"method",
        "leave-one-scene-out RMSE of a binned regressor of path-traced S on (A, b.n, b.wr, n.wr) "
-       "at each r_p (equal-count bins per input, fallback to half the bins, then the mean)"},
+       "at each r_p (equal-count bins per input, fallback to half the bins, then the mean), of S "
+       "itself or of S minus the 4D float table (whichever is lower pooled)"},
       {"bins", s.floor.bins},
+      {"on_base",
+       s.floor.on_base ? "S4_float (the regressor corrects the 4D float table)" : "none"},
       {"by_roughness", floor}};
   Json plane = Json::array();
   for (const OutOfPlaneBin& b : s.out_of_plane) {

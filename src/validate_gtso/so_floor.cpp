@@ -76,7 +76,7 @@ std::size_t cellOf(const std::array<std::vector<int>, kInputs>& b, std::size_t k
 std::vector<double> heldOutSquaredErrors(const std::vector<SpecularSample>& samples,
                                          const std::vector<std::size_t>& index,
                                          const std::vector<int>& cluster_of, std::size_t clusters,
-                                         int bins) {
+                                         int bins, const std::vector<float>& base) {
   const auto b = binsOf(samples, index, bins);
   std::size_t fine = 1, coarse = 1;
   for (int f = 0; f < kInputs; ++f) {
@@ -87,8 +87,11 @@ std::vector<double> heldOutSquaredErrors(const std::vector<SpecularSample>& samp
   const auto clusterOf = [&](std::size_t k) {
     return static_cast<std::size_t>(cluster_of[static_cast<std::size_t>(samples[index[k]].scene)]);
   };
+  const auto baseAt = [&](std::size_t k) {
+    return base.empty() ? 0.0 : static_cast<double>(base[index[k]]);
+  };
   for (std::size_t k = 0; k < index.size(); ++k) {
-    const double truth = samples[index[k]].truth;
+    const double truth = samples[index[k]].truth - baseAt(k);
     fine_means.add(clusterOf(k), cellOf(b, k, bins, 1), truth);
     coarse_means.add(clusterOf(k), cellOf(b, k, bins, 2), truth);
     all.add(clusterOf(k), 0, truth);
@@ -101,51 +104,56 @@ std::vector<double> heldOutSquaredErrors(const std::vector<SpecularSample>& samp
         !coarse_means.heldOut(c, cellOf(b, k, bins, 2), &prediction)) {
       all.heldOut(c, 0, &prediction);
     }
-    const double e = prediction - samples[index[k]].truth;
+    const double e = prediction + baseAt(k) - samples[index[k]].truth;
     out[k] = e * e;
   }
   return out;
 }
 
 SoFloor soFloor(const std::vector<SpecularSample>& samples, const std::vector<int>& cluster_of,
-                std::size_t clusters, std::size_t roughness) {
+                std::size_t clusters, std::size_t roughness, const std::vector<float>& base) {
   if (clusters < 2) throw Error("SO floor: needs at least 2 scenes to hold one out");
   std::vector<std::vector<std::size_t>> index(roughness);
   for (std::size_t i = 0; i < samples.size(); ++i) {
     index[static_cast<std::size_t>(samples[i].roughness)].push_back(i);
   }
   constexpr std::size_t kChoices = std::size(kFloorBins);
-  SoFloor out;
-  out.by_bins.assign(kChoices, std::vector<double>(roughness, 0.0));
-  std::vector<std::vector<double>> noise(kChoices, std::vector<double>(roughness, 0.0));
-  tbb::parallel_for(std::size_t{0}, kChoices * roughness, [&](std::size_t task) {
-    const std::size_t choice = task / roughness, j = task % roughness;
+  const std::size_t bases = base.empty() ? 1 : 2;
+  // mse[base][choice][roughness], and the truth's mean noise variance per roughness.
+  std::vector<std::vector<std::vector<double>>> mse(
+      bases, std::vector<std::vector<double>>(kChoices, std::vector<double>(roughness, 0.0)));
+  tbb::parallel_for(std::size_t{0}, bases * kChoices * roughness, [&](std::size_t task) {
+    const std::size_t b = task / (kChoices * roughness), choice = (task / roughness) % kChoices,
+                      j = task % roughness;
     const std::vector<double> e2 =
-        heldOutSquaredErrors(samples, index[j], cluster_of, clusters, kFloorBins[choice]);
-    double sum = 0.0, noise_sum = 0.0;
-    for (std::size_t k = 0; k < e2.size(); ++k) {
-      sum += e2[k];
-      noise_sum += samples[index[j][k]].noise_var;
-    }
-    const double n = std::max<double>(1.0, static_cast<double>(e2.size()));
-    out.by_bins[choice][j] = sum / n;  // MSE for now
-    noise[choice][j] = noise_sum / n;
+        heldOutSquaredErrors(samples, index[j], cluster_of, clusters, kFloorBins[choice],
+                             b == 0 ? std::vector<float>{} : base);
+    double sum = 0.0;
+    for (double v : e2) sum += v;
+    mse[b][choice][j] = sum / std::max<double>(1.0, static_cast<double>(e2.size()));
   });
-  std::size_t best = 0;
-  double best_mse = 0.0;
-  for (std::size_t choice = 0; choice < kChoices; ++choice) {
-    double pooled = 0.0;
-    for (std::size_t j = 0; j < roughness; ++j) pooled += out.by_bins[choice][j] * index[j].size();
-    if (choice == 0 || pooled < best_mse) best = choice, best_mse = pooled;
+  std::size_t best_b = 0, best = 0;
+  double best_mse = -1.0;
+  for (std::size_t b = 0; b < bases; ++b) {
+    for (std::size_t choice = 0; choice < kChoices; ++choice) {
+      double pooled = 0.0;
+      for (std::size_t j = 0; j < roughness; ++j) pooled += mse[b][choice][j] * index[j].size();
+      if (best_mse < 0.0 || pooled < best_mse) best_b = b, best = choice, best_mse = pooled;
+    }
   }
+  SoFloor out;
   out.bins = kFloorBins[best];
+  out.on_base = best_b == 1;
   for (std::size_t j = 0; j < roughness; ++j) {
-    out.rmse.push_back(std::sqrt(out.by_bins[best][j]));
-    out.rmse_noise_corrected.push_back(
-        std::sqrt(std::max(0.0, out.by_bins[best][j] - noise[best][j])));
+    double noise = 0.0;
+    for (std::size_t i : index[j]) noise += samples[i].noise_var;
+    noise /= std::max<double>(1.0, static_cast<double>(index[j].size()));
+    out.rmse.push_back(std::sqrt(mse[best_b][best][j]));
+    out.rmse_noise_corrected.push_back(std::sqrt(std::max(0.0, mse[best_b][best][j] - noise)));
   }
-  for (auto& row : out.by_bins) {
-    for (double& v : row) v = std::sqrt(v);
+  for (const auto& row : mse[best_b]) {
+    out.by_bins.emplace_back();
+    for (double v : row) out.by_bins.back().push_back(std::sqrt(v));
   }
   return out;
 }
