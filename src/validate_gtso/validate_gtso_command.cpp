@@ -223,7 +223,8 @@ void writePage(const SpecularSweep& sweep, const Tables& t, const std::vector<Me
       << fmt("%+.2e", e.meanSigned()) << "</td><td>" << fmt("%.2e", e.max_abs) << "</td></tr>\n";
   }
   o << "</table>\n<h2>Cone aperture u</h2>\n<table><tr><th>convention</th><th>pixels</th><th>u</th>"
-       "<th>5% interval</th><th>RMSE at u</th><th>at 0.01</th><th>at 0.244</th></tr>\n";
+       "<th>RMSE within 5% (flatness, not a CI)</th><th>RMSE at u</th><th>at 0.01</th><th>at "
+       "0.244</th></tr>\n";
   auto fitRow = [&](const char* name, const UFit& f) {
     o << "<tr><td>" << name << "</td><td>" << f.count << "</td><td>" << fmt("%.3g", f.u)
       << "</td><td>" << intervalText(f) << "</td><td>" << fmt("%.4f", f.rmse) << "</td><td>"
