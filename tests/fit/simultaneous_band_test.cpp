@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/threads.h"
 #include "fit/scene_jackknife.h"
 #include "fit/simultaneous_band.h"
 
@@ -66,6 +67,19 @@ TEST(MaxTThreshold, MaskDropsPointsDeterministically) {
   EXPECT_THROW(maxTThreshold(r, 7, {0, 0, 1}, kRule), Error);  // a constant point has no band
   EXPECT_THROW(maxTThreshold({{1.0, 2.0}, {1.0}}, 2, {}, kRule), Error);
   EXPECT_THROW(maxTThreshold(r, 7, {1}, kRule), Error);
+}
+
+// Each draw is a pure function of (seed, draw): the threshold is the same bits on 1 and 2 threads.
+TEST(MaxTThreshold, SameBitsOnOneAndTwoThreads) {
+  const ReplicateMatrix r = matrix(7, 500, [](std::size_t s, std::size_t c) {
+    return std::sin(0.01 * c * (s + 1.0)) + 0.1 * std::cos(3.0 * s + c);
+  });
+  double t[2];
+  for (int k = 0; k < 2; ++k) {
+    ThreadLimit limit(k + 1);
+    t[k] = maxTThreshold(r, 7, {}, {0.95, 2000, 3});
+  }
+  EXPECT_EQ(t[0], t[1]);
 }
 
 }  // namespace
