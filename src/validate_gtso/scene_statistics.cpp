@@ -3,6 +3,8 @@
 #include <algorithm>
 
 #include <cmath>
+#include <cstdio>
+#include <sstream>
 
 #include "fit/scene_jackknife.h"
 #include "sweep/escape_image.h"
@@ -84,7 +86,52 @@ Json lawJson(const SpecularSweep& sweep, const SceneStatistics& s, int law) {
           {"held_out_rmse", s.u.law.held_out_rmse[law]}};
 }
 
+std::string num(const char* format, double v) {
+  char text[48];
+  std::snprintf(text, sizeof(text), format, v);
+  return text;
+}
+
+std::string optimumText(const UOptimum& o) {
+  return o.at_bound ? "&le; 1e-12 (bound)" : num("%.3g", o.u);
+}
+
 }  // namespace
+
+std::string sceneStatisticsHtml(const SpecularSweep& sweep, const SceneStatistics& s) {
+  std::ostringstream o;
+  o << "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>gtbake validate-gtso: scene "
+       "level</title><style>body{font-family:sans-serif;max-width:1100px;margin:1em auto}table{"
+       "border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px}</style></head><body>"
+       "\n<h1>Scene-level statistics</h1>\n<p>"
+    << s.clusters.size() << " scenes as units (docs/validate_gtso.md &sect;2, &sect;3). Companion "
+    << "of <a href=\"validate_gtso.html\">validate_gtso.html</a>.</p>\n<h2>Rankings</h2>\n<ul>\n";
+  for (std::size_t j = 0; j < s.ranking.size(); ++j) {
+    o << "<li>r_p " << num("%.2f", sweep.roughness[j]) << ": " << s.ranking[j].statement
+      << "</li>\n";
+  }
+  o << "</ul>\n<h2>Cone aperture u</h2>\n<table><tr><th>law</th><th>u</th><th>95% scene-level "
+       "interval</th><th>SE log10 u</th>";
+  for (double r : sweep.roughness) o << "<th>optimum at r_p " << num("%.2f", r) << "</th>";
+  o << "</tr>\n";
+  for (int law = 0; law < 2; ++law) {
+    const USceneInterval& iv = s.u.interval[law];
+    o << "<tr><td>" << (law == 0 ? "u^(alpha^2/2)" : "u^(r_p^2/2)") << "</td><td>"
+      << num("%.3g", std::pow(10.0, iv.log10_u)) << "</td><td>[" << num("%.2g", iv.low) << ", "
+      << num("%.2g", iv.high) << "]</td><td>" << num("%.2f", iv.log10_se) << "</td>";
+    for (const UOptimum& opt : s.u.per_roughness[law]) o << "<td>" << optimumText(opt) << "</td>";
+    o << "</tr>\n";
+  }
+  o << "</table>\n<p>Held-out comparison of the laws: alpha minus perceptual RMSE "
+    << num("%+.4f", s.u.law.test.mean_difference) << ", p = " << num("%.3f", s.u.law.test.p_value)
+    << "; chosen: " << kLawNames[s.u.law.chosen] << ".</p>\n<h2>Floor (held-out RMSE of a "
+    << "regressor on the runtime's inputs)</h2>\n<table><tr>";
+  for (double r : sweep.roughness) o << "<th>r_p " << num("%.2f", r) << "</th>";
+  o << "</tr>\n<tr>";
+  for (double v : s.floor.rmse) o << "<td>" << num("%.4f", v) << "</td>";
+  o << "</tr></table>\n</body></html>\n";
+  return o.str();
+}
 
 std::vector<std::string> sceneClusters(const SpecularSweep& sweep, std::vector<int>& cluster_of) {
   std::vector<std::string> names;

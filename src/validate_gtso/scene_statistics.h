@@ -38,4 +38,8 @@ SceneStatistics sceneStatistics(const SpecularSweep& sweep,
 void addSceneStatisticsJson(const SpecularSweep& sweep, const SceneStatistics& s,
                             nlohmann::ordered_json& json);
 
+// The same as an HTML page (report/validate_gtso_scenes.html, beside validate_gtso.html):
+// the ranking statements, u's scene-level intervals and per-roughness optima, the floor.
+std::string sceneStatisticsHtml(const SpecularSweep& sweep, const SceneStatistics& s);
+
 }  // namespace gtbake

@@ -427,6 +427,7 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   OutputSet output(out, "validate_gtso");  // export requires and verifies it
   writeSceneImages(sweep, samples, values, output);
   writePage(sweep, t, methods, ranking, spec, perceptual, output);
+  output.add("report/validate_gtso_scenes.html", sceneStatisticsHtml(sweep, scene_stats));
   output.add(json_path.filename().string(), json.dump(2) + "\n");
   output.commit();
   printSummary(sweep, samples.size() / sweep.roughness.size(), t, methods, ranking, spec,
