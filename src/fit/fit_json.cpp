@@ -140,6 +140,7 @@ json jackknifeJson(const SceneJackknife& jk) {
   out["band_max"] = gridJson(jk.band_max);
   out["t_quantile"] = jk.pointwise_threshold;
   out["simultaneous_threshold"] = jk.threshold;
+  out["pointwise_t_false_alarm_rate"] = jk.pointwise_false_alarm;
   return out;
 }
 

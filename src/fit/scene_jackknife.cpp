@@ -180,8 +180,10 @@ SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
   forEachGridPoint(rule, [&](double A, double rho) {
     out.scored.push_back(A < 1.0 && jackknifeBand(out, A, rho) > kBandFloor ? 1 : 0);
   });
-  out.threshold = maxTThreshold(bandReplicates(out), S, out.scored, rule.max_t);
+  const std::vector<double> maxima = simulatedMaxT(bandReplicates(out), S, out.scored, rule.max_t);
+  out.threshold = maxTQuantile(maxima, rule.max_t.level);
   out.pointwise_threshold = studentT975(S - 1);
+  out.pointwise_false_alarm = maxTExceedance(maxima, out.pointwise_threshold);
   return out;
 }
 

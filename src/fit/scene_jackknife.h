@@ -88,6 +88,9 @@ struct SceneJackknife {
   std::vector<char> scored;          // [grid point]: enters the maximum (see above)
   double threshold = 0.0;            // simultaneous max-t threshold over the scored points
   double pointwise_threshold = 0.0;  // t_{0.975, S−1}
+  // How often the pointwise threshold would be exceeded somewhere on the grid under "no
+  // difference" (the simulated maxima above it): that rule's false-alarm rate on this band.
+  double pointwise_false_alarm = 0.0;
 };
 
 // Two-sided 95 % quantile of Student's t with `dof` degrees of freedom (table to 30, then the

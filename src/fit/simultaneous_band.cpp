@@ -112,8 +112,8 @@ void normalPair(std::uint64_t seed, std::uint64_t stream, std::uint64_t index, d
   out[1] = radius * std::sin(2.0 * kPi * u2);
 }
 
-double maxTThreshold(const ReplicateMatrix& replicates, std::size_t n,
-                     const std::vector<char>& scored, const MaxTRule& rule) {
+std::vector<double> simulatedMaxT(const ReplicateMatrix& replicates, std::size_t n,
+                                  const std::vector<char>& scored, const MaxTRule& rule) {
   if (replicates.size() < 2 || n < 2) throw Error("max-t threshold: needs at least 2 replicates");
   for (const std::vector<double>& row : replicates) {
     if (row.size() != replicates.front().size()) throw Error("max-t threshold: ragged replicates");
@@ -135,8 +135,22 @@ double maxTThreshold(const ReplicateMatrix& replicates, std::size_t n,
     simulatedMaxima(W, Q, n, rule, first, std::min(kBlock, maxima.size() - first), &maxima[first]);
   });
   std::sort(maxima.begin(), maxima.end());
-  const auto at = static_cast<std::size_t>(std::ceil(rule.level * maxima.size())) - 1;
+  return maxima;
+}
+
+double maxTQuantile(const std::vector<double>& maxima, double level) {
+  const auto at = static_cast<std::size_t>(std::ceil(level * maxima.size())) - 1;
   return maxima[std::min(at, maxima.size() - 1)];
+}
+
+double maxTExceedance(const std::vector<double>& maxima, double threshold) {
+  const auto above = maxima.end() - std::upper_bound(maxima.begin(), maxima.end(), threshold);
+  return static_cast<double>(above) / static_cast<double>(maxima.size());
+}
+
+double maxTThreshold(const ReplicateMatrix& replicates, std::size_t n,
+                     const std::vector<char>& scored, const MaxTRule& rule) {
+  return maxTQuantile(simulatedMaxT(replicates, n, scored, rule), rule.level);
 }
 
 }  // namespace gtbake

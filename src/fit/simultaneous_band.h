@@ -40,6 +40,15 @@ using ReplicateMatrix = std::vector<std::vector<double>>;
 double maxTThreshold(const ReplicateMatrix& replicates, std::size_t n,
                      const std::vector<char>& scored, const MaxTRule& rule = {});
 
+// The rule's simulated maxima, ascending (maxTThreshold is their level-quantile); the same
+// preconditions and errors.
+std::vector<double> simulatedMaxT(const ReplicateMatrix& replicates, std::size_t n,
+                                  const std::vector<char>& scored, const MaxTRule& rule = {});
+// The level-quantile of ascending simulated maxima.
+double maxTQuantile(const std::vector<double>& maxima, double level);
+// The fraction of simulated maxima above `threshold`: the false-alarm rate of a rule using it.
+double maxTExceedance(const std::vector<double>& maxima, double threshold);
+
 // Two independent standard normals from CounterRng(seed, stream) at (index, block) (Box–Muller).
 void normalPair(std::uint64_t seed, std::uint64_t stream, std::uint64_t index, double out[2]);
 
