@@ -264,6 +264,7 @@ nlohmann::json choiceJson(int dims, const LayoutChoice& out, const LayoutOptions
           {"stress_max", c.stress_max},
           {"report_uniform_rms", c.report_uniform_rms},
           {"report_uniform_max", c.report_uniform_max},
+          {"report_stress_rms", c.report_stress_rms},
           {"report_stress_max", c.report_stress_max},
           {"identity_uniform_rms", ofIdentity(&LayoutCandidate::uniform_rms)},
           {"identity_uniform_max", ofIdentity(&LayoutCandidate::uniform_max)},

@@ -194,7 +194,9 @@ void applyValidateGtsoU(const std::filesystem::path& file, GtsoInput* gtso) {
     throw Error(where + ": u must lie in (0, 1) inside u_interval");
   }
   gtso->u = u;
-  gtso->u_se = 0.0;  // a profile interval, not a standard error
+  // The scene-level SE (delete-one-scene jackknife, validate_gtso.json u_scene_interval); files
+  // without it carry no standard error.
+  gtso->u_se = j.contains("u_se") ? finiteNumber(j, "u_se", where) : 0.0;
   gtso->u_low = low;
   gtso->u_high = high;
   gtso->validate_gtso = j;

@@ -39,7 +39,7 @@ struct GtsoInput {
   std::filesystem::path json_dir;  // the directory it was read from
   // Set by applyValidateGtsoU: u fitted to path-traced S (validate_gtso.json) replaces the table
   // fit; validate_gtso is that file verbatim (null: u is gtso.json's table fit).
-  double u_low = 0.0, u_high = 0.0;  // its 5% profile interval
+  double u_low = 0.0, u_high = 0.0;  // its scene-level 95% interval (validate_gtso.json)
   nlohmann::json validate_gtso;
 };
 

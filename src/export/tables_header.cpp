@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "encode/bc4_layout.h"
 #include "export/generated_code.h"
 #include "export/runtime_sources.h"
 #include "runtime/gtso_runtime.h"
@@ -76,6 +77,17 @@ std::string endToEnd(const nlohmann::json& gj, const char* table, const char* fo
     return jsonAt(*p, {set, "max"}) + " / " + jsonAt(*p, {set, "rms"});
   };
   return "uniform max/RMS " + pair("uniform") + ", stress " + pair("stress");
+}
+
+// The end-to-end BC4 errors of the layout the header embeds (the layout choice's report seed), or
+// nothing.
+std::string embeddedBc4(const std::optional<EmbeddedBc4Errors>& e, const GtsoLayout& layout) {
+  if (!e) return "";
+  std::ostringstream o;
+  o << "\n//       BC4 as embedded (layout " << layoutSwizzle(layout) << ", report seed "
+    << kLayoutReportSeed << "): uniform max/RMS " << g9(e->uniform_max) << " / "
+    << g9(e->uniform_rms) << ", stress " << g9(e->stress_max) << " / " << g9(e->stress_rms);
+  return o.str();
 }
 
 // "texture x = theta_o, y = r_p, z = A" for a layout.
@@ -280,9 +292,13 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
       << jsonAt(t->meta, {"texel_check", "lines"})
       << " random lines, half at the theta_o ends (seed "
       << jsonAt(t->meta, {"texel_check", "seed"}) << ")"
-      << "\n//     end to end vs direct integration (max over seeds / mean RMS): BC4 "
-      << endToEnd(gj, key, "bc4") << "\n//       R16 " << endToEnd(gj, key, "r16")
-      << "\n//       R8 " << endToEnd(gj, key, "r8") << "; recommended "
+      << "\n//     end to end vs direct integration (max over seeds / mean RMS): BC4 in table "
+         "order (gtso.json) "
+      << endToEnd(gj, key, "bc4")
+      << (t == &in.gtso->table3d ? embeddedBc4(in.embedded_3d, in.layout_3d)
+                                 : embeddedBc4(in.embedded_4d, in.layout_4d))
+      << "\n//       R16 " << endToEnd(gj, key, "r16") << "\n//       R8 "
+      << endToEnd(gj, key, "r8") << "; recommended "
       << jsonAt(gj, {"end_to_end", key, "recommended"}) << "\n";
   }
   char u_raw[40];
@@ -292,10 +308,15 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
       << jsonAt(gj, {"cone", "convention"}) << "\n";
   } else {
     const nlohmann::json& vj = in.gtso->validate_gtso;
-    o << "// Cone aperture u = " << u_raw << " from validate_gtso.json, 5% profile interval ["
-      << g9(in.gtso->u_low) << ", " << g9(in.gtso->u_high) << "], convention "
-      << jsonAt(vj, {"u_fit", "alpha", "convention"}) << "\n"
+    o << "// Cone aperture u = " << u_raw << " from validate_gtso.json, "
+      << (vj.contains("u_scene_interval") ? "scene-level 95% interval (delete-one-scene jackknife "
+                                            "of log10 u) ["
+                                          : "5% profile interval [")
+      << g9(in.gtso->u_low) << ", " << g9(in.gtso->u_high) << "], SE " << g9(in.gtso->u_se)
+      << ", convention " << jsonAt(vj, {"u_fit", "alpha", "convention"}) << "\n"
       << "//   objective: " << jsonAt(vj, {"u_fit", "objective"}) << "\n"
+      << "//   law by a paired scene-level test of held-out RMSE: "
+      << jsonAt(vj, {"u_law", "chosen"}) << " (shipped here: u^(alpha^2/2))\n"
       << "//   data: " << jsonAt(vj, {"sweep"}) << "\n"
       << "//   RMSE at u, 0.01, 0.244: " << jsonAt(vj, {"u_fit", "alpha", "all", "rmse"}) << ", "
       << jsonAt(vj, {"u_fit", "alpha", "all", "rmse_u_0.01"}) << ", "

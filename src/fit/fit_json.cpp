@@ -138,7 +138,9 @@ json jackknifeJson(const SceneJackknife& jk) {
   out["covariance"] = matrixJson(jk.covariance);
   out["correlation"] = matrixJson(jk.correlation);
   out["band_max"] = gridJson(jk.band_max);
-  out["t_quantile"] = jk.threshold;
+  out["t_quantile"] = jk.pointwise_threshold;
+  out["simultaneous_threshold"] = jk.threshold;
+  out["pointwise_t_false_alarm_rate"] = jk.pointwise_false_alarm;
   return out;
 }
 
@@ -149,6 +151,18 @@ json scoreJson(const BandScore& s) {
           {"shipped_minus_refit", s.difference},
           {"band", s.band},
           {"threshold", s.threshold},
+          {"method", kMaxTMethod},
+          {"pointwise_t_threshold", s.pointwise_threshold},
+          {"scored_points", s.scored_points},
+          {"excluded_points", s.excluded_points},
+          {"worst_point",
+           {{"A", s.max_ratio.A},
+            {"rho", s.max_ratio.rho},
+            {"ratio_to_band", s.max_ratio.value},
+            {"detectable_difference", s.threshold * s.band}}},
+          {"detectable_difference",
+           {{"smallest", gridJson(s.smallest_detectable)},
+            {"largest", gridJson(s.largest_undetectable)}}},
           {"consistent", s.consistent},
           {"verdict", s.verdict}};
 }

@@ -104,13 +104,13 @@ void bandFigures(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures
     plot.legend("&#961; = " + fmt(rho, "%.2f"), albedoColor(j, M));
   }
   figures.heading(
-      "<h2>Eq. 10: refit (solid, band &#177;t SE shaded) against the shipped "
+      "<h2>Eq. 10: refit (solid, simultaneous band &#177;c SE shaded) against the shipped "
       "constants (dashed), G(A) per albedo</h2>\n");
   figures.add("refit_vs_shipped.svg", plot);
   if (!jk.available) return;
   figures.heading(
       "<h2>The band per albedo: G<sub>shipped</sub> &minus; G<sub>refit</sub> (dashed) against "
-      "&#177;t&middot;SE<sub>G</sub> (shaded), t = " +
+      "&#177;c&middot;SE<sub>G</sub> (shaded), simultaneous max-t c = " +
       fmt(jk.threshold, "%.2f") + "</h2>\n");
   double span = 0.0;
   for (double rho : a.data.albedos) {
@@ -133,7 +133,7 @@ void bandFigures(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures
     panel.band(xs, lo, hi, "#c0392b");
     panel.curve(xs, zero, "#c0392b");
     panel.curve(xs, diff, "#333", true);
-    panel.legend("refit &#177; t SE (scene jackknife)", "#c0392b");
+    panel.legend("refit &#177; c SE (scene jackknife)", "#c0392b");
     panel.legend("shipped", "#333", true);
     figures.add("band_rho" + fmt(100 * rho, "%03.0f") + ".svg", panel);
   }
@@ -146,7 +146,7 @@ void figure7(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures& fi
   const std::size_t M = a.data.albedos.size();
   figures.heading(
       "<h2>Figure 7: per-albedo cubics, and their coefficients against &rho; (bars &#177;2 SE "
-      "Monte Carlo, shaded &#177;t SE scene jackknife of the line)</h2>\n");
+      "Monte Carlo, shaded &#177;t SE scene jackknife of the line, pointwise t)</h2>\n");
   {
     SvgPlot plot(0, 1, 0, 1, "per-albedo cubic fits", "A", "G");
     plot.legendBottomRight(static_cast<int>(M));
@@ -166,7 +166,7 @@ void figure7(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures& fi
       const double v = jk.covariance[6 * (2 * q) + 2 * q] * rho * rho +
                        2.0 * jk.covariance[6 * (2 * q) + 2 * q + 1] * rho +
                        jk.covariance[6 * (2 * q + 1) + 2 * q + 1];
-      return jk.threshold * std::sqrt(std::max(v, 0.0));
+      return jk.pointwise_threshold * std::sqrt(std::max(v, 0.0));
     };
     double lo = 1e9, hi = -1e9;
     for (const AlbedoFit& f : fit.per_albedo) {

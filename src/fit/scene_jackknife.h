@@ -13,9 +13,12 @@
 // G is linear in the six constants, G(A, ρ) = g(A, ρ)ᵀk, so the curve band is
 //   SE_G(A, ρ) = sqrt(g(A, ρ)ᵀ Cov g(A, ρ)),
 // evaluated on a grid of A ∈ (0, 1], ρ ∈ [0.1, 0.9]. Any constants k' are scored against it by
-// the largest |G(k') − G(refit)| / SE_G over the grid, against the two-sided 95 % quantile of
-// Student's t with S − 1 degrees of freedom (the jackknife variance has S − 1). Grid points where
-// the band vanishes to rounding (A = 1 under the open-surface constraint) are not scored.
+// the largest |G(k') − G(refit)| / SE_G over the grid, against the simultaneous 95 % max-t
+// threshold of the leave-one-out curves on that grid with S − 1 degrees of freedom
+// (simultaneous_band.h): the pointwise t quantile would be exceeded somewhere on the grid far more
+// often than 5 % of the time. The open-surface row A = 1 (every scene's open pixels pin
+// G(1, ρ) ≈ 1, so the band there is the replicas' agreement on a near-constraint, not the scene
+// mix; /open_surface reports it) and points where the band vanishes to rounding are not scored.
 #pragma once
 
 #include <array>
@@ -25,6 +28,7 @@
 #include "fit/fit_errors.h"
 #include "fit/multibounce_coeffs.h"
 #include "fit/multibounce_fit.h"
+#include "fit/simultaneous_band.h"
 #include "fit/sweep_data.h"
 
 namespace gtbake {
@@ -47,14 +51,27 @@ struct GridPoint {
   double rho = 0.0;
 };
 
+// The band's grid and simultaneous rule. A = k / a_steps, k = 1..a_steps; ρ in rho_steps equal
+// steps of [0.1, 0.9] (the paper's albedo range).
+struct BandRule {
+  int a_steps = 200;   // steps of 0.005 in A
+  int rho_steps = 80;  // steps of 0.01 in ρ
+  MaxTRule max_t;
+};
+
 // Constants scored against the band.
 struct BandScore {
-  GridPoint max_ratio;      // largest |G_k − G_refit| / SE_G and where
+  GridPoint max_ratio;      // largest |G_k − G_refit| / SE_G over the scored points, and where
   double difference = 0.0;  // G_k − G_refit there
   double band = 0.0;        // SE_G there
-  double threshold = 0.0;   // t quantile, S − 1 degrees of freedom
-  bool consistent = false;  // max_ratio ≤ threshold
-  std::string verdict;      // one line
+  double threshold = 0.0;   // the simultaneous max-t threshold
+  double pointwise_threshold = 0.0;  // t_{0.975, S−1}, for comparison only
+  std::size_t scored_points = 0;
+  std::size_t excluded_points = 0;  // A = 1 and rounding-level bands
+  GridPoint smallest_detectable;    // min over scored points of threshold · SE_G, and where
+  GridPoint largest_undetectable;   // max over scored points of threshold · SE_G, and where
+  bool consistent = false;          // max_ratio ≤ threshold
+  std::string verdict;              // one line
 };
 
 struct SceneJackknife {
@@ -65,9 +82,15 @@ struct SceneJackknife {
   MultiBounceCoeffs se{};
   std::array<double, 36> covariance{};  // row-major 6 × 6
   std::array<double, 36> correlation{};
-  GridPoint band_max;      // max SE_G over the grid
-  GridPoint mc_band_max;   // the same for the Monte Carlo covariance
-  double threshold = 0.0;  // t_{0.975, S−1}
+  GridPoint band_max;     // max SE_G over the grid
+  GridPoint mc_band_max;  // the same for the Monte Carlo covariance
+  BandRule rule;
+  std::vector<char> scored;          // [grid point]: enters the maximum (see above)
+  double threshold = 0.0;            // simultaneous max-t threshold over the scored points
+  double pointwise_threshold = 0.0;  // t_{0.975, S−1}
+  // How often the pointwise threshold would be exceeded somewhere on the grid under "no
+  // difference" (the simulated maxima above it): that rule's false-alarm rate on this band.
+  double pointwise_false_alarm = 0.0;
 };
 
 // Two-sided 95 % quantile of Student's t with `dof` degrees of freedom (table to 30, then the
@@ -77,7 +100,10 @@ double studentT975(std::size_t dof);
 // Leave-one-out refits (always, with ≥ 2 scenes) and, with ≥ kMinJackknifeScenes scenes, the
 // jackknife covariance and band of `fit`.
 SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
-                              const MultiBounceCoeffs& shipped);
+                              const MultiBounceCoeffs& shipped, const BandRule& rule = {});
+
+// The leave-one-out curves on the band grid, [replica][grid point] (ρ fastest).
+ReplicateMatrix bandReplicates(const SceneJackknife& jk);
 
 // SE_G at (A, ρ) for a 6 × 6 covariance.
 double curveBand(const std::array<double, 36>& covariance, double A, double rho);

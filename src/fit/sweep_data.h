@@ -29,6 +29,10 @@ struct SweepScene {
   std::string name;
   std::size_t begin = 0;  // first point of this scene in the pooled arrays
   std::size_t end = 0;    // one past its last point
+  // The scene this entry views (sweep.json scenes[].scene; empty: its own name). Views of one scene
+  // are one cluster of the scene-level uncertainty (docs/fit.md §5).
+  std::string cluster{};
+  const std::string& clusterName() const { return cluster.empty() ? name : cluster; }
 };
 
 struct SweepData {

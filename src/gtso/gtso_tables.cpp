@@ -231,11 +231,16 @@ CounterRng pointStream(int dims, PointSet set, std::uint64_t seed) {
   return CounterRng(seed, static_cast<std::uint64_t>(dims * 2 + (set == PointSet::kStress)));
 }
 
-// The lobe of random lobe l: r_p and cos theta_o (stress: every other lobe grazing).
+// The lobe of random lobe l: r_p and cos theta_o (stress: every other lobe grazing, half of
+// those squeezed towards the grazing, mirror-like corner).
 std::pair<double, double> drawLobe(PointSet set, const CounterRng& rng, int l) {
   const auto u = rng.uniform4(static_cast<std::uint64_t>(l), 0);
-  const bool grazing = set == PointSet::kStress && l % 2 == 1;
-  return {u[0], grazing ? kGrazingCos * u[1] : u[1]};
+  if (set != PointSet::kStress || l % 2 == 0) return {u[0], u[1]};
+  // Grazing: lobes l = 1 mod 4 uniform in cos theta_o in [0, 0.1]; lobes l = 3 mod 4 squeezed
+  // towards the corner where the largest errors lie (cos theta_o -> 0 with r_p -> 0): both drawn
+  // as the square of a uniform, so a quarter of them have cos theta_o < 0.025 and r_p < 0.25.
+  if (l % 4 == 1) return {u[0], kGrazingCos * u[1]};
+  return {u[0] * u[0], kGrazingCos * u[1] * u[1]};
 }
 
 // Integrates the lobe once for the bent normals of every table drawn on it and stores each

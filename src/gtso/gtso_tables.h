@@ -80,10 +80,11 @@ const char* pointSetName(PointSet s);
 // with their exact S (integrator at `cells`), deterministic in seed.
 // Uniform: A, r_p, cos theta_o uniform in [0, 1]; 3D beta = theta_o; 4D cos beta uniform over the
 // bent normals above the horizon, beta in [0, theta_o + pi/2]. Stress: half the lobes at grazing
-// views (cos theta_o in [0, 0.1]), and every point within 3 lobe widths of the mirror step:
-// alpha_v uniform in [s - h, s + h] intersected with [0, pi/2], h = 6 alpha + 0.02 rad (3 widths
-// of ~2 alpha plus a floor), s = beta (3D: theta_o); 4D stress beta in [0, pi/2] (cos beta
-// uniform).
+// views (cos theta_o in [0, 0.1]; half of those with cos theta_o = 0.1 v² and r_p = v'², v, v'
+// uniform, towards the grazing mirror-like corner where the largest errors are), and every point
+// within 3 lobe widths of the mirror step: alpha_v uniform in [s - h, s + h] intersected with [0,
+// pi/2], h = 6 alpha + 0.02 rad (3 widths of ~2 alpha plus a floor), s = beta (3D: theta_o); 4D
+// stress beta in [0, pi/2] (cos beta uniform).
 inline constexpr int kPointsPerLobe = 16;  // points per random lobe of every end-to-end set
 struct ErrorPoints {
   std::vector<GtsoPoint> points;

@@ -53,6 +53,7 @@ std::vector<SpecularSample> gatherSamples(const SpecularSweep& sweep) {
         s.r_p = static_cast<float>(sweep.roughness[j]);
         s.n_dot_v = static_cast<float>(nv);
         s.cos_beta = static_cast<float>(cos_beta);
+        s.n_dot_b = static_cast<float>(n[0] * b[0] + n[1] * b[1] + n[2] * b[2]);
         s.alpha_v = std::acos(std::sqrt(std::clamp(1.0 - static_cast<double>(s.A), 0.0, 1.0)));
         s.beta = std::acos(cos_beta);
         s.cos_av = std::cos(s.alpha_v);

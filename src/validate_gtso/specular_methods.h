@@ -21,6 +21,7 @@ struct SpecularSample {
   float r_p = 0.0f;
   float n_dot_v = 0.0f;   // = cos θo = n·ωr
   float cos_beta = 0.0f;  // b·ωr, ωr = 2(n·ωo)n − ωo
+  float n_dot_b = 0.0f;   // b·n
   double alpha_v = 0.0;   // visibility cone: cos αv = √(1 − A)
   double beta = 0.0;      // angle(b, ωr)
   double cos_av = 1.0, sin_av = 0.0, cos_b = 1.0, sin_b = 0.0;  // std::cos/sin of αv and β

@@ -47,6 +47,11 @@ SpecularSweep readSpecularSweep(const fs::path& dir) {
     for (const nlohmann::json& entry : json.at("scenes")) {
       SpecularScene scene;
       scene.name = entry.at("name").get<std::string>();
+      if (entry.contains("scene")) {
+        if (!entry["scene"].is_string())
+          throw Error(json_path.string() + ": scene must be a string");
+        scene.cluster = entry["scene"].get<std::string>();
+      }
       const std::string file = entry.at("file").get<std::string>();
       fileInsideDirectory(dir, file, json_path.string());
       ExrExpect expect;

@@ -21,6 +21,7 @@
 #include "sweep/escape_image.h"
 #include "validate_gtso/cone_u_fit.h"
 #include "validate_gtso/gtso_lookup.h"
+#include "validate_gtso/scene_statistics.h"
 #include "validate_gtso/specular_methods.h"
 #include "validate_gtso/specular_sweep.h"
 
@@ -66,8 +67,10 @@ Json statsJson(const ErrorStats& e) {
 Json fitJson(const UFit& f) {
   Json j;
   j["u"] = f.u;
-  j["u_interval"] = {f.low, f.high};
-  j["u_interval_open"] = {f.low_open, f.high_open};
+  // The u range whose pooled RMSE is within 5% of the optimum: a flatness measure of the
+  // objective, not a confidence interval (u_scene_interval is that).
+  j["rmse_within_5pct"] = {f.low, f.high};
+  j["rmse_within_5pct_open"] = {f.low_open, f.high_open};
   j["rmse"] = f.rmse;
   j["rmse_u_0.01"] = f.rmse_paper;
   j["rmse_u_0.244"] = f.rmse_uludag;
@@ -220,7 +223,8 @@ void writePage(const SpecularSweep& sweep, const Tables& t, const std::vector<Me
       << fmt("%+.2e", e.meanSigned()) << "</td><td>" << fmt("%.2e", e.max_abs) << "</td></tr>\n";
   }
   o << "</table>\n<h2>Cone aperture u</h2>\n<table><tr><th>convention</th><th>pixels</th><th>u</th>"
-       "<th>5% interval</th><th>RMSE at u</th><th>at 0.01</th><th>at 0.244</th></tr>\n";
+       "<th>RMSE within 5% (flatness, not a CI)</th><th>RMSE at u</th><th>at 0.01</th><th>at "
+       "0.244</th></tr>\n";
   auto fitRow = [&](const char* name, const UFit& f) {
     o << "<tr><td>" << name << "</td><td>" << f.count << "</td><td>" << fmt("%.3g", f.u)
       << "</td><td>" << intervalText(f) << "</td><td>" << fmt("%.4f", f.rmse) << "</td><td>"
@@ -303,6 +307,8 @@ struct Analysis {
   std::vector<Method> methods;
   Tables t;
   std::vector<std::vector<Method>> ranking;
+  SceneStatistics
+      scene_stats;  // scene-level u interval, paired rankings, floor (scene_statistics.h)
 };
 
 Analysis analyse(const ValidateGtsoOptions& options) {
@@ -322,6 +328,7 @@ Analysis analyse(const ValidateGtsoOptions& options) {
   a.methods = scoredMethods(options.u > 0.0);
   a.t = tabulate(a.samples, a.values, a.sweep.scenes.size(), a.sweep.roughness.size());
   a.ranking = rank(a.t, a.methods, a.sweep.roughness.size());
+  a.scene_stats = sceneStatistics(a.sweep, a.samples, a.values, a.methods);
   return a;
 }
 
@@ -345,11 +352,13 @@ void addSettingsJson(const ValidateGtsoOptions& options, const fs::path& out, co
       "r = alpha = r_p^2: Filament computeSpecularAO(shading_NoV, ao, pixel.roughness) with "
       "pixel.roughness = perceptualRoughnessToRoughness(perceptualRoughness); HDRP "
       "GetSpecularOcclusionFromAmbientOcclusion(NdotV, ao, PerceptualSmoothnessToRoughness(...))";
+  const USceneInterval& u_scene = a.scene_stats.u.interval[0];  // scene-level, alpha law
   json["u"] = a.spec.all.u;
-  json["u_interval"] = {a.spec.all.low, a.spec.all.high};
+  json["u_interval"] = {u_scene.low, u_scene.high};  // scene-level, u_scene_interval/alpha
+  json["u_se"] = u_scene.u_se;
   json["u_fit"] = {{"objective",
                     "least squares of S_cone(u) - path-traced S over every unmasked pixel and "
-                    "roughness r_p > 0 (Ceres, log10 u); interval: RMSE within 5% of the optimum"},
+                    "roughness r_p > 0 (Ceres, log10 u); rmse_within_5pct: flatness, not a CI"},
                    {"alpha",
                     {{"convention", "cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2"},
                      {"all", fitJson(a.spec.all)},
@@ -444,6 +453,7 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   addSettingsJson(options, out, a, json);
   addMethodsJson(a, json);
   addBreakdownJson(a, json);
+  addSceneStatisticsJson(a.sweep, a.scene_stats, json);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   json["timings"] = {{"seconds", seconds}};
@@ -454,6 +464,7 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   OutputSet output(out, "validate_gtso");  // export requires and verifies it
   writeSceneImages(a.sweep, a.samples, a.values, output);
   writePage(a.sweep, a.t, a.methods, a.ranking, a.spec, a.perceptual, output);
+  output.add("report/validate_gtso_scenes.html", sceneStatisticsHtml(a.sweep, a.scene_stats));
   output.add(json_path.filename().string(), json.dump(2) + "\n");
   output.commit();
   printSummary(a.sweep, a.samples.size() / a.sweep.roughness.size(), a.t, a.methods, a.ranking,
@@ -462,8 +473,8 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   ValidateGtsoResult result;
   result.json = json_path;
   result.u = a.spec.all.u;
-  result.u_low = a.spec.all.low;
-  result.u_high = a.spec.all.high;
+  result.u_low = a.scene_stats.u.interval[0].low;
+  result.u_high = a.scene_stats.u.interval[0].high;
   result.seconds = seconds;
   return result;
 }

@@ -17,6 +17,9 @@ constexpr std::size_t kPointsPerScene = 1000;
 constexpr int kRealizations = 8;
 // The direction in which scenes differ: c(ρ) += δ_s (1 + ρ), i.e. G += δ_s (1 + ρ) A.
 constexpr MultiBounceCoeffs kDirection = {0, 0, 0, 0, 1, 1};
+// These tests check the SE and the band, not the threshold: a coarse grid (0.02 in A, 0.05 in ρ)
+// and 1000 draws keep them fast (simultaneous_band_test.cpp tests the threshold).
+const BandRule kCoarse{50, 16, {0.95, 1000, 1}};
 
 // kScenes scenes whose constants are kPaperCoeffs + δ_s kDirection, δ_s ~ N(0, tau²).
 SweepData clusters(double tau, double sigma_A, double sigma_G, std::uint64_t seed,
@@ -46,7 +49,7 @@ TEST(SceneJackknife, RecoversKnownBetweenSceneSpread) {
     std::vector<double> deltas;
     const SweepData data = clusters(kTau, 0.0, 1e-4, 40 + r, &deltas);
     const MultiBounceFit fit = fitMultiBounce(data);
-    const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs);
+    const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs, kCoarse);
     ASSERT_TRUE(jk.available);
     double mean = 0.0, var = 0.0;
     for (double d : deltas) mean += d / kScenes;
@@ -66,7 +69,7 @@ TEST(SceneJackknife, CollapsesToMonteCarloWithoutSpread) {
   for (int r = 0; r < kRealizations; ++r) {
     const SweepData data = clusters(0.0, 0.01, 0.02, 70 + r, nullptr);
     const MultiBounceFit fit = fitMultiBounce(data);
-    const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs);
+    const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs, kCoarse);
     for (int i = 0; i < 6; ++i) {
       mean_ratio[i] += jk.se[i] * jk.se[i] / (fit.linear.se[i] * fit.linear.se[i]) / kRealizations;
     }
@@ -81,7 +84,7 @@ TEST(SceneJackknife, CollapsesToMonteCarloWithoutSpread) {
 TEST(SceneJackknife, BandIsTheJackknifeSpreadOfTheCurve) {
   const SweepData data = clusters(0.05, 0.0, 0.01, 3, nullptr);
   const MultiBounceFit fit = fitMultiBounce(data);
-  const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs);
+  const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs, kCoarse);
   for (double A : {0.1, 0.37, 0.8, 1.0}) {
     for (double rho : {0.1, 0.55, 0.9}) {
       double mean = 0.0, sum2 = 0.0;
@@ -103,7 +106,7 @@ TEST(SceneJackknife, BandIsTheJackknifeSpreadOfTheCurve) {
 TEST(SceneJackknife, ScoresConstantsAgainstTheBand) {
   const SweepData data = clusters(0.05, 0.0, 0.01, 4, nullptr);
   const MultiBounceFit fit = fitMultiBounce(data);
-  const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs);
+  const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs, kCoarse);
   const BandScore same = scoreAgainstBand(jk, fit.linear.coeffs, fit.linear.coeffs);
   EXPECT_TRUE(same.consistent);
   EXPECT_NE(same.verdict.find("consistent"), std::string::npos);
@@ -119,7 +122,7 @@ TEST(SceneJackknife, ScoresConstantsAgainstTheBand) {
   FitSettings open;
   open.constrain_open = true;
   const MultiBounceFit open_fit = fitMultiBounce(data, open);
-  const SceneJackknife open_jk = sceneJackknife(data, open_fit, kPaperCoeffs);
+  const SceneJackknife open_jk = sceneJackknife(data, open_fit, kPaperCoeffs, kCoarse);
   EXPECT_LT(jackknifeBand(open_jk, 1.0, 0.5), 1e-12);
   EXPECT_LT(scoreAgainstBand(open_jk, open_fit.linear.coeffs, kPaperCoeffs).max_ratio.value, 1e3);
 
@@ -127,11 +130,31 @@ TEST(SceneJackknife, ScoresConstantsAgainstTheBand) {
   test::appendScene(data, 0, two);
   test::appendScene(data, 1, two);
   const MultiBounceFit fit2 = fitMultiBounce(two);
-  const SceneJackknife jk2 = sceneJackknife(two, fit2, kPaperCoeffs);
+  const SceneJackknife jk2 = sceneJackknife(two, fit2, kPaperCoeffs, kCoarse);
   EXPECT_FALSE(jk2.available);
   EXPECT_EQ(jk2.leave_one_out.size(), 2u);
   EXPECT_NE(jk2.message.find("at least 3 scenes"), std::string::npos) << jk2.message;
   EXPECT_FALSE(scoreAgainstBand(jk2, fit2.linear.coeffs, kPaperCoeffs).consistent);
+}
+
+// Entries that view one scene (sweep.json scenes[].scene) are one cluster: the jackknife over
+// pairs of views equals the jackknife of the same points with each pair merged into one entry.
+TEST(SceneJackknife, ViewsOfOneSceneAreOneCluster) {
+  const SweepData views = clusters(0.05, 0.0, 0.01, 9, nullptr);
+  SweepData tagged = views, merged = views;
+  merged.scenes.clear();
+  for (std::size_t s = 0; s < kScenes; ++s) tagged.scenes[s].cluster = "c" + std::to_string(s / 2);
+  for (std::size_t s = 0; s < kScenes; s += 2) {
+    merged.scenes.push_back(
+        {"c" + std::to_string(s / 2), views.scenes[s].begin, views.scenes[s + 1].end});
+  }
+  const SceneJackknife a = sceneJackknife(tagged, fitMultiBounce(tagged), kPaperCoeffs, kCoarse);
+  const SceneJackknife b = sceneJackknife(merged, fitMultiBounce(merged), kPaperCoeffs, kCoarse);
+  ASSERT_EQ(a.scenes, kScenes / 2);
+  ASSERT_EQ(a.leave_one_out.size(), kScenes / 2);
+  EXPECT_EQ(a.leave_one_out[3].left_out, "c3");
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(a.se[i], b.se[i], 1e-9 * b.se[i]) << i;
+  EXPECT_NEAR(a.threshold, b.threshold, 1e-9);
 }
 
 // studentT975 against the t distribution itself: the CDF (Simpson's rule on the density) at the
@@ -170,7 +193,7 @@ TEST(SceneJackknife, UndeterminedReplicaMakesTheJackknifeUnavailable) {
     }
   }
   const MultiBounceFit fit = fitMultiBounce(data);
-  const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs);
+  const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs, kCoarse);
   EXPECT_FALSE(jk.available);
   EXPECT_NE(jk.message.find("'spans'"), std::string::npos) << jk.message;
 }

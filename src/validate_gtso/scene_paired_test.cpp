@@ -1,0 +1,110 @@
+#include "validate_gtso/scene_paired_test.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <numeric>
+
+#include "common/error.h"
+#include "common/rng.h"
+
+namespace gtbake {
+
+namespace {
+
+// |Σ ±d_s| ≥ |Σ d_s| counts with this relative slack (the observed pattern itself must count).
+constexpr double kTieSlack = 1e-12;
+
+// How many sign patterns in `patterns` give |Σ ±d| ≥ target; pattern bits from `bits(k)`.
+template <typename Bits>
+std::uint64_t countAtLeast(const std::vector<double>& d, double target, std::uint64_t patterns,
+                           Bits&& bits) {
+  std::uint64_t hits = 0;
+  for (std::uint64_t k = 0; k < patterns; ++k) {
+    const std::uint64_t b = bits(k);
+    double sum = 0.0;
+    for (std::size_t s = 0; s < d.size(); ++s) sum += ((b >> s) & 1u) ? -d[s] : d[s];
+    if (std::abs(sum) >= target) ++hits;
+  }
+  return hits;
+}
+
+std::string pText(double p) {
+  char text[32];
+  std::snprintf(text, sizeof(text), p < 0.001 ? "%.1e" : "%.3f", p);
+  return text;
+}
+
+}  // namespace
+
+PairedTest pairedSignFlip(const std::vector<double>& x, const std::vector<double>& y) {
+  if (x.size() != y.size()) throw Error("paired test: the two methods have different scenes");
+  if (x.size() < 2) throw Error("paired test: needs at least 2 scenes");
+  if (x.size() > 64) throw Error("paired test: at most 64 scenes (one sign bit each)");
+  const std::size_t S = x.size();
+  std::vector<double> d(S);
+  for (std::size_t s = 0; s < S; ++s) d[s] = x[s] - y[s];
+  PairedTest out;
+  out.scenes = S;
+  const double sum = std::accumulate(d.begin(), d.end(), 0.0);
+  out.mean_difference = sum / static_cast<double>(S);
+  double ss = 0.0;
+  for (double v : d) ss += (v - out.mean_difference) * (v - out.mean_difference);
+  const double sd = std::sqrt(ss / static_cast<double>(S - 1));
+  out.t = sd > 0.0 ? out.mean_difference / (sd / std::sqrt(static_cast<double>(S))) : 0.0;
+  double scale = 0.0;
+  for (double v : d) scale += std::abs(v);
+  if (scale == 0.0) return out;  // identical: p = 1
+  const double target = std::abs(sum) - kTieSlack * scale;
+  if (S <= kExactSignFlipScenes) {
+    const std::uint64_t patterns = std::uint64_t{1} << S;
+    out.p_value =
+        static_cast<double>(countAtLeast(d, target, patterns, [](std::uint64_t k) { return k; })) /
+        static_cast<double>(patterns);
+  } else {
+    const CounterRng rng(0x5167, S);
+    const std::uint64_t hits = countAtLeast(d, target, kSignFlipDraws, [&](std::uint64_t k) {
+      const auto w = rng.words(k, 0);
+      return (std::uint64_t{w[0]} << 32) | w[1];
+    });
+    out.p_value = (static_cast<double>(hits) + 1.0) / (static_cast<double>(kSignFlipDraws) + 1.0);
+  }
+  out.significant = out.p_value < kSignificance;
+  return out;
+}
+
+RankingTest rankingTest(const std::vector<std::string>& names,
+                        const std::vector<std::vector<double>>& per_scene,
+                        const std::vector<double>& pooled) {
+  std::vector<std::size_t> order(names.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return pooled[a] < pooled[b]; });
+  RankingTest out;
+  out.best = names[order.front()];
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    out.others.push_back(names[order[k]]);
+    out.vs_best.push_back(pairedSignFlip(per_scene[order[k]], per_scene[order.front()]));
+    if (!(out.vs_best.back().significant && out.vs_best.back().mean_difference > 0.0)) {
+      out.tied.push_back(names[order[k]]);
+    }
+  }
+  out.statement = out.best + " has the lowest RMSE";
+  if (out.tied.empty()) {
+    out.statement += " and beats every other method at the scene level";
+  } else {
+    out.statement += "; at the scene level it is not distinguishable from ";
+    for (std::size_t k = 0; k < out.tied.size(); ++k) {
+      const auto it = std::find(out.others.begin(), out.others.end(), out.tied[k]);
+      out.statement +=
+          (k ? ", " : "") + out.tied[k] +
+          " (p = " + pText(out.vs_best[static_cast<std::size_t>(it - out.others.begin())].p_value) +
+          ")";
+    }
+  }
+  out.statement += ".";
+  return out;
+}
+
+}  // namespace gtbake

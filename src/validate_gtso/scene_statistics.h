@@ -1,0 +1,45 @@
+// validate-gtso's scene-level statistics in one call (docs/validate_gtso.md §2, §3, §5): the
+// scene clusters, u's scene-level interval and per-roughness optima, the paired scene-level
+// ranking tests, the SO floor and the out-of-plane table over occluded pixels; and their JSON.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "validate_gtso/out_of_plane.h"
+#include "validate_gtso/scene_paired_test.h"
+#include "validate_gtso/so_floor.h"
+#include "validate_gtso/specular_sweep.h"
+#include "validate_gtso/u_scene_interval.h"
+
+namespace gtbake {
+
+struct SceneStatistics {
+  std::vector<std::string> clusters;
+  std::vector<int> cluster_of;  // [sweep scene]
+  UAnalysis u;
+  std::vector<RankingTest> ranking;  // [roughness]
+  SoFloor floor;
+  std::vector<OutOfPlaneBin> out_of_plane;
+};
+
+// The clusters of the sweep's scenes (SpecularScene::cluster, else the name), first-seen order.
+std::vector<std::string> sceneClusters(const SpecularSweep& sweep, std::vector<int>& cluster_of);
+
+// values[m][i]: method m (Method order) at samples[i]; `methods` are the scored ones.
+SceneStatistics sceneStatistics(const SpecularSweep& sweep,
+                                const std::vector<SpecularSample>& samples,
+                                const std::vector<std::vector<float>>& values,
+                                const std::vector<Method>& methods);
+
+// The keys validate_gtso.json adds: u_scene_interval, u_per_roughness, u_law, ranking_tests,
+// so_floor, by_out_of_plane_occluded.
+void addSceneStatisticsJson(const SpecularSweep& sweep, const SceneStatistics& s,
+                            nlohmann::ordered_json& json);
+
+// The same as an HTML page (report/validate_gtso_scenes.html, beside validate_gtso.html):
+// the ranking statements, u's scene-level intervals and per-roughness optima, the floor.
+std::string sceneStatisticsHtml(const SpecularSweep& sweep, const SceneStatistics& s);
+
+}  // namespace gtbake
