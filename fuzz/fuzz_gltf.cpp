@@ -7,6 +7,7 @@
 #include "fuzz_target.h"
 #include "scene/gltf_reader.h"
 #include "scene/procedural_scenes.h"
+#include "support/test_scenes.h"
 
 namespace gtbake::fuzz {
 

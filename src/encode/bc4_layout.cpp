@@ -192,18 +192,15 @@ LayoutCandidate scoreCandidate(const GtsoTable& t, const LayoutChoice& c, const 
   const GtsoLayout& l = c.layout;
   LayoutCandidate k;
   k.layout = l;
-  const Stats su = layoutLookupError(t, c, l, blocks, p.uniform);
-  const Stats ss = layoutLookupError(t, c, l, blocks, p.stress);
-  k.uniform_rms = su.rms;
-  k.uniform_max = su.max;
-  k.stress_rms = ss.rms;
-  k.stress_max = ss.max;
-  const Stats ru = layoutLookupError(t, c, l, blocks, p.report_uniform);
-  const Stats rs = layoutLookupError(t, c, l, blocks, p.report_stress);
-  k.report_uniform_rms = ru.rms;
-  k.report_uniform_max = ru.max;
-  k.report_stress_rms = rs.rms;
-  k.report_stress_max = rs.max;
+  auto score = [&](const gtso::ErrorPoints& points, double* rms, double* max) {
+    const Stats e = layoutLookupError(t, c, l, blocks, points);
+    *rms = e.rms;
+    *max = e.max;
+  };
+  score(p.uniform, &k.uniform_rms, &k.uniform_max);
+  score(p.stress, &k.stress_rms, &k.stress_max);
+  score(p.report_uniform, &k.report_uniform_rms, &k.report_uniform_max);
+  score(p.report_stress, &k.report_stress_rms, &k.report_stress_max);
   k.texel_rms = c.bc4.rmse;
   k.texel_max = c.bc4.max_abs;
   k.encode_seconds = c.bc4.seconds;

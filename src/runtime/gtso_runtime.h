@@ -1,6 +1,7 @@
-// GTSO runtime lookup (docs/gtso.md §1-1.5): the axis warps of the 3D and 4D tables and the texture
-// reads a shader performs (BC4 decode, half-texel remap, trilinear filter, 4D fold), for float32,
-// BC4_UNORM, R16_UNORM and R8_UNORM texels; the cone-to-cone model and the multi-bounce fit.
+// GTSO runtime lookup (docs/gtso.md §1, docs/export.md §2): the axis warps of the 3D and 4D
+// tables and the texture reads a shader performs (BC4 decode, half-texel remap, trilinear filter,
+// 4D fold), for float32, BC4_UNORM, R16_UNORM and R8_UNORM texels; the cone-to-cone model and the
+// multi-bounce fit.
 //
 // This file is the single C++ definition of the table axes: `gtbake gtso` bakes texel i of each
 // axis at the inverse map of i/(N-1), the lookups here apply the forward map, and `gtbake export`

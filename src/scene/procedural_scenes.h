@@ -1,5 +1,5 @@
-// The procedural scenes: the seven scene types of docs/scenes.md "The seven scene types" and small
-// closed-form test scenes.
+// The procedural scenes: the seven scene types of docs/scenes.md "The seven scene types" (the
+// closed-form test scenes are in tests/support/test_scenes.h).
 //
 // Conventions: metres, +Y up, ground y = 0, every ground reaching kGroundExtent in x and z (see
 // docs/scenes.md for why that removes the bias of a finite world), curved surfaces tessellated
@@ -36,26 +36,5 @@ Scene makeSpheresScene();  // spheres of radii 0.25, 0.5, 1.0, 1.5 m resting on 
 Scene makeWellsScene();    // cylindrical wells and rectangular slots with floors, in a slab
 Scene makeClutterScene(std::uint64_t seed);  // seeded boxes and columns on the ground
 Scene makeTerrainScene(std::uint64_t seed);  // seeded ridged-noise heightfield, ±~2 m
-
-// Closed-form test scenes (each camera looks at its feature; the centre pixel sees the named
-// point where one is named).
-//
-// One spherical bowl (sphere radius R, depth h ∈ (0, 2R)) in an infinite ground; the camera
-// looks straight down its axis (centre pixel: the bottom of the bowl). Closed form: every point
-// of the bowl has A = (2R − h)/(2R) (the view factor from a point inside a sphere to a part of it
-// is that part's area over 4πR²).
-Scene makeSphericalCavityScene(double R, double h, int segments = kCurveSegments);
-// One cylindrical well (radius, depth) with a flat floor; camera straight down its axis (centre
-// pixel: the centre of the floor).
-Scene makeCylinderWellScene(double radius, double depth, int segments = kCurveSegments);
-// One sphere of radius R resting on the ground at the origin; camera from above and the side.
-Scene makeSphereOnPlaneScene(double R, int segments = kCurveSegments);
-// One infinite V-groove along z, opening angle `opening` (radians) and depth `depth`; camera
-// straight down (centre pixel: the bottom edge of the groove).
-Scene makeVGrooveScene(double opening, double depth);
-// Nothing but the ground (A = G = 1 everywhere); camera looking down at 45°.
-Scene makeOpenPlaneScene();
-// A closed 2 m cube seen from its centre (A = 0 and G = 0 everywhere: no path escapes).
-Scene makeClosedBoxScene();
 
 }  // namespace gtbake

@@ -17,27 +17,6 @@ namespace {
 constexpr int kMaxSpecularSpp = 1 << 16;
 }  // namespace
 
-std::vector<double> parseSpecularRoughness(const std::string& text) {
-  if (text == "none") return {};
-  std::vector<double> values;
-  std::size_t begin = 0;
-  while (true) {
-    const std::size_t end = text.find(',', begin);
-    const std::string item = text.substr(begin, end == std::string::npos ? end : end - begin);
-    char* stop = nullptr;
-    const double v = std::strtod(item.c_str(), &stop);
-    if (item.empty() || stop != item.c_str() + item.size() || !std::isfinite(v)) {
-      throw Error(
-          "--specular-roughness must be 'none' or comma-separated numbers in [0, 1], got '" + text +
-          "'");
-    }
-    values.push_back(v);
-    if (end == std::string::npos) break;
-    begin = end + 1;
-  }
-  return values;
-}
-
 void validateSpecularOptions(const std::vector<double>& roughness, int spp) {
   std::set<long> names;
   for (double r : roughness) {

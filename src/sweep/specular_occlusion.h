@@ -105,8 +105,6 @@ inline double specularRatio(double visible, double total) {
   return total > 0.0 ? visible / total : 1.0;
 }
 
-// --specular-roughness: "none" (empty) or comma-separated r_p values. Throws gtbake::Error.
-std::vector<double> parseSpecularRoughness(const std::string& text);
 // Each r_p in [0, 1], channel names distinct, spp even in [2, 2^16] unless the list is empty.
 void validateSpecularOptions(const std::vector<double>& roughness, int spp);
 // "0.1,0.25,..." (%.9g each), or "none".

@@ -16,7 +16,6 @@
 #include <cstring>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <set>
 #include <string>
 
@@ -39,9 +38,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int kMaxSpp = 1 << 20;     // keeps counts in uint32 and a pixel's walks < 1 s
-constexpr int kMaxShards = 1 << 16;  // far more than tiles a useful sweep has per shard
-constexpr int kMaxBounces = 16;      // ρ^17 ≤ 0.9^17 ≈ 0.17 of p_17: beyond that nobody asks
+constexpr int kMaxSpp = 1 << 20;  // keeps counts in uint32 and a pixel's walks < 1 s
+constexpr int kMaxBounces = 16;   // ρ^17 ≤ 0.9^17 ≈ 0.17 of p_17: beyond that nobody asks
 
 bool isGltf(const fs::path& path) {
   const std::string ext = path.extension().string();
@@ -378,21 +376,6 @@ SweepResult finishShard(const SweepOptions& o, const SweepIdentity& id, const Ti
 }
 
 }  // namespace
-
-std::pair<int, int> parseShard(const std::string& text) {
-  static const std::regex kPattern("([0-9]{1,6})/([0-9]{1,6})");
-  std::smatch match;
-  if (!std::regex_match(text, match, kPattern)) {
-    throw Error("--shard must look like I/N (shard I of N, 0 <= I < N), got '" + text + "'");
-  }
-  const int index = std::stoi(match[1]);
-  const int count = std::stoi(match[2]);
-  if (count < 1 || count > kMaxShards || index >= count) {
-    throw Error("--shard must be I/N with 0 <= I < N <= " + std::to_string(kMaxShards) + ", got '" +
-                text + "'");
-  }
-  return {index, count};
-}
 
 SweepResult runSweep(const SweepOptions& options) {
   const auto start = std::chrono::steady_clock::now();

@@ -80,9 +80,8 @@ class SweepInterrupted : public Error {
 // are checkpointed in <out>/sweep-tiles as they finish (removed once the outputs are written); a
 // sweep stopped by a signal or killed resumes from them. Sharded: writes <out>/sweep-tiles and
 // <out>/shard.json instead (result.scenes is then empty).
-SweepResult runSweep(const SweepOptions& options);
+inline constexpr int kMaxShards = 1 << 16;  // far more than tiles a useful sweep has per shard
 
-// "I/N" with 0 ≤ I < N → (I, N); a one-line gtbake::Error otherwise.
-std::pair<int, int> parseShard(const std::string& text);
+SweepResult runSweep(const SweepOptions& options);
 
 }  // namespace gtbake

@@ -371,10 +371,11 @@ std::pair<double, double> blockError(const std::uint8_t* block, const float* tex
   return {sse, worst};
 }
 
-}  // namespace
-
-Bc4Volume encodeBc4Volume(const Bc4Encoder& encoder, const float* data, int width, int height,
-                          int depth, Progress* progress) {
+// A volume built block by block (`make(b, texels)` gives block b of the 16 texels), with the
+// errors of the decoded texels against `data` summed per block and then in block order.
+template <class MakeBlock>
+Bc4Volume buildVolume(const float* data, int width, int height, int depth, Progress* progress,
+                      const MakeBlock& make) {
   const auto start = std::chrono::steady_clock::now();
   const std::size_t blocks = static_cast<std::size_t>(width / 4) * (height / 4) * depth;
   Bc4Volume volume;
@@ -385,9 +386,9 @@ Bc4Volume encodeBc4Volume(const Bc4Encoder& encoder, const float* data, int widt
     for (std::size_t b = range.begin(); b != range.end(); ++b) {
       float texels[kBc4BlockTexels];
       blockTexels(data, width, height, b, texels);
-      const Bc4Encoding enc = encoder.encodeBlock(texels);
-      std::copy(enc.block.begin(), enc.block.end(), &volume.bytes[b * kBc4BlockBytes]);
-      std::tie(block_sse[b], block_max[b]) = blockError(enc.block.data(), texels);
+      const Bc4Block block = make(b, texels);
+      std::copy(block.begin(), block.end(), &volume.bytes[b * kBc4BlockBytes]);
+      std::tie(block_sse[b], block_max[b]) = blockError(block.data(), texels);
     }
     if (progress) progress->add(range.size());
   });
@@ -396,16 +397,19 @@ Bc4Volume encodeBc4Volume(const Bc4Encoder& encoder, const float* data, int widt
   return volume;
 }
 
+}  // namespace
+
+Bc4Volume encodeBc4Volume(const Bc4Encoder& encoder, const float* data, int width, int height,
+                          int depth, Progress* progress) {
+  return buildVolume(data, width, height, depth, progress, [&](std::size_t, const float* texels) {
+    return encoder.encodeBlock(texels).block;
+  });
+}
+
 Bc4Volume swapBc4VolumeXY(const Bc4Volume& src, const float* data, int width, int height,
                           int depth) {
-  const auto start = std::chrono::steady_clock::now();
   const int bx = width / 4, by = height / 4;
-  const std::size_t blocks = static_cast<std::size_t>(bx) * by * depth;
-  Bc4Volume volume;
-  volume.bytes.resize(blocks * kBc4BlockBytes);
-  std::vector<double> block_sse(blocks);
-  std::vector<double> block_max(blocks);
-  for (std::size_t b = 0; b < blocks; ++b) {
+  return buildVolume(data, width, height, depth, nullptr, [&](std::size_t b, const float*) {
     const std::size_t z = b / (static_cast<std::size_t>(bx) * by);
     const int row = static_cast<int>(b / bx % by), col = static_cast<int>(b % bx);
     // The source volume is height x width: this block is its block (row = col, col = row).
@@ -417,15 +421,8 @@ Bc4Volume swapBc4VolumeXY(const Bc4Volume& src, const float* data, int width, in
     for (int j = 0; j < 4; ++j) {
       for (int i = 0; i < 4; ++i) indices[4 * j + i] = (bits >> (3 * (4 * i + j))) & 7u;
     }
-    const Bc4Block block = packBc4Block(in[0], in[1], indices);
-    std::copy(block.begin(), block.end(), &volume.bytes[b * kBc4BlockBytes]);
-    float texels[kBc4BlockTexels];
-    blockTexels(data, width, height, b, texels);
-    std::tie(block_sse[b], block_max[b]) = blockError(block.data(), texels);
-  }
-  sumBlockErrors(block_sse, block_max, &volume);
-  volume.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return volume;
+    return packBc4Block(in[0], in[1], indices);
+  });
 }
 
 std::vector<float> decodeBc4Volume(const std::uint8_t* bytes, int width, int height, int depth) {

@@ -1,5 +1,6 @@
-// Build-time helper: writes the export fixture into argv[1] and runs `gtbake export` on it, so
-// that header_consumer_test.cpp can #include the generated gtbake_tables.h.
+// Build-time helper: writes the export fixture into argv[1] and runs `gtbake encode` and
+// `gtbake export` on it, so that header_consumer_test.cpp can #include the generated
+// gtbake_tables.h.
 #include <cstdio>
 #include <filesystem>
 

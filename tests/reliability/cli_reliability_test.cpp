@@ -10,6 +10,7 @@
 #include "common/output_set.h"
 #include "reliability_util.h"
 #include "scene/procedural_scenes.h"
+#include "support/test_scenes.h"
 #include "scene/scene.h"
 #include "sweep/sweep_command.h"
 

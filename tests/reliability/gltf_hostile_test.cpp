@@ -1,6 +1,5 @@
-// Hostile glTF inputs (docs/limits.md): each case once crashed, hung, read out of bounds or
-// silently produced wrong geometry; each must now be a one-line gtbake::Error (or the right
-// result).
+// Hostile glTF inputs (docs/limits.md): cases that could crash, hang, read out of bounds or
+// silently produce wrong geometry; each must be a one-line gtbake::Error (or the right result).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>

@@ -19,6 +19,7 @@
 #include "gtso/gtso_command.h"
 #include "reliability_util.h"
 #include "scene/procedural_scenes.h"
+#include "support/test_scenes.h"
 #include "scene/scene.h"
 #include "scene/scenes_command.h"
 #include "sweep/sweep_command.h"

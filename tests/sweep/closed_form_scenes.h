@@ -3,7 +3,7 @@
 // forms (docs/sweep.md, "Tests"). These are the shapes src/scene does not build: a finite plane
 // whose edge is in view, and a bowl and a well with no ground around their opening (so the sky is
 // seen exactly through one planar polygon). The closed box and the sphere on a plane are
-// src/scene's (makeClosedBoxScene, makeSphereOnPlaneScene in scene/procedural_scenes.h).
+// tests/support's (makeClosedBoxScene, makeSphereOnPlaneScene in tests/support/test_scenes.h).
 #pragma once
 
 #include <Eigen/Core>

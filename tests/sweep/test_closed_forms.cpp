@@ -15,6 +15,7 @@
 #include "common/math_constants.h"
 #include "gtso/ggx.h"
 #include "scene/procedural_scenes.h"
+#include "support/test_scenes.h"
 #include "sweep/escape_image.h"
 #include "sweep/specular_occlusion.h"
 #include "walk_points.h"

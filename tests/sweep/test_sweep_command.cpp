@@ -12,6 +12,7 @@
 #include "common/error.h"
 #include "common/image_io.h"
 #include "scene/procedural_scenes.h"
+#include "support/test_scenes.h"
 #include "scene/scene.h"
 #include "sweep/embree_tracer.h"
 #include "sweep/sweep_command.h"

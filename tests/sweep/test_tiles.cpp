@@ -9,6 +9,7 @@
 
 #include "common/error.h"
 #include "scene/procedural_scenes.h"
+#include "support/test_scenes.h"
 #include "sweep/embree_tracer.h"
 #include "sweep/escape_image.h"
 #include "sweep/tile_plan.h"

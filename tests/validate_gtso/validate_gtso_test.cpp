@@ -22,6 +22,7 @@
 #include "runtime/gtso_runtime.h"
 #include "scene/procedural_scenes.h"
 #include "scene/scene.h"
+#include "support/test_scenes.h"
 #include "sweep/sweep_command.h"
 #include "texture/bc4_encoder.h"
 #include "texture/texture_containers.h"
@@ -130,8 +131,8 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
   }
   std::sort(errors.begin(), errors.end());
   std::sort(errors4.begin(), errors4.end());
-  // 4D: the bulk sits on the texels; a minority does not (reported to the tables helper: the
-  // β round trip through cos β for texels of the beta axis), so only the median is checked.
+  // 4D: the bulk sits on the texels; a minority does not (the β round trip through cos β for
+  // texels of the beta axis), so only the median is checked.
   std::printf("[ info ] 4D |lookup - texel| at %zu texel centres: median %.3g, max %.3g\n",
               errors4.size(), errors4[errors4.size() / 2], errors4.back());
   EXPECT_LT(errors4[errors4.size() / 2], 1e-6);

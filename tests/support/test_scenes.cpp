@@ -1,4 +1,5 @@
-// Small scenes with closed-form answers, for the sweep's tests (see procedural_scenes.h).
+#include "support/test_scenes.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -6,7 +7,6 @@
 #include "common/math_constants.h"
 #include "scene/holed_ground.h"
 #include "scene/mesh_builder.h"
-#include "scene/procedural_scenes.h"
 
 namespace gtbake {
 namespace {

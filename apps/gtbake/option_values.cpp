@@ -1,4 +1,4 @@
-#include "pipeline/option_values.h"
+#include "option_values.h"
 
 #include <cerrno>
 #include <cmath>
@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "sweep/sweep_command.h"
 
 namespace gtbake {
 
@@ -54,6 +55,42 @@ std::uint64_t parseSeed(const std::string& text, const std::string& option) {
     throw Error(option + " must be an integer in [0, 2^64 - 1], got '" + text + "'");
   }
   return value;
+}
+
+std::pair<int, int> parseShard(const std::string& text) {
+  static const std::regex kPattern("([0-9]{1,6})/([0-9]{1,6})");
+  std::smatch match;
+  if (!std::regex_match(text, match, kPattern)) {
+    throw Error("--shard must look like I/N (shard I of N, 0 <= I < N), got '" + text + "'");
+  }
+  const int index = std::stoi(match[1]);
+  const int count = std::stoi(match[2]);
+  if (count < 1 || count > kMaxShards || index >= count) {
+    throw Error("--shard must be I/N with 0 <= I < N <= " + std::to_string(kMaxShards) + ", got '" +
+                text + "'");
+  }
+  return {index, count};
+}
+
+std::vector<double> parseSpecularRoughness(const std::string& text) {
+  if (text == "none") return {};
+  std::vector<double> values;
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t end = text.find(',', begin);
+    const std::string item = text.substr(begin, end == std::string::npos ? end : end - begin);
+    char* stop = nullptr;
+    const double v = std::strtod(item.c_str(), &stop);
+    if (item.empty() || stop != item.c_str() + item.size() || !std::isfinite(v)) {
+      throw Error(
+          "--specular-roughness must be 'none' or comma-separated numbers in [0, 1], got '" + text +
+          "'");
+    }
+    values.push_back(v);
+    if (end == std::string::npos) break;
+    begin = end + 1;
+  }
+  return values;
 }
 
 }  // namespace gtbake

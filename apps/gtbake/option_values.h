@@ -1,9 +1,11 @@
-// Parsing of the command line's structured values, strict and with one-line errors.
+// Parsing of the command line's structured values, strict and with one-line errors: every
+// text-to-value conversion of apps/gtbake beyond CLI11's numbers (the libraries take values).
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "fit/fit_command.h"
 
@@ -20,5 +22,11 @@ MultiBounceCoeffs parseCoeffs(const std::string& text, const std::string& option
 // A seed: decimal digits only, 0 ≤ seed < 2^64 ("-1" and "18446744073709551616" are errors, not
 // silently wrapped). Throws gtbake::Error naming `option`.
 std::uint64_t parseSeed(const std::string& text, const std::string& option);
+
+// --shard "I/N" with 0 ≤ I < N ≤ kMaxShards → (I, N); a one-line gtbake::Error otherwise.
+std::pair<int, int> parseShard(const std::string& text);
+
+// --specular-roughness: "none" (empty) or comma-separated r_p values. Throws gtbake::Error.
+std::vector<double> parseSpecularRoughness(const std::string& text);
 
 }  // namespace gtbake
