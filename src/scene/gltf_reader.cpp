@@ -57,6 +57,21 @@ const char* modeName(int mode) {
   }
 }
 
+// glTF 2.0 §3.7.2.1: strip triangle i is (v_i, v_{i+1+i%2}, v_{i+2−i%2}) (every other one
+// reversed so all keep the first one's winding), fan triangle i is (v_{i+1}, v_{i+2}, v_0).
+// Triangles that repeat a vertex (the degenerate joints of stitched strips) are dropped.
+std::vector<std::uint32_t> triangulateStripOrFan(const std::vector<std::uint32_t>& v, bool strip) {
+  std::vector<std::uint32_t> out;
+  for (std::size_t i = 0; i + 2 < v.size(); ++i) {
+    const std::uint32_t a = strip ? v[i] : v[i + 1];
+    const std::uint32_t b = strip ? v[i + 1 + i % 2] : v[i + 2];
+    const std::uint32_t c = strip ? v[i + 2 - i % 2] : v[0];
+    if (a == b || b == c || c == a) continue;
+    out.insert(out.end(), {a, b, c});
+  }
+  return out;
+}
+
 Eigen::Matrix4d localTransform(const tinygltf::Node& node) {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   if (node.matrix.size() == 16) {
@@ -215,9 +230,11 @@ class Reader {
       const tinygltf::Primitive& prim = mesh.primitives[p];
       const std::string what = "mesh " + std::to_string(mesh_index) + " ('" + mesh.name +
                                "') primitive " + std::to_string(p);
-      if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) {
+      const bool strip = prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP;
+      const bool fan = prim.mode == TINYGLTF_MODE_TRIANGLE_FAN;
+      if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1 && !strip && !fan) {
         throw Error(what + " has mode " + modeName(prim.mode) +
-                    "; only TRIANGLES primitives are supported");
+                    "; only TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives are supported");
       }
       const auto position = prim.attributes.find("POSITION");
       if (position == prim.attributes.end() || position->second < 0 ||
@@ -253,7 +270,9 @@ class Reader {
         return model_.accessors[static_cast<std::size_t>(prim.indices)].count;
       }()
                                                         : pos.count;
-      const std::uint64_t triangles = checkedAdd(scene_->triangles.size(), index_count / 3, what);
+      const std::size_t new_triangles =
+          strip || fan ? (index_count >= 3 ? index_count - 2 : 0) : index_count / 3;
+      const std::uint64_t triangles = checkedAdd(scene_->triangles.size(), new_triangles, what);
       if (triangles > max_triangles_) checkLimit(kMaxTriangles, triangles, "the scene");
       if (prim.indices >= 0) {
         const tinygltf::Accessor& acc = model_.accessors[static_cast<std::size_t>(prim.indices)];
@@ -289,7 +308,9 @@ class Reader {
           indices.push_back(static_cast<std::uint32_t>(i));
         }
       }
-      if (indices.size() % 3 != 0) {
+      if (strip || fan) {
+        indices = triangulateStripOrFan(indices, strip);
+      } else if (indices.size() % 3 != 0) {
         throw Error(what + " has " + std::to_string(indices.size()) +
                     " indices, not a multiple of 3");
       }
@@ -426,6 +447,21 @@ std::size_t chooseCamera(const tinygltf::Model& model, const std::vector<CameraI
   throw Error("--camera " + wanted + ": no perspective camera or camera node has that name");
 }
 
+// Places the camera `wanted` names and records which one it was.
+void useChosenCamera(const tinygltf::Model& model, Reader& reader, const std::string& wanted,
+                     GltfReadInfo* info) {
+  const std::size_t chosen = chooseCamera(model, reader.cameras(), wanted);
+  reader.useCamera(reader.cameras()[chosen]);
+  if (info != nullptr) {
+    const CameraInstance& c = reader.cameras()[chosen];
+    info->perspective_cameras = static_cast<int>(reader.cameras().size());
+    info->camera_instance = static_cast<int>(chosen);
+    const std::string& camera_name = model.cameras[static_cast<std::size_t>(c.camera)].name;
+    info->camera_name =
+        camera_name.empty() ? model.nodes[static_cast<std::size_t>(c.node)].name : camera_name;
+  }
+}
+
 bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
                const unsigned char*, int, void*) {
   return true;  // images never matter to occlusion
@@ -457,6 +493,17 @@ Scene readGltfScene(const std::filesystem::path& path, const GltfReadOptions& op
   } catch (const Error& e) {
     throw Error(where + e.what());
   }
+  // Before tinygltf parses the accessors: a Draco-compressed primitive has none of its own, which
+  // tinygltf would report as an invalid bufferView.
+  if (doc.is_object() && doc.contains("extensionsRequired") &&
+      doc["extensionsRequired"].is_array()) {
+    for (const auto& extension : doc["extensionsRequired"]) {
+      if (extension.is_string() && !ignorableExtension(extension.get<std::string>())) {
+        throw Error(where + "unsupported extension " + extension.get<std::string>() +
+                    " (required by the file; decompress or convert it to plain glTF 2.0 first)");
+      }
+    }
+  }
 
   FileAccess access;
   access.base = fs::weakly_canonical(fs::absolute(path).parent_path(), ec);
@@ -485,7 +532,7 @@ Scene readGltfScene(const std::filesystem::path& path, const GltfReadOptions& op
   }
   for (const auto& extension : model.extensionsRequired) {
     if (!ignorableExtension(extension)) {
-      throw Error(where + "requires the unsupported extension " + extension);
+      throw Error(where + "unsupported extension " + extension + " (required by the file)");
     }
   }
   if (model.scenes.empty()) throw Error(where + "has no scene");
@@ -497,23 +544,21 @@ Scene readGltfScene(const std::filesystem::path& path, const GltfReadOptions& op
   scene.name = model.scenes[static_cast<std::size_t>(scene_index)].name.empty()
                    ? path.stem().string()
                    : model.scenes[static_cast<std::size_t>(scene_index)].name;
+  const tinygltf::Value& extras = model.scenes[static_cast<std::size_t>(scene_index)].extras;
+  if (extras.IsObject() && extras.Has("gtbake_type") && extras.Get("gtbake_type").IsString()) {
+    scene.type = extras.Get("gtbake_type").Get<std::string>();
+  }
   Reader reader(model, &scene);
   try {
     reader.walk(model.scenes[static_cast<std::size_t>(scene_index)].nodes);
-    if (reader.cameras().empty()) {
+    if (reader.cameras().empty() && options.allow_no_camera) {
+      if (info != nullptr) *info = GltfReadInfo{};
+    } else if (reader.cameras().empty()) {
       throw Error(reader.sawOrthographic()
                       ? "has only orthographic cameras; a perspective camera is required"
                       : "has no camera in its scene; add a perspective camera node");
-    }
-    const std::size_t chosen = chooseCamera(model, reader.cameras(), options.camera);
-    reader.useCamera(reader.cameras()[chosen]);
-    if (info != nullptr) {
-      const CameraInstance& c = reader.cameras()[chosen];
-      info->perspective_cameras = static_cast<int>(reader.cameras().size());
-      info->camera_instance = static_cast<int>(chosen);
-      const std::string& camera_name = model.cameras[static_cast<std::size_t>(c.camera)].name;
-      info->camera_name =
-          camera_name.empty() ? model.nodes[static_cast<std::size_t>(c.node)].name : camera_name;
+    } else {
+      useChosenCamera(model, reader, options.camera, info);
     }
   } catch (const Error& e) {
     throw Error(where + e.what());
@@ -521,7 +566,6 @@ Scene readGltfScene(const std::filesystem::path& path, const GltfReadOptions& op
   if (scene.triangles.empty()) throw Error(where + "has no triangles in its scene");
   return scene;
 }
-
 Scene readGltfScene(const std::filesystem::path& path) {
   GltfReadInfo info;
   Scene scene = readGltfScene(path, GltfReadOptions{}, &info);
