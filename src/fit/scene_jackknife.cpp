@@ -83,11 +83,46 @@ double jackknifeBand(const SceneJackknife& jk, double A, double rho) {
   return std::sqrt((S - 1.0) / S * sum2);
 }
 
+namespace {
+
+Grouping groupBy(const SweepData& data, const std::string& unit, std::string SweepScene::*field) {
+  Grouping g;
+  g.unit = unit;
+  for (const SweepScene& view : data.scenes) {
+    const std::string& name = view.*field;
+    const auto found = std::find(g.names.begin(), g.names.end(), name);
+    g.of.push_back(static_cast<std::size_t>(found - g.names.begin()));
+    if (found == g.names.end()) g.names.push_back(name);
+  }
+  return g;
+}
+
+}  // namespace
+
+Grouping groupByScene(const SweepData& data) {
+  return groupBy(data, "scene", &SweepScene::cluster);
+}
+
+Grouping groupByType(const SweepData& data) {
+  return groupBy(data, "type", &SweepScene::type);
+}
+
 SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
                               const MultiBounceCoeffs& shipped) {
+  return groupJackknife(data, fit, shipped, groupByScene(data));
+}
+
+SceneJackknife typeJackknife(const SweepData& data, const MultiBounceFit& fit,
+                             const MultiBounceCoeffs& shipped) {
+  return groupJackknife(data, fit, shipped, groupByType(data));
+}
+
+SceneJackknife groupJackknife(const SweepData& data, const MultiBounceFit& fit,
+                              const MultiBounceCoeffs& shipped, const Grouping& groups) {
   SceneJackknife out;
-  const std::size_t S = data.scenes.size();
+  const std::size_t S = groups.names.size();
   out.scenes = S;
+  out.unit = groups.unit;
   out.mc_band_max =
       bandMax([&](double A, double rho) { return curveBand(fit.linear.mc_covariance, A, rho); });
   if (S >= 2) {
@@ -96,12 +131,12 @@ SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
     // no error of the fit: the jackknife is then unavailable, and says which scene it was.
     std::vector<char> undetermined(S, 0);
     tbb::parallel_for(std::size_t{0}, S, [&](std::size_t s) {
-      std::vector<bool> include(S, true);
-      include[s] = false;
+      std::vector<bool> include(data.scenes.size(), true);
+      for (std::size_t v = 0; v < include.size(); ++v) include[v] = groups.of[v] != s;
       try {
         const MultiBounceCoeffs k = coefficientsFromStatistics(sumScenes(fit.scene_stats, include),
                                                                data.albedos, fit.settings);
-        out.leave_one_out[s] = {data.scenes[s].name, k, maxCurveDifference(k, fit.linear.coeffs),
+        out.leave_one_out[s] = {groups.names[s], k, maxCurveDifference(k, fit.linear.coeffs),
                                 maxCurveDifference(k, shipped)};
       } catch (const Error&) {
         undetermined[s] = 1;
@@ -110,15 +145,16 @@ SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
     for (std::size_t s = 0; s < S; ++s) {
       if (undetermined[s] == 0) continue;
       out.leave_one_out.clear();
-      out.message = "the refit without scene '" + data.scenes[s].name +
-                    "' is not determined by the other scenes (rank-deficient), so there is no "
-                    "scene-level SE, band or verdict (only the Monte Carlo SE)";
+      out.message = "the refit without " + groups.unit + " '" + groups.names[s] +
+                    "' is not determined by the others (rank-deficient), so there is no " +
+                    groups.unit + "-level SE, band or verdict (only the Monte Carlo SE)";
       return out;
     }
   }
   if (S < kMinJackknifeScenes) {
-    out.message = "scene-level uncertainty needs at least " + std::to_string(kMinJackknifeScenes) +
-                  " scenes; this sweep has " + std::to_string(S) +
+    out.message = groups.unit + "-level uncertainty needs at least " +
+                  std::to_string(kMinJackknifeScenes) + " " + groups.unit + "s; this sweep has " +
+                  std::to_string(S) +
                   ", so there is no jackknife SE, band or verdict (only the Monte Carlo SE)";
     return out;
   }

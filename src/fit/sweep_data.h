@@ -26,7 +26,9 @@ struct PointSet {
 };
 
 struct SweepScene {
-  std::string name;
+  std::string name;     // the view (one image)
+  std::string cluster;  // its scene: sweep.json "scene", else the name (views of a scene share it)
+  std::string type;     // its scene type: sweep.json "type", else the cluster
   std::size_t begin = 0;  // first point of this scene in the pooled arrays
   std::size_t end = 0;    // one past its last point
 };
