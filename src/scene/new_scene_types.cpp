@@ -291,7 +291,6 @@ Scene makeMechanicalScene(std::uint64_t seed, int variant) {
         profile.emplace_back(radii[k] * std::cos(at[k]), -radii[k] * std::sin(at[k]));
       }
     }
-    std::reverse(profile.begin(), profile.end());  // counter-clockwise seen from above
     x += pitch_r;
     addExtrusion(mesh, {x, 0.1, -0.4}, profile, width);
     addCylinder(mesh, {x, 0.1 + width, -0.4}, 0.3 * pitch_r, 0.15, kSegments / 2);  // hub

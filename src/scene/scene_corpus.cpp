@@ -163,8 +163,8 @@ void addExtrusion(MeshBuilder& mesh, const Eigen::Vector3d& base,
   const std::size_t n = profile.size();
   for (std::size_t s = 0; s < n; ++s) {
     const std::size_t t = (s + 1) % n;
-    const Eigen::Vector2d edge = profile[t] - profile[s];
-    const Eigen::Vector3d outward(edge.y(), 0.0, -edge.x());  // right of the edge seen from above
+    const Eigen::Vector2d middle = profile[s] + profile[t];  // outward: the profile is star-shaped
+    const Eigen::Vector3d outward(middle.x(), 0.0, middle.y());
     mesh.quad(low[s], low[t], high[t], high[s], outward);
     mesh.triangle(bottom, low[s], low[t], -up);
     mesh.triangle(top, high[s], high[t], up);

@@ -47,6 +47,8 @@ SpecularSweep readSpecularSweep(const fs::path& dir) {
     for (const nlohmann::json& entry : json.at("scenes")) {
       SpecularScene scene;
       scene.name = entry.at("name").get<std::string>();
+      scene.cluster = entry.value("scene", scene.name);  // the views of one scene share it
+      scene.type = entry.value("type", scene.cluster);
       const std::string file = entry.at("file").get<std::string>();
       fileInsideDirectory(dir, file, json_path.string());
       ExrExpect expect;

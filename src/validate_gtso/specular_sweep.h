@@ -12,6 +12,8 @@ namespace gtbake {
 
 struct SpecularScene {
   std::string name;
+  std::string cluster;  // sweep.json "scene" (else the name): the jackknife's cluster
+  std::string type;     // sweep.json "type" (else the cluster)
   int width = 0;
   int height = 0;
   std::vector<std::uint8_t> mask;  // per pixel, 1 = geometry

@@ -21,6 +21,7 @@
 #include "sweep/escape_image.h"
 #include "validate_gtso/cone_u_fit.h"
 #include "validate_gtso/gtso_lookup.h"
+#include "validate_gtso/method_jackknife.h"
 #include "validate_gtso/specular_methods.h"
 #include "validate_gtso/specular_sweep.h"
 
@@ -409,6 +410,14 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
     scenes[sweep.scenes[sc].name] = scene;
   }
   json["scenes"] = scenes;
+  std::vector<std::string> scored;
+  std::vector<std::vector<std::vector<ErrorStats>>> scored_cells;
+  for (Method m : methods) {
+    scored.push_back(methodName(m));
+    scored_cells.push_back(t.cell[static_cast<int>(m)]);
+  }
+  json["scene_jackknife"] = methodJackknifeJson(sweep, "scene", scored, scored_cells);
+  json["type_jackknife"] = methodJackknifeJson(sweep, "type", scored, scored_cells);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   json["timings"] = {{"seconds", seconds}};
