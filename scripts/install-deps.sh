@@ -14,6 +14,8 @@ packages=(
   slurm-wlm
   munge
   parallel
+  # tests only: real meshes for the slow tier (Slow.RealMeshesSweepAndFitWithAutomaticCameras)
+  assimp-utils assimp-testmodels
 )
 missing=()
 for p in "${packages[@]}"; do
