@@ -89,7 +89,7 @@ Grouping groupBy(const SweepData& data, const std::string& unit, std::string Swe
   Grouping g;
   g.unit = unit;
   for (const SweepScene& view : data.scenes) {
-    const std::string& name = view.*field;
+    const std::string& name = (view.*field).empty() ? view.name : view.*field;
     const auto found = std::find(g.names.begin(), g.names.end(), name);
     g.of.push_back(static_cast<std::size_t>(found - g.names.begin()));
     if (found == g.names.end()) g.names.push_back(name);

@@ -277,7 +277,7 @@ SweepData loadSweep(const fs::path& dir) {
     const std::size_t begin = data.full.A.size();
     appendPoints(scene.full, data.full);
     for (int h = 0; h < 2; ++h) appendPoints(scene.half[h], data.half[h]);
-    data.scenes.push_back({scene.name, scene.cluster, scene.type, begin, data.full.A.size()});
+    data.scenes.push_back({scene.name, begin, data.full.A.size(), scene.cluster, scene.type});
   }
   if (data.points() < kMinFitPoints) {
     throw Error(dir.string() + ": only " + std::to_string(data.points()) +

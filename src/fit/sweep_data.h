@@ -26,11 +26,13 @@ struct PointSet {
 };
 
 struct SweepScene {
-  std::string name;     // the view (one image)
-  std::string cluster;  // its scene: sweep.json "scene", else the name (views of a scene share it)
-  std::string type;     // its scene type: sweep.json "type", else the cluster
+  std::string name;       // the view (one image)
   std::size_t begin = 0;  // first point of this scene in the pooled arrays
   std::size_t end = 0;    // one past its last point
+  // Its scene (sweep.json "scene": the views of one scene share it) and scene type (sweep.json
+  // "type"); empty: the name, as in sweeps before views (each image was its own scene).
+  std::string cluster;
+  std::string type;
 };
 
 struct SweepData {
