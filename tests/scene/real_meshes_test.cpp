@@ -4,6 +4,7 @@
 // views (docs/scenes.md, "Real meshes"), and the fit clusters the views by mesh.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,8 @@
 #include <set>
 #include <string>
 
+#include "common/error.h"
+#include "scene/gltf_reader.h"
 #include "scene_test_util.h"
 
 namespace gtbake {
@@ -90,6 +93,43 @@ TEST(Slow, RealMeshesSweepAndFitWithAutomaticCameras) {
     EXPECT_LT(r, 0.05) << refit[j]["rho"];
   }
   EXPECT_LT(refit_mse, shipped_mse);
+}
+
+// glTF-Asset-Generator's primitive-mode files (in assimp-testmodels) draw one quad as TRIANGLES
+// (06), TRIANGLE_STRIP (04; 11 indexed) and TRIANGLE_FAN (05; 12 indexed): every strip and fan
+// reads as two triangles covering the TRIANGLES file's area, facing the same way. The Draco
+// variant of 2CylinderEngine is refused with one line naming its extension.
+TEST(Slow, RealFilesStripsFansAndDraco) {
+  const fs::path dir = fs::path(kModels) / "glTF2/glTF-Asset-Generator/Mesh_PrimitiveMode";
+  ASSERT_TRUE(fs::exists(dir)) << "needs Debian's assimp-testmodels (scripts/install-deps.sh)";
+  GltfReadOptions options;
+  options.allow_no_camera = true;
+  const auto areaNormal = [&](const std::string& file) {
+    const Scene scene = readGltfScene(dir / file, options);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const auto& t : scene.triangles) {
+      const Eigen::Vector3d a = scene.positions[t[0]].cast<double>();
+      sum += 0.5 * (scene.positions[t[1]].cast<double>() - a)
+                       .cross(scene.positions[t[2]].cast<double>() - a);
+    }
+    EXPECT_EQ(scene.triangles.size(), 2u) << file;
+    return sum;
+  };
+  const Eigen::Vector3d reference = areaNormal("Mesh_PrimitiveMode_06.gltf");
+  ASSERT_GT(reference.norm(), 0.0);
+  for (const char* file : {"Mesh_PrimitiveMode_04.gltf", "Mesh_PrimitiveMode_05.gltf",
+                           "Mesh_PrimitiveMode_11.gltf", "Mesh_PrimitiveMode_12.gltf"}) {
+    EXPECT_TRUE(areaNormal(file).isApprox(reference, 1e-6)) << file;
+  }
+  try {
+    readGltfScene(fs::path(kModels) / "glTF2/draco/2CylinderEngine.gltf", options);
+    ADD_FAILURE() << "the Draco file was accepted";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("unsupported extension KHR_draco_mesh_compression"), std::string::npos)
+        << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos);
+  }
 }
 
 }  // namespace
