@@ -11,10 +11,10 @@ namespace gtbake {
 struct ScenesOptions {
   std::filesystem::path out = "data/scenes";
   std::uint64_t seed = 1;  // seeds every variant (and the classic clutter and terrain)
+  bool progress = true;
   // The seven classic scenes only (data/scenes/ holds them, seed 1), named by their type.
   bool classic = false;
   int variants = 4;  // per corpus type (kCorpusVariants)
-  bool progress = true;
 };
 
 // Writes <out>/<name>.gltf and <out>/<name>.bin for every corpus scene <type>_<variant> (type by
