@@ -22,6 +22,7 @@ test_packages=(
   chromium
   clang libclang-rt-14-dev
   slurm-wlm munge parallel
+  assimp-utils assimp-testmodels
 )
 case "$group" in
   tool) packages=("${tool_packages[@]}") ;;

@@ -67,9 +67,12 @@ void addThreadsOption(CLI::App* parser, int& threads) {
 Subcommand addScenesCommand(CLI::App& app) {
   auto options = std::make_shared<ScenesOptions>();
   auto seed = std::make_shared<std::string>(std::to_string(options->seed));
-  auto* parser = app.add_subcommand("scenes", "Write the seven procedural scene types as glTF");
+  auto* parser = app.add_subcommand("scenes", "Write the procedural scene corpus as glTF");
   parser->add_option("--out", options->out, "Output directory")->required();
-  parser->add_option("--seed", *seed, "Seed of the clutter and terrain generators");
+  parser->add_option("--seed", *seed, "Seed of the variants (and the classic clutter, terrain)");
+  parser->add_option("--variants", options->variants, "Variants per scene type")
+      ->capture_default_str();
+  parser->add_flag("--classic", options->classic, "Only the seven classic scenes (data/scenes)");
   return {parser, [options, seed](const RunContext& context) {
             options->seed = parseSeed(*seed, "--seed");
             options->progress = context.progress;
@@ -92,7 +95,8 @@ Subcommand addSweepCommand(CLI::App& app) {
   auto seed = std::make_shared<std::string>(std::to_string(options->seed));
   parser->add_option("--seed", *seed, "Random seed")->capture_default_str();
   parser->add_option("--camera", options->camera,
-                     "Camera of a glTF with several: its name or index (default: the first)");
+                     "Camera of a glTF with several: its name or index (default: the first); "
+                     "auto[:K]: K views framing each scene (the default without a camera)");
   addThreadsOption(parser, options->threads);
   auto specular_roughness =
       std::make_shared<std::string>(specularRoughnessList(options->specular_roughness));

@@ -91,6 +91,7 @@ FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& 
   a.scene_weights = sceneWeights(a.data, a.fit.weights);
   step();
   a.jackknife = sceneJackknife(a.data, a.fit, shipped);
+  a.type_jackknife = typeJackknife(a.data, a.fit, shipped);
   step();
   a.refit_errors = errorTable(a.data, a.fit.linear.coeffs);
   a.shipped_errors = errorTable(a.data, shipped);

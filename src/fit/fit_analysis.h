@@ -42,7 +42,8 @@ struct SceneWeight {
 struct FitAnalysis {
   SweepData data;
   MultiBounceFit fit;
-  SceneJackknife jackknife;
+  SceneJackknife jackknife;       // delete-one-scene
+  SceneJackknife type_jackknife;  // delete-one-type
   ErrorTable refit_errors;
   ErrorTable shipped_errors;
   CurveDifference shipped_difference;   // max |G_refit − G_shipped|

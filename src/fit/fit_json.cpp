@@ -121,15 +121,20 @@ json jackknifeJson(const SceneJackknife& jk) {
                     {"max_curve_difference_vs_refit", curveJson(r.vs_refit)},
                     {"max_curve_difference_vs_shipped", curveJson(r.vs_shipped)}});
   }
-  json out = {{"method",
-               "delete-one-scene jackknife: Cov = (S-1)/S sum_s (k_(s) - mean)(k_(s) - mean)^T "
-               "over the refits without scene s (same weighting, constraint and EIV setting); "
-               "band = sqrt(g^T Cov g), g = dG/dk, on A = 0.005..1 step 0.005, rho = 0.1..0.9 "
-               "step 0.01"},
-              {"available", jk.available},
-              {"scenes", jk.scenes},
-              {"leave_one_out", rows},
-              {"monte_carlo_band_max", gridJson(jk.mc_band_max)}};
+  json out = {
+      {"method",
+       "delete-one-" + jk.unit +
+           " jackknife: Cov = (S-1)/S sum_s (k_(s) - mean)(k_(s) - "
+           "mean)^T over the refits without " +
+           jk.unit +
+           " s (all its views; same weighting, "
+           "constraint and EIV setting); band = sqrt(g^T Cov g), g = dG/dk, on A = 0.005..1 "
+           "step 0.005, rho = 0.1..0.9 step 0.01"},
+      {"available", jk.available},
+      {"unit", jk.unit},
+      {"n", jk.scenes},
+      {"leave_one_out", rows},
+      {"monte_carlo_band_max", gridJson(jk.mc_band_max)}};
   if (!jk.available) {
     out["message"] = jk.message;
     return out;
@@ -228,6 +233,8 @@ json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceC
       "the full cross-albedo covariance; se_iid = Ceres covariance x sum w r^2/(n-N). The "
       "scene-level uncertainty is scene_jackknife";
   out["scene_jackknife"] = jackknifeJson(a.jackknife);
+  out["scene_jackknife"]["scenes"] = a.jackknife.scenes;
+  out["type_jackknife"] = jackknifeJson(a.type_jackknife);
   out["rho_line_lack_of_fit"] = {
       {"meaning",
        "residuals of the per-albedo a, b, c about their lines in rho: model error of the "

@@ -328,17 +328,33 @@ std::string errorTables(const FitAnalysis& a) {
          "scene's share of the fit's total weight.</p>\n";
 }
 
-std::string leaveOneOutTable(const FitAnalysis& a) {
-  if (a.jackknife.leave_one_out.empty()) return "";
+std::string leaveOneOutTable(const SceneJackknife& jk) {
+  if (jk.leave_one_out.empty()) return "";
   std::vector<std::vector<std::string>> rows;
-  for (const LeaveOneOut& r : a.jackknife.leave_one_out) {
+  for (const LeaveOneOut& r : jk.leave_one_out) {
     rows.push_back({r.left_out, fmt(r.linear[0]), fmt(r.linear[2]), fmt(r.linear[4]),
                     curveDistance(r.vs_refit), curveDistance(r.vs_shipped)});
   }
-  return "<h2>Leave one scene out (the jackknife's replicas)</h2>\n" +
+  const std::string band =
+      jk.available ? " &mdash; band max " + fmt(jk.band_max.value) + ", SE a1 " + fmt(jk.se[0])
+                   : " &mdash; " + jk.message;
+  return "<h2>Leave one " + jk.unit + " out (" + std::to_string(jk.scenes) + " " + jk.unit +
+         "s, the jackknife's replicas" + band + ")</h2>\n" +
          table(
              {"left out", "a1", "b1", "c1", "max |&Delta;G| vs refit", "max |&Delta;G| vs shipped"},
              rows);
+}
+
+// One thumbnail of A per view (the sweep's <name>_A.png), with its scene and type.
+std::string thumbnails(const FitAnalysis& a, const fs::path& dir) {
+  std::string html = "<h2>Scenes (A, the sweep's previews)</h2>\n<div>";
+  for (const SweepScene& sc : a.data.scenes) {
+    const std::string src = relativePath(a.data.dir / (sc.name + "_A.png"), dir);
+    html += "<figure style='display:inline-block;margin:4px;text-align:center'><img src=\"" + src +
+            "\" width=96 height=96 alt=\"" + sc.name + "\"><figcaption style='font-size:11px'>" +
+            sc.name + (sc.type == sc.name ? "" : "<br>" + sc.type) + "</figcaption></figure>";
+  }
+  return html + "</div>\n";
 }
 
 std::string perAlbedoTable(const MultiBounceFit& fit) {
@@ -388,8 +404,9 @@ void writeFitReport(OutputSet& set, const std::string& prefix, const fs::path& d
       (s.constrain_open ? "constrained" : "free") + ", EIV correction " +
       (s.eiv_correction ? "on" : "off") + ". gtbake " + GTBAKE_VERSION +
       ". G = a(&rho;)A&sup3; &minus; b(&rho;)A&sup2; + c(&rho;)A.</p>\n" + headline(a) +
-      coefficientTables(a, shipped) + alternativeTables(a) + errorTables(a) + leaveOneOutTable(a) +
-      perAlbedoTable(a.fit) + figures.html() + "</body></html>\n";
+      coefficientTables(a, shipped) + alternativeTables(a) + errorTables(a) +
+      leaveOneOutTable(a.jackknife) + leaveOneOutTable(a.type_jackknife) + perAlbedoTable(a.fit) +
+      thumbnails(a, dir) + figures.html() + "</body></html>\n";
   set.add(prefix + "index.html", html);
 }
 

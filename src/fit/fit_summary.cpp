@@ -17,9 +17,9 @@ std::string sceneList(const SweepData& data) {
 
 void printHeader(const char* command, const FitAnalysis& a) {
   const FitSettings& s = a.fit.settings;
-  std::printf("%s: %zu scenes (%s), %zu points, spp %d, %d bounces\n", command,
-              a.data.scenes.size(), sceneList(a.data).c_str(), a.data.points(), a.data.spp,
-              a.data.bounces);
+  std::printf("%s: %zu views of %zu scenes of %zu types (%s), %zu points, spp %d, %d bounces\n",
+              command, a.data.scenes.size(), a.jackknife.scenes, a.type_jackknife.scenes,
+              sceneList(a.data).c_str(), a.data.points(), a.data.spp, a.data.bounces);
   std::printf("  weighting %s, open surface %s, EIV correction %s\n",
               weightingName(s.weighting).c_str(), s.constrain_open ? "constrained" : "free",
               s.eiv_correction ? "on" : "off");

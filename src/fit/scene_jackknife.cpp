@@ -93,36 +93,35 @@ ReplicateMatrix bandReplicates(const SceneJackknife& jk) {
 
 namespace {
 
-// The clusters of the sweep's entries (views of one scene are one cluster), in order of first
-// appearance, and each entry's cluster index.
-std::vector<std::string> clustersOf(const SweepData& data, std::vector<std::size_t>& index) {
-  std::vector<std::string> names;
-  for (const SweepScene& scene : data.scenes) {
-    const auto it = std::find(names.begin(), names.end(), scene.clusterName());
-    index.push_back(static_cast<std::size_t>(it - names.begin()));
-    if (it == names.end()) names.push_back(scene.clusterName());
+Grouping groupBy(const SweepData& data, const std::string& unit, std::string SweepScene::*field) {
+  Grouping g;
+  g.unit = unit;
+  for (const SweepScene& view : data.scenes) {
+    const std::string& name = (view.*field).empty() ? view.name : view.*field;
+    const auto found = std::find(g.names.begin(), g.names.end(), name);
+    g.of.push_back(static_cast<std::size_t>(found - g.names.begin()));
+    if (found == g.names.end()) g.names.push_back(name);
   }
-  return names;
+  return g;
 }
 
-// The refits without each cluster into out.leave_one_out; false (and out.message) when one of
-// them is not determined by the rest.
-bool leaveOneClusterOut(const SweepData& data, const MultiBounceFit& fit,
-                        const MultiBounceCoeffs& shipped, SceneJackknife& out) {
-  std::vector<std::size_t> cluster_of;
-  const std::vector<std::string> clusters = clustersOf(data, cluster_of);
-  const std::size_t S = clusters.size();
+// The refits without each group into out.leave_one_out; false (and out.message) when one of them
+// is not determined by the rest.
+bool leaveOneGroupOut(const SweepData& data, const MultiBounceFit& fit,
+                      const MultiBounceCoeffs& shipped, const Grouping& groups,
+                      SceneJackknife& out) {
+  const std::size_t S = groups.names.size();
   out.leave_one_out.resize(S);
-  // A replica the remaining scenes cannot determine (e.g. one scene of a few distinct A left) is
-  // no error of the fit: the jackknife is then unavailable, and says which scene it was.
+  // A replica the remaining groups cannot determine (e.g. one scene of a few distinct A left) is
+  // no error of the fit: the jackknife is then unavailable, and says which group it was.
   std::vector<char> undetermined(S, 0);
   tbb::parallel_for(std::size_t{0}, S, [&](std::size_t c) {
     std::vector<bool> include(data.scenes.size(), true);
-    for (std::size_t s = 0; s < include.size(); ++s) include[s] = cluster_of[s] != c;
+    for (std::size_t v = 0; v < include.size(); ++v) include[v] = groups.of[v] != c;
     try {
       const MultiBounceCoeffs k = coefficientsFromStatistics(sumScenes(fit.scene_stats, include),
                                                              data.albedos, fit.settings);
-      out.leave_one_out[c] = {clusters[c], k, maxCurveDifference(k, fit.linear.coeffs),
+      out.leave_one_out[c] = {groups.names[c], k, maxCurveDifference(k, fit.linear.coeffs),
                               maxCurveDifference(k, shipped)};
     } catch (const Error&) {
       undetermined[c] = 1;
@@ -131,38 +130,22 @@ bool leaveOneClusterOut(const SweepData& data, const MultiBounceFit& fit,
   for (std::size_t c = 0; c < S; ++c) {
     if (undetermined[c] == 0) continue;
     out.leave_one_out.clear();
-    out.message = "the refit without scene '" + clusters[c] +
-                  "' is not determined by the other scenes (rank-deficient), so there is no "
-                  "scene-level SE, band or verdict (only the Monte Carlo SE)";
+    out.message = "the refit without " + groups.unit + " '" + groups.names[c] +
+                  "' is not determined by the others (rank-deficient), so there is no " +
+                  groups.unit + "-level SE, band or verdict (only the Monte Carlo SE)";
     return false;
   }
   return true;
 }
 
-}  // namespace
-
-SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
-                              const MultiBounceCoeffs& shipped, const BandRule& rule) {
-  SceneJackknife out;
-  std::vector<std::size_t> cluster_of;
-  const std::size_t S = clustersOf(data, cluster_of).size();
-  out.scenes = S;
-  out.rule = rule;
-  out.mc_band_max = bandMax(
-      rule, [&](double A, double rho) { return curveBand(fit.linear.mc_covariance, A, rho); });
-  if (S >= 2 && !leaveOneClusterOut(data, fit, shipped, out)) return out;
-  if (S < kMinJackknifeScenes) {
-    out.message = "scene-level uncertainty needs at least " + std::to_string(kMinJackknifeScenes) +
-                  " scenes; this sweep has " + std::to_string(S) +
-                  ", so there is no jackknife SE, band or verdict (only the Monte Carlo SE)";
-    return out;
-  }
-  out.available = true;
+// The jackknife covariance, SEs and correlation of the leave-one-out refits.
+void jackknifeCovariance(SceneJackknife& out) {
+  const double S = static_cast<double>(out.leave_one_out.size());
   MultiBounceCoeffs mean{};
   for (const LeaveOneOut& r : out.leave_one_out) {
-    for (int i = 0; i < 6; ++i) mean[i] += r.linear[i] / static_cast<double>(S);
+    for (int i = 0; i < 6; ++i) mean[i] += r.linear[i] / S;
   }
-  const double scale = static_cast<double>(S - 1) / static_cast<double>(S);
+  const double scale = (S - 1.0) / S;
   for (const LeaveOneOut& r : out.leave_one_out) {
     for (int a = 0; a < 6; ++a) {
       for (int b = 0; b < 6; ++b) {
@@ -176,6 +159,48 @@ SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
       out.correlation[6 * a + b] = out.covariance[6 * a + b] / (out.se[a] * out.se[b]);
     }
   }
+}
+
+}  // namespace
+
+Grouping groupByScene(const SweepData& data) {
+  return groupBy(data, "scene", &SweepScene::cluster);
+}
+
+Grouping groupByType(const SweepData& data) {
+  return groupBy(data, "type", &SweepScene::type);
+}
+
+SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
+                              const MultiBounceCoeffs& shipped, const BandRule& rule) {
+  return groupJackknife(data, fit, shipped, groupByScene(data), rule);
+}
+
+SceneJackknife typeJackknife(const SweepData& data, const MultiBounceFit& fit,
+                             const MultiBounceCoeffs& shipped, const BandRule& rule) {
+  return groupJackknife(data, fit, shipped, groupByType(data), rule);
+}
+
+SceneJackknife groupJackknife(const SweepData& data, const MultiBounceFit& fit,
+                              const MultiBounceCoeffs& shipped, const Grouping& groups,
+                              const BandRule& rule) {
+  SceneJackknife out;
+  const std::size_t S = groups.names.size();
+  out.scenes = S;
+  out.unit = groups.unit;
+  out.rule = rule;
+  out.mc_band_max = bandMax(
+      rule, [&](double A, double rho) { return curveBand(fit.linear.mc_covariance, A, rho); });
+  if (S >= 2 && !leaveOneGroupOut(data, fit, shipped, groups, out)) return out;
+  if (S < kMinJackknifeScenes) {
+    out.message = groups.unit + "-level uncertainty needs at least " +
+                  std::to_string(kMinJackknifeScenes) + " " + groups.unit + "s; this sweep has " +
+                  std::to_string(S) +
+                  ", so there is no jackknife SE, band or verdict (only the Monte Carlo SE)";
+    return out;
+  }
+  out.available = true;
+  jackknifeCovariance(out);
   out.band_max = bandMax(rule, [&](double A, double rho) { return jackknifeBand(out, A, rho); });
   forEachGridPoint(rule, [&](double A, double rho) {
     out.scored.push_back(A < 1.0 && jackknifeBand(out, A, rho) > kBandFloor ? 1 : 0);

@@ -74,10 +74,23 @@ struct BandScore {
   std::string verdict;              // one line
 };
 
+// The groups a jackknife deletes one at a time: every view (image) of the sweep belongs to one.
+struct Grouping {
+  std::string unit;                // "scene" or "type"
+  std::vector<std::string> names;  // per group, in order of first appearance
+  std::vector<std::size_t> of;     // per view: its group
+};
+
+// Views grouped by scene (SweepScene::cluster: the views of one scene are one cluster) or by
+// scene type (SweepScene::type).
+Grouping groupByScene(const SweepData& data);
+Grouping groupByType(const SweepData& data);
+
 struct SceneJackknife {
   bool available = false;
-  std::string message;  // why not, when not available
-  std::size_t scenes = 0;
+  std::string message;     // why not, when not available
+  std::string unit;        // what one replicate leaves out: "scene" or "type"
+  std::size_t scenes = 0;  // groups (n: scenes, or types)
   std::vector<LeaveOneOut> leave_one_out;
   MultiBounceCoeffs se{};
   std::array<double, 36> covariance{};  // row-major 6 × 6
@@ -97,10 +110,18 @@ struct SceneJackknife {
 // normal's 1.96; dof ≥ 1).
 double studentT975(std::size_t dof);
 
-// Leave-one-out refits (always, with ≥ 2 scenes) and, with ≥ kMinJackknifeScenes scenes, the
-// jackknife covariance and band of `fit`.
+// Leave-one-group-out refits (always, with ≥ 2 groups) and, with ≥ kMinJackknifeScenes groups,
+// the jackknife covariance and band of `fit`: one replicate per group, S = group count.
+SceneJackknife groupJackknife(const SweepData& data, const MultiBounceFit& fit,
+                              const MultiBounceCoeffs& shipped, const Grouping& groups,
+                              const BandRule& rule = {});
+// The delete-one-scene jackknife, groupJackknife over groupByScene.
 SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
                               const MultiBounceCoeffs& shipped, const BandRule& rule = {});
+// The delete-one-type jackknife (the uncertainty for content unlike any type in the corpus),
+// groupJackknife over groupByType.
+SceneJackknife typeJackknife(const SweepData& data, const MultiBounceFit& fit,
+                             const MultiBounceCoeffs& shipped, const BandRule& rule = {});
 
 // The leave-one-out curves on the band grid, [replica][grid point] (ρ fastest).
 ReplicateMatrix bandReplicates(const SceneJackknife& jk);

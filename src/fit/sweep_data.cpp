@@ -160,6 +160,7 @@ SceneChannels requireChannels(const ExrImage& image, const std::string& file, co
 struct ScenePoints {
   std::string name;
   std::string cluster;
+  std::string type;
   PointSet full;
   PointSet half[2];
 };
@@ -201,7 +202,12 @@ ScenePoints loadScene(const fs::path& dir, const json& entry, const SweepJson& s
   const std::string where = (dir / "sweep.json").string();
   ScenePoints out;
   out.name = requireString(entry, "name", where + " scene");
-  if (entry.contains("scene")) out.cluster = requireString(entry, "scene", where + " scene");
+  // The cluster and type (sweeps before views had neither: each image was its own scene).
+  out.cluster = entry.contains("scene")
+                    ? requireString(entry, "scene", where + " scene " + out.name)
+                    : out.name;
+  out.type = entry.contains("type") ? requireString(entry, "type", where + " scene " + out.name)
+                                    : out.cluster;
   const std::string file_name = requireString(entry, "file", where + " scene " + out.name);
   const fs::path exr_path = fileInsideDirectory(dir, file_name, where + " scene " + out.name);
   if (!fs::is_regular_file(exr_path)) {
@@ -271,7 +277,7 @@ SweepData loadSweep(const fs::path& dir) {
     const std::size_t begin = data.full.A.size();
     appendPoints(scene.full, data.full);
     for (int h = 0; h < 2; ++h) appendPoints(scene.half[h], data.half[h]);
-    data.scenes.push_back({scene.name, begin, data.full.A.size(), scene.cluster});
+    data.scenes.push_back({scene.name, begin, data.full.A.size(), scene.cluster, scene.type});
   }
   if (data.points() < kMinFitPoints) {
     throw Error(dir.string() + ": only " + std::to_string(data.points()) +

@@ -26,12 +26,14 @@ struct PointSet {
 };
 
 struct SweepScene {
-  std::string name;
+  std::string name;       // the view (one image)
   std::size_t begin = 0;  // first point of this scene in the pooled arrays
   std::size_t end = 0;    // one past its last point
-  // The scene this entry views (sweep.json scenes[].scene; empty: its own name). Views of one scene
-  // are one cluster of the scene-level uncertainty (docs/fit.md §5).
+  // Its scene (sweep.json "scene": the views of one scene share it, one cluster of the scene-level
+  // uncertainty, docs/fit.md §5) and scene type (sweep.json "type"); empty: the name, as in sweeps
+  // before views (each image was its own scene).
   std::string cluster{};
+  std::string type{};
   const std::string& clusterName() const { return cluster.empty() ? name : cluster; }
 };
 

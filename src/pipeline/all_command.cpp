@@ -17,6 +17,13 @@ namespace gtbake {
 
 namespace {
 
+// The default corpus keeps the ray budget of the seven classic scenes at the sweep's defaults
+// (7 × 192² pixels × 384 walks and 64 specular samples per roughness): 48 views × 128² pixels
+// are 3.05 times the pixels, so 126 walks and 20 specular samples per pixel (docs/scenes.md).
+constexpr int kCorpusResolution = 128;
+constexpr int kCorpusSpp = 126;
+constexpr int kCorpusSpecularSpp = 20;
+
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -64,8 +71,9 @@ void runAll(const AllOptions& options) {
   const auto start = std::chrono::steady_clock::now();
 
   auto t = std::chrono::steady_clock::now();
-  std::vector<fs::path> gltf = options.scenes;  // the user's scenes, or the built-in seven
-  if (gltf.empty()) {
+  std::vector<fs::path> gltf = options.scenes;  // the user's scenes, or the built-in corpus
+  const bool corpus = gltf.empty();
+  if (corpus) {
     banner("scenes", options.progress);
     ScenesOptions scenes;
     scenes.out = options.out / "scenes";
@@ -80,6 +88,11 @@ void runAll(const AllOptions& options) {
   sweep.out = options.out;  // <out>/<scene>.exr, as the README promises
   sweep.threads = limit.threads();
   sweep.progress = options.progress;
+  if (corpus) {
+    sweep.width = sweep.height = kCorpusResolution;
+    sweep.spp = kCorpusSpp;
+    sweep.specular_spp = kCorpusSpecularSpp;
+  }
   const SweepResult swept = runSweep(sweep);
 
   banner("fit", options.progress);

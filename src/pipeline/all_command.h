@@ -12,13 +12,14 @@ namespace gtbake {
 struct AllOptions {
   std::filesystem::path out = "luts";
   std::vector<std::filesystem::path>
-      scenes;                // glTF files or directories; empty: the built-in seven
+      scenes;                // glTF files or directories; empty: the built-in corpus
   int threads = 0;           // 0 = all cores
   std::string command_line;  // recorded in the provenance of every generated file
   bool progress = true;
 };
 
-// Layout of <out>: scenes/ (the built-in glTF inputs, written only without `scenes`), <scene>.exr
+// Layout of <out>: scenes/ (the built-in corpus, 12 types × 4 variants, generated only without
+// `scenes`), <scene>.exr
 // and sweep.json (the sweep), fit.json and report/ (the fit), gtso/ (float tables, gtso.json, slice
 // images), and the exported gtbake_tables.{h,hlsl,glsl} and gtso{3d,4d}.{dds,ktx2}. Prints a
 // summary of every figure.

@@ -21,23 +21,11 @@
 #include "common/error.h"
 #include "common/input_limits.h"
 #include "common/math_constants.h"
+#include "scene/gltf_loading.h"
 #include "scene/gltf_reader.h"
 
 namespace gtbake {
 namespace {
-
-// Required extensions that cannot change the geometry or the camera, so are safe to ignore.
-bool ignorableExtension(const std::string& name) {
-  return name.rfind("KHR_materials_", 0) == 0 || name == "KHR_texture_transform" ||
-         name == "KHR_lights_punctual" || name == "KHR_texture_basisu";
-}
-
-std::string oneLine(std::string text) {
-  std::replace(text.begin(), text.end(), '\n', ' ');
-  std::replace(text.begin(), text.end(), '\r', ' ');
-  while (!text.empty() && text.back() == ' ') text.pop_back();
-  return text;
-}
 
 const char* modeName(int mode) {
   switch (mode) {
@@ -56,6 +44,21 @@ const char* modeName(int mode) {
     default:
       return "unknown";
   }
+}
+
+// glTF 2.0 §3.7.2.1: strip triangle i is (v_i, v_{i+1+i%2}, v_{i+2−i%2}) (every other one
+// reversed so all keep the first one's winding), fan triangle i is (v_{i+1}, v_{i+2}, v_0).
+// Triangles that repeat a vertex (the degenerate joints of stitched strips) are dropped.
+std::vector<std::uint32_t> triangulateStripOrFan(const std::vector<std::uint32_t>& v, bool strip) {
+  std::vector<std::uint32_t> out;
+  for (std::size_t i = 0; i + 2 < v.size(); ++i) {
+    const std::uint32_t a = strip ? v[i] : v[i + 1];
+    const std::uint32_t b = strip ? v[i + 1 + i % 2] : v[i + 2];
+    const std::uint32_t c = strip ? v[i + 2 - i % 2] : v[0];
+    if (a == b || b == c || c == a) continue;
+    out.insert(out.end(), {a, b, c});
+  }
+  return out;
 }
 
 Eigen::Matrix4d localTransform(const tinygltf::Node& node) {
@@ -206,6 +209,39 @@ class Reader {
     return buffer.data.data() + begin;
   }
 
+  // The u8/u16/u32 indices of `acc`, each checked against the vertex count.
+  std::vector<std::uint32_t> readIndices(const tinygltf::Accessor& acc, std::size_t vertices,
+                                         const std::string& what) const {
+    const int size = acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
+                     : acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                     : acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
+                                                                                   : 0;
+    if (size == 0 || acc.type != TINYGLTF_TYPE_SCALAR) {
+      throw Error(what + " indices are not unsigned 8-, 16- or 32-bit scalars");
+    }
+    std::size_t stride = 0;
+    const unsigned char* data =
+        element(acc, static_cast<std::size_t>(size), what + " indices", &stride);
+    std::vector<std::uint32_t> indices;
+    indices.reserve(acc.count);
+    for (std::size_t i = 0; i < acc.count; ++i) {
+      std::uint32_t v = 0;
+      if (size == 1) v = data[i * stride];
+      if (size == 2) {
+        std::uint16_t s;
+        std::memcpy(&s, data + i * stride, 2);
+        v = s;
+      }
+      if (size == 4) std::memcpy(&v, data + i * stride, 4);
+      if (v >= vertices) {
+        throw Error(what + " has index " + std::to_string(v) + " but only " +
+                    std::to_string(vertices) + " vertices");
+      }
+      indices.push_back(v);
+    }
+    return indices;
+  }
+
   void addMesh(int mesh_index, const Eigen::Matrix4d& world) {
     if (mesh_index >= static_cast<int>(model_.meshes.size())) {
       throw Error("mesh index " + std::to_string(mesh_index) + " is out of range");
@@ -216,9 +252,11 @@ class Reader {
       const tinygltf::Primitive& prim = mesh.primitives[p];
       const std::string what = "mesh " + std::to_string(mesh_index) + " ('" + mesh.name +
                                "') primitive " + std::to_string(p);
-      if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) {
+      const bool strip = prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP;
+      const bool fan = prim.mode == TINYGLTF_MODE_TRIANGLE_FAN;
+      if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1 && !strip && !fan) {
         throw Error(what + " has mode " + modeName(prim.mode) +
-                    "; only TRIANGLES primitives are supported");
+                    "; only TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN primitives are supported");
       }
       const auto position = prim.attributes.find("POSITION");
       if (position == prim.attributes.end() || position->second < 0 ||
@@ -254,43 +292,22 @@ class Reader {
         return model_.accessors[static_cast<std::size_t>(prim.indices)].count;
       }()
                                                         : pos.count;
-      const std::uint64_t triangles = checkedAdd(scene_->triangles.size(), index_count / 3, what);
+      const std::size_t new_triangles =
+          strip || fan ? (index_count >= 3 ? index_count - 2 : 0) : index_count / 3;
+      const std::uint64_t triangles = checkedAdd(scene_->triangles.size(), new_triangles, what);
       if (triangles > max_triangles_) checkLimit(kMaxTriangles, triangles, "the scene");
       if (prim.indices >= 0) {
-        const tinygltf::Accessor& acc = model_.accessors[static_cast<std::size_t>(prim.indices)];
-        const int size = acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
-                         : acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
-                         : acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
-                                                                                       : 0;
-        if (size == 0 || acc.type != TINYGLTF_TYPE_SCALAR) {
-          throw Error(what + " indices are not unsigned 8-, 16- or 32-bit scalars");
-        }
-        std::size_t stride = 0;
-        const unsigned char* data =
-            element(acc, static_cast<std::size_t>(size), what + " indices", &stride);
-        indices.reserve(acc.count);
-        for (std::size_t i = 0; i < acc.count; ++i) {
-          std::uint32_t v = 0;
-          if (size == 1) v = data[i * stride];
-          if (size == 2) {
-            std::uint16_t s;
-            std::memcpy(&s, data + i * stride, 2);
-            v = s;
-          }
-          if (size == 4) std::memcpy(&v, data + i * stride, 4);
-          if (v >= pos.count) {
-            throw Error(what + " has index " + std::to_string(v) + " but only " +
-                        std::to_string(pos.count) + " vertices");
-          }
-          indices.push_back(v);
-        }
+        indices =
+            readIndices(model_.accessors[static_cast<std::size_t>(prim.indices)], pos.count, what);
       } else {
         indices.reserve(pos.count);
         for (std::size_t i = 0; i < pos.count; ++i) {
           indices.push_back(static_cast<std::uint32_t>(i));
         }
       }
-      if (indices.size() % 3 != 0) {
+      if (strip || fan) {
+        indices = triangulateStripOrFan(indices, strip);
+      } else if (indices.size() % 3 != 0) {
         throw Error(what + " has " + std::to_string(indices.size()) +
                     " indices, not a multiple of 3");
       }
@@ -323,88 +340,6 @@ class Reader {
   bool saw_orthographic_ = false;
 };
 
-// File access for tinygltf: external files only below the glTF's own directory (unless
-// allowed), regular files only, never the current directory (tinygltf tries "./uri" last).
-struct FileAccess {
-  std::filesystem::path base;  // canonical directory of the glTF
-  bool allow_outside = false;
-};
-
-bool fileExists(const std::string& path, void* user) {
-  namespace fs = std::filesystem;
-  const auto* access = static_cast<const FileAccess*>(user);
-  const fs::path p(path);
-  if (!p.is_absolute()) return false;  // the cwd fallback
-  std::error_code ec;
-  const fs::path resolved = fs::weakly_canonical(p, ec);
-  if (ec) return false;
-  if (!access->allow_outside) {
-    const fs::path relative = resolved.lexically_relative(access->base);
-    if (relative.empty() || *relative.begin() == "..") return false;
-  }
-  return fs::exists(resolved, ec);
-}
-
-std::string expandFilePath(const std::string& path, void*) {
-  return path;
-}
-
-bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
-                   void*) {
-  try {
-    const std::string bytes = readRegularFile(path);
-    out->assign(bytes.begin(), bytes.end());
-    return true;
-  } catch (const Error& e) {
-    if (err) *err = e.what();
-    return false;
-  }
-}
-
-bool refuseWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
-  if (err) *err = "the reader never writes";
-  return false;
-}
-
-// Refuses, before tinygltf opens anything, a buffer or image uri that leaves the directory.
-void checkUris(const nlohmann::json& doc, bool allow_outside) {
-  if (allow_outside || !doc.is_object()) return;
-  for (const char* kind : {"buffers", "images"}) {
-    if (!doc.contains(kind) || !doc[kind].is_array()) continue;
-    for (std::size_t i = 0; i < doc[kind].size(); ++i) {
-      const nlohmann::json& item = doc[kind][i];
-      if (!item.is_object() || !item.contains("uri") || !item["uri"].is_string()) continue;
-      const std::string uri = item["uri"].get<std::string>();
-      if (uri.rfind("data:", 0) == 0) continue;
-      const std::string what = std::string(kind) + "[" + std::to_string(i) + "] uri '" + uri + "'";
-      const std::string decoded = percentDecode(uri);
-      if (decoded.find("://") != std::string::npos) {
-        throw Error(what + " is a URL; only files beside the glTF can be read");
-      }
-      const std::filesystem::path path(decoded);
-      if (path.is_absolute() || std::filesystem::path(uri).is_absolute()) {
-        throw Error(what + " is an absolute path; external files must lie in the glTF's directory");
-      }
-      for (const auto& component : path) {
-        if (component == "..") {
-          throw Error(what + " points outside the glTF's directory ('..' is not allowed)");
-        }
-      }
-    }
-  }
-}
-
-// The JSON text of a .gltf, or the JSON chunk of a .glb (empty if the header is malformed:
-// tinygltf then reports it).
-std::string_view jsonText(const std::string& bytes, bool binary) {
-  if (!binary) return bytes;
-  if (bytes.size() < 20 || bytes.compare(0, 4, "glTF") != 0) return {};
-  std::uint32_t chunk_length = 0;
-  std::memcpy(&chunk_length, bytes.data() + 12, 4);
-  if (chunk_length > bytes.size() - 20) return {};
-  return std::string_view(bytes).substr(20, chunk_length);
-}
-
 // Index of the camera instance `wanted` names (see GltfReadOptions::camera).
 std::size_t chooseCamera(const tinygltf::Model& model, const std::vector<CameraInstance>& cameras,
                          const std::string& wanted) {
@@ -427,68 +362,27 @@ std::size_t chooseCamera(const tinygltf::Model& model, const std::vector<CameraI
   throw Error("--camera " + wanted + ": no perspective camera or camera node has that name");
 }
 
-bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-               const unsigned char*, int, void*) {
-  return true;  // images never matter to occlusion
+// Places the camera `wanted` names and records which one it was.
+void useChosenCamera(const tinygltf::Model& model, Reader& reader, const std::string& wanted,
+                     GltfReadInfo* info) {
+  const std::size_t chosen = chooseCamera(model, reader.cameras(), wanted);
+  reader.useCamera(reader.cameras()[chosen]);
+  if (info != nullptr) {
+    const CameraInstance& c = reader.cameras()[chosen];
+    info->perspective_cameras = static_cast<int>(reader.cameras().size());
+    info->camera_instance = static_cast<int>(chosen);
+    const std::string& camera_name = model.cameras[static_cast<std::size_t>(c.camera)].name;
+    info->camera_name =
+        camera_name.empty() ? model.nodes[static_cast<std::size_t>(c.node)].name : camera_name;
+  }
 }
 
 }  // namespace
 
 Scene readGltfScene(const std::filesystem::path& path, const GltfReadOptions& options,
                     GltfReadInfo* info) {
-  namespace fs = std::filesystem;
   const std::string where = path.string() + ": ";
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) {
-    throw Error(where + (fs::exists(path, ec) ? "not a regular file" : "no such file"));
-  }
-  const std::string bytes = readRegularFile(path);
-  const bool binary = path.extension() == ".glb";
-  if (binary && bytes.size() > 0xFFFFFFFFu) throw Error(where + "a .glb is limited to 4 GB");
-  const auto max_depth =
-      static_cast<int>(std::min<std::uint64_t>(limitValue(kMaxJsonDepth), 1 << 20));
-  const std::string_view json_text = jsonText(bytes, binary);
-  if (jsonNestingDepth(json_text, max_depth) > max_depth) {
-    throw Error(where + "JSON nested deeper than " + std::to_string(max_depth) + " levels (set " +
-                kMaxJsonDepth.env + " to raise the limit)");
-  }
-  const nlohmann::json doc = nlohmann::json::parse(json_text, nullptr, /*allow_exceptions=*/false);
-  try {
-    checkUris(doc, options.allow_outside);
-  } catch (const Error& e) {
-    throw Error(where + e.what());
-  }
-
-  FileAccess access;
-  access.base = fs::weakly_canonical(fs::absolute(path).parent_path(), ec);
-  access.allow_outside = options.allow_outside;
-  tinygltf::FsCallbacks callbacks{};
-  callbacks.FileExists = &fileExists;
-  callbacks.ExpandFilePath = &expandFilePath;
-  callbacks.ReadWholeFile = &readWholeFile;
-  callbacks.WriteWholeFile = &refuseWrite;
-  callbacks.user_data = &access;
-  tinygltf::TinyGLTF loader;
-  loader.SetFsCallbacks(callbacks);
-  loader.SetImageLoader(&skipImage, nullptr);
-  tinygltf::Model model;
-  std::string err, warn;
-  const std::string base_dir = access.base.string();
-  const bool ok =
-      binary ? loader.LoadBinaryFromMemory(&model, &err, &warn,
-                                           reinterpret_cast<const unsigned char*>(bytes.data()),
-                                           static_cast<unsigned int>(bytes.size()), base_dir)
-             : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
-                                          static_cast<unsigned int>(bytes.size()), base_dir);
-  if (!ok) {
-    throw Error(where +
-                "not a valid glTF 2.0 file: " + oneLine(err.empty() ? "unknown parse error" : err));
-  }
-  for (const auto& extension : model.extensionsRequired) {
-    if (!ignorableExtension(extension)) {
-      throw Error(where + "requires the unsupported extension " + extension);
-    }
-  }
+  const tinygltf::Model model = loadGltfModel(path, options.allow_outside);
   if (model.scenes.empty()) throw Error(where + "has no scene");
   const int scene_index = model.defaultScene >= 0 ? model.defaultScene : 0;
   if (scene_index >= static_cast<int>(model.scenes.size())) {
@@ -498,23 +392,21 @@ Scene readGltfScene(const std::filesystem::path& path, const GltfReadOptions& op
   scene.name = model.scenes[static_cast<std::size_t>(scene_index)].name.empty()
                    ? path.stem().string()
                    : model.scenes[static_cast<std::size_t>(scene_index)].name;
+  const tinygltf::Value& extras = model.scenes[static_cast<std::size_t>(scene_index)].extras;
+  if (extras.IsObject() && extras.Has("gtbake_type") && extras.Get("gtbake_type").IsString()) {
+    scene.type = extras.Get("gtbake_type").Get<std::string>();
+  }
   Reader reader(model, &scene);
   try {
     reader.walk(model.scenes[static_cast<std::size_t>(scene_index)].nodes);
-    if (reader.cameras().empty()) {
+    if (reader.cameras().empty() && options.allow_no_camera) {
+      if (info != nullptr) *info = GltfReadInfo{};
+    } else if (reader.cameras().empty()) {
       throw Error(reader.sawOrthographic()
                       ? "has only orthographic cameras; a perspective camera is required"
                       : "has no camera in its scene; add a perspective camera node");
-    }
-    const std::size_t chosen = chooseCamera(model, reader.cameras(), options.camera);
-    reader.useCamera(reader.cameras()[chosen]);
-    if (info != nullptr) {
-      const CameraInstance& c = reader.cameras()[chosen];
-      info->perspective_cameras = static_cast<int>(reader.cameras().size());
-      info->camera_instance = static_cast<int>(chosen);
-      const std::string& camera_name = model.cameras[static_cast<std::size_t>(c.camera)].name;
-      info->camera_name =
-          camera_name.empty() ? model.nodes[static_cast<std::size_t>(c.node)].name : camera_name;
+    } else {
+      useChosenCamera(model, reader, options.camera, info);
     }
   } catch (const Error& e) {
     throw Error(where + e.what());
@@ -522,7 +414,6 @@ Scene readGltfScene(const std::filesystem::path& path, const GltfReadOptions& op
   if (scene.triangles.empty()) throw Error(where + "has no triangles in its scene");
   return scene;
 }
-
 Scene readGltfScene(const std::filesystem::path& path) {
   GltfReadInfo info;
   Scene scene = readGltfScene(path, GltfReadOptions{}, &info);

@@ -19,6 +19,9 @@ struct GltfReadOptions {
   std::string camera;
   // Allow buffer/image uris outside the glTF's directory (absolute or with "..").
   bool allow_outside = false;
+  // A scene without a perspective camera is returned with the default camera (the caller places
+  // automatic views, auto_camera.h) instead of refused; `info` then counts 0 cameras.
+  bool allow_no_camera = false;
 };
 
 struct GltfReadInfo {

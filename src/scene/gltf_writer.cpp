@@ -115,6 +115,11 @@ tinygltf::Model buildModel(const Scene& scene, const std::string& bin_name) {
 
   tinygltf::Scene gltf_scene;
   gltf_scene.name = scene.name;
+  if (!scene.type.empty()) {
+    tinygltf::Value::Object extras;
+    extras["gtbake_type"] = tinygltf::Value(scene.type);
+    gltf_scene.extras = tinygltf::Value(extras);
+  }
   gltf_scene.nodes = {0, 1};
   model.scenes.push_back(gltf_scene);
   model.defaultScene = 0;

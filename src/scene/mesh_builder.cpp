@@ -40,6 +40,7 @@ void MeshBuilder::quad(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::u
 Scene MeshBuilder::finish(std::string name, const PerspectiveCamera& camera) const {
   Scene scene;
   scene.name = std::move(name);
+  scene.type = scene.name;
   scene.positions = positions_;
   scene.triangles = triangles_;
   scene.camera = camera;

@@ -23,6 +23,9 @@ struct PerspectiveCamera {
 
 struct Scene {
   std::string name;
+  // The scene type (glTF scene extras "gtbake_type": the generated scenes carry it); "" when the
+  // file names none.
+  std::string type;
   std::vector<Eigen::Vector3f> positions;               // world space
   std::vector<std::array<std::uint32_t, 3>> triangles;  // counter-clockwise seen from the front
   PerspectiveCamera camera;

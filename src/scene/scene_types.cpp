@@ -1,5 +1,5 @@
-// The seven scene types of docs/scenes.md "The seven scene types". Dimensions, cameras and the
-// reasons behind them are in docs/scenes.md; every size here is in metres.
+// The seven classic scene types of docs/scenes.md, parameterised (procedural_scenes.h). Dimensions,
+// cameras and the reasons behind them are in docs/scenes.md; every size here is in metres.
 #include <Eigen/Geometry>
 #include <cmath>
 
@@ -72,11 +72,11 @@ Scene makeSceneType(const std::string& name, std::uint64_t seed) {
               "' (expected cavity, wedge, corner, spheres, wells, clutter or terrain)");
 }
 
-Scene makeCavityScene() {
-  // Bowls of one sphere radius and six depths: rim radii 0.66 … 1.0 … 0.44 m, A = 1 − h/2R
-  // from 0.875 down to 0.05.
-  constexpr double kRadius = 1.0;
-  const double depths[6] = {0.25, 0.5, 1.0, 1.4, 1.7, 1.9};
+Scene makeCavityScene(const CavityParams& p) {
+  // Bowls of one sphere radius and six depths (classic: rim radii 0.66 … 1.0 … 0.44 m, A = 1 −
+  // h/2R from 0.875 down to 0.05).
+  const double kRadius = p.radius;
+  const auto& depths = p.depths;
   std::vector<GroundHole> holes;
   for (int k = 0; k < 6; ++k) {
     GroundHole hole;
@@ -86,19 +86,20 @@ Scene makeCavityScene() {
     holes.push_back(hole);
   }
   MeshBuilder mesh;
-  // Cells 2.2 m wide: the deep bowls bulge to the sphere's full radius 1 m below the ground.
-  const auto rims = addHoledGround(mesh, 5, 4, 2.2, kCurveSegments, holes, kGroundExtent);
+  // Cells 2.2 R wide: the deep bowls bulge to the sphere's full radius R below the ground.
+  const auto rims = addHoledGround(mesh, 5, 4, 2.2 * kRadius, kCurveSegments, holes, kGroundExtent);
   for (int k = 0; k < 6; ++k) addBowl(mesh, rims[k], kRadius, depths[k], kCurveSegments);
-  return mesh.finish("cavity", lookAt({0.0, 4.4, 2.9}, {0.0, -0.8, 0.1}, kUp, kFov));
+  return mesh.finish("cavity", lookAt(kRadius * Eigen::Vector3d(0.0, 4.4, 2.9),
+                                      kRadius * Eigen::Vector3d(0.0, -0.8, 0.1), kUp, kFov));
 }
 
-Scene makeWedgeScene() {
+Scene makeWedgeScene(const WedgeParams& p) {
   // Profile in x (flat ground, then each groove's rim, bottom edge, rim), extruded along z.
-  constexpr double kDepth = 1.0;    // groove depth unless the half-width cap applies
-  constexpr double kMaxHalf = 1.5;  // cap on the half-width of the wide grooves
-  constexpr double kGap = 0.4;      // flat ground between grooves
-  // The narrowest groove in the middle of the view, where the camera sees deepest into it.
-  const double angles_deg[5] = {120.0, 60.0, 30.0, 90.0, 150.0};
+  const double kDepth = p.depth;          // groove depth unless the half-width cap applies
+  const double kMaxHalf = 1.5 * p.depth;  // cap on the half-width of the wide grooves
+  const double kGap = 0.4 * p.depth;      // flat ground between grooves
+  // Classic: the narrowest groove in the middle of the view, where the camera sees deepest.
+  const auto& angles_deg = p.angles_deg;
   double width = 4.0 * kGap;
   double half[5];
   for (int k = 0; k < 5; ++k) {
@@ -135,13 +136,14 @@ Scene makeWedgeScene() {
     }
     previous = row;
   }
-  return mesh.finish("wedge", lookAt({-0.42, 7.0, 3.6}, {-0.42, -0.6, 0.3}, kUp, kFov));
+  return mesh.finish("wedge", lookAt(kDepth * Eigen::Vector3d(-0.42, 7.0, 3.6),
+                                     kDepth * Eigen::Vector3d(-0.42, -0.6, 0.3), kUp, kFov));
 }
 
-Scene makeCornerScene() {
-  // Floor [0, 4] × [0, 4], four walls 2.5 m tall, no ceiling: every ray that leaves over the
-  // walls rises for ever, so no ground outside is needed.
-  constexpr double kSize = 4.0, kHeight = 2.5;
+Scene makeCornerScene(const CornerParams& p) {
+  // Floor [0, size]², four walls (classic: 4 m, walls 2.5 m), no ceiling: every ray that leaves
+  // over the walls rises for ever, so no ground outside is needed.
+  const double kSize = p.size, kHeight = p.height;
   MeshBuilder mesh;
   std::uint32_t v[8];
   for (int k = 0; k < 8; ++k) {
@@ -156,26 +158,23 @@ Scene makeCornerScene() {
   mesh.quad(v[2], v[3], v[7], v[6], inward(v[2], v[7]));  // z = size
   mesh.quad(v[0], v[2], v[6], v[4], inward(v[0], v[6]));  // x = 0
   mesh.quad(v[1], v[3], v[7], v[5], inward(v[1], v[7]));  // x = size
-  return mesh.finish("corner", lookAt({3.7, 2.3, 3.7}, {0.4, 0.1, 0.4}, kUp, kFov));
+  const double s = kSize / 4.0, h = kHeight / 2.5;
+  return mesh.finish("corner",
+                     lookAt({3.7 * s, 2.3 * h, 3.7 * s}, {0.4 * s, 0.1 * h, 0.4 * s}, kUp, kFov));
 }
 
-Scene makeSpheresScene() {
+Scene makeSpheresScene(const SpheresParams& p) {
   MeshBuilder mesh;
   addFlatGround(mesh, 6.0);
-  // Gaps of 0.1 … 0.3 m between neighbours, so the crevices between spheres are in view too.
-  const double spheres[4][3] = {
-      {1.0, 1.5, -0.9}, {-1.6, 1.0, -0.5}, {-0.45, 0.5, 1.05}, {0.75, 0.25, 1.0}};  // x, radius, z
-  for (const auto& s : spheres) addSphere(mesh, {s[0], s[1], s[2]}, s[1], kCurveSegments);
+  // Classic: gaps of 0.1 … 0.3 m between neighbours, so the crevices are in view too.
+  for (const auto& s : p.spheres) {
+    addSphere(mesh, {s.x, s.radius, s.z}, s.radius, kCurveSegments);
+  }
   return mesh.finish("spheres", lookAt({0.0, 3.8, 5.0}, {0.0, 0.55, 0.0}, kUp, kFov));
 }
 
-Scene makeWellsScene() {
-  struct Well {
-    bool circle;
-    double half_x, half_z, depth;
-  };
-  const Well wells[6] = {{true, 0.6, 0.6, 0.3}, {true, 0.6, 0.6, 1.2},   {true, 0.3, 0.3, 1.2},
-                         {true, 0.8, 0.8, 2.4}, {false, 0.9, 0.15, 0.6}, {false, 0.3, 0.9, 1.5}};
+Scene makeWellsScene(const WellsParams& p) {
+  const auto& wells = p.wells;
   std::vector<GroundHole> holes;
   for (int k = 0; k < 6; ++k) {
     GroundHole hole;
@@ -193,12 +192,19 @@ Scene makeWellsScene() {
 }
 
 Scene makeClutterScene(std::uint64_t seed) {
-  // Up to 26 objects in [−2.8, 2.8]², 70% boxes, 30% columns, footprints at least 4 cm apart;
-  // attempt i draws from counter i of the clutter stream, so the layout is a pure function of
-  // the seed.
-  constexpr int kObjects = 26, kAttempts = 4000;
+  ClutterParams p;
+  p.seed = seed;
+  return makeClutterScene(p);
+}
+
+Scene makeClutterScene(const ClutterParams& p) {
+  // Up to 26 objects (classic) in [−2.8, 2.8]², 70% boxes, 30% columns, footprints at least
+  // 4 cm apart; attempt i draws from counter i of the clutter stream, so the layout is a pure
+  // function of the parameters.
+  const int kObjects = p.objects;
+  constexpr int kAttempts = 4000;
   constexpr double kRegion = 2.8, kMinGap = 0.04;
-  const CounterRng rng(seed, kClutterStream);
+  const CounterRng rng(p.seed, kClutterStream);
   MeshBuilder mesh;
   addFlatGround(mesh, 6.0);
   std::vector<Eigen::Vector3d> placed;  // x, footprint radius, z
@@ -207,7 +213,7 @@ Scene makeClutterScene(std::uint64_t seed) {
     const auto a = rng.uniform4(static_cast<std::uint64_t>(attempt), 0);
     const auto b = rng.uniform4(static_cast<std::uint64_t>(attempt), 1);
     const double x = kRegion * (2.0 * a[0] - 1.0), z = kRegion * (2.0 * a[1] - 1.0);
-    const bool box = a[2] < 0.7f;
+    const bool box = a[2] < static_cast<float>(p.box_fraction);
     const double hx = 0.15 + 0.65 * b[0], hz = 0.15 + 0.65 * b[1];
     const double radius = 0.08 + 0.22 * b[0];
     const double footprint = box ? std::hypot(hx, hz) : radius;
@@ -218,22 +224,30 @@ Scene makeClutterScene(std::uint64_t seed) {
     if (!clear) continue;
     placed.emplace_back(x, footprint, z);
     if (box) {
-      addBox(mesh, {x, 0.0, z}, hx, hz, 0.2 + 1.4 * b[2], 0.5 * kPi * a[3]);
+      addBox(mesh, {x, 0.0, z}, hx, hz, p.height_scale * (0.2 + 1.4 * b[2]), 0.5 * kPi * a[3]);
     } else {
-      addCylinder(mesh, {x, 0.0, z}, radius, 0.8 + 1.7 * b[2], kCurveSegments / 2);
+      addCylinder(mesh, {x, 0.0, z}, radius, p.height_scale * (0.8 + 1.7 * b[2]),
+                  kCurveSegments / 2);
     }
   }
   return mesh.finish("clutter", lookAt({0.0, 4.3, 4.9}, {0.0, 0.3, 0.0}, kUp, kFov));
 }
 
 Scene makeTerrainScene(std::uint64_t seed) {
+  TerrainParams p;
+  p.seed = seed;
+  return makeTerrainScene(p);
+}
+
+Scene makeTerrainScene(const TerrainParams& p) {
+  const std::uint64_t seed = p.seed;
   // h = window · (1.4 · ridged − 1.2 · valleys − 1.3): ridged = Σ wₒ (1 − |nₒ|)² (sharp crests),
   // valleys = Σ wₒ |mₒ| (V-shaped creases), 4 octaves from 0.3 cycles/m, weights 1/2ᵒ; the
   // window fades the relief to the flat ground between |x|, |z| = 6 and 8 m; the offset 1.3 m
   // (the median of the raw relief for seed 1) sinks the valleys below the surrounding ground.
   constexpr double kInner = 8.0, kFlatFrom = 6.0;
   constexpr double kStep = 1.0 / 16.0;  // grid step, m: 10 points per smallest wavelength
-  constexpr double kBaseFrequency = 0.3;
+  const double kBaseFrequency = p.base_frequency;
   constexpr double kOffset = 1.3;
   constexpr int kOctaves = 4;
   std::vector<CounterRng> ridge_rng, valley_rng;
@@ -253,7 +267,7 @@ Scene makeTerrainScene(std::uint64_t seed) {
       weight *= 0.5;
       frequency *= 2.0;
     }
-    return window * (1.4 * ridged - 1.2 * valleys - kOffset);
+    return p.amplitude * window * (1.4 * ridged - 1.2 * valleys - kOffset);
   };
   std::vector<double> axis = gradedAxis(kInner, kStep, kGroundExtent);
   MeshBuilder mesh;

@@ -1,25 +1,41 @@
-// `gtbake scenes`: builds the seven scene types and writes them as glTF (docs/scenes.md "The seven
-// scene types", docs/index.md "Pipeline").
+// `gtbake scenes`: builds the corpus (or the seven classic scenes) and writes them as glTF
+// (docs/scenes.md, docs/index.md "Pipeline").
 #include "scene/scenes_command.h"
 
 #include <Eigen/Core>
 #include <cstdio>
 
 #include "common/atomic_file.h"
+#include "common/error.h"
 #include "common/progress.h"
 #include "scene/procedural_scenes.h"
 #include "scene/scene.h"
+#include "scene/scene_corpus.h"
 
 namespace gtbake {
 
+namespace {
+constexpr int kMaxVariants = 1000;  // names stay short; more variants than that is a mistake
+}  // namespace
+
 std::vector<std::filesystem::path> runScenes(const ScenesOptions& options) {
+  if (options.variants < 1 || options.variants > kMaxVariants) {
+    throw Error("--variants must be in [1, " + std::to_string(kMaxVariants) + "]");
+  }
   ensureDirectory(options.out);
-  cleanStaleTemporaries(options.out);  // left by a killed run (atomic_file.h)
-  const auto& names = sceneTypeNames();
+  cleanStaleTemporaries(options.out);             // left by a killed run (atomic_file.h)
+  std::vector<std::pair<std::string, int>> list;  // (type, variant); variant −1: classic
+  for (const std::string& type : options.classic ? sceneTypeNames() : corpusTypeNames()) {
+    for (int v = 0; v < (options.classic ? 1 : options.variants); ++v) {
+      list.emplace_back(type, options.classic ? -1 : v);
+    }
+  }
   std::vector<std::filesystem::path> written;
-  Progress progress("scenes", names.size(), options.progress);
-  for (const std::string& name : names) {
-    const Scene scene = makeSceneType(name, options.seed);
+  Progress progress("scenes", list.size(), options.progress);
+  for (const auto& [type, variant] : list) {
+    const Scene scene = variant < 0 ? makeSceneType(type, options.seed)
+                                    : makeCorpusScene(type, variant, options.seed);
+    const std::string& name = scene.name;
     const std::filesystem::path path = options.out / (name + ".gltf");
     writeGltfScene(path, scene);
     written.push_back(path);
@@ -36,7 +52,7 @@ std::vector<std::filesystem::path> runScenes(const ScenesOptions& options) {
       }
     }
     std::printf(
-        "%-8s %7zu triangles %7zu vertices  bbox [%g %g %g]..[%g %g %g]  feature heights "
+        "%-13s %7zu triangles %7zu vertices  bbox [%g %g %g]..[%g %g %g]  feature heights "
         "[%.3g, %.3g]  -> %s\n",
         name.c_str(), scene.triangles.size(), scene.positions.size(), lo.x(), lo.y(), lo.z(),
         hi.x(), hi.y(), hi.z(), near_lo.y(), near_hi.y(), path.string().c_str());

@@ -1,5 +1,4 @@
-// `gtbake scenes`: write the seven procedural scene types of docs/scenes.md "The seven scene types"
-// as glTF 2.0.
+// `gtbake scenes`: write the procedural scene corpus (docs/scenes.md) as glTF 2.0.
 #pragma once
 
 #include <cstdint>
@@ -11,12 +10,16 @@ namespace gtbake {
 
 struct ScenesOptions {
   std::filesystem::path out = "data/scenes";
-  std::uint64_t seed = 1;  // seeds the clutter and terrain generators
+  std::uint64_t seed = 1;  // seeds every variant (and the classic clutter and terrain)
   bool progress = true;
+  // The seven classic scenes only (data/scenes/ holds them, seed 1), named by their type.
+  bool classic = false;
+  int variants = 4;  // per corpus type (kCorpusVariants)
 };
 
-// Writes <out>/<name>.gltf and <out>/<name>.bin for every scene type; returns the .gltf paths in
-// a fixed order (cavity, wedge, corner, spheres, wells, clutter, terrain).
+// Writes <out>/<name>.gltf and <out>/<name>.bin for every corpus scene <type>_<variant> (type by
+// type in corpusTypeNames() order, variants 0, 1, …), or with `classic` for the seven classic
+// types; returns the .gltf paths in that order.
 std::vector<std::filesystem::path> runScenes(const ScenesOptions& options);
 
 }  // namespace gtbake

@@ -33,6 +33,8 @@ void writeShardManifest(const fs::path& dir, const ShardManifest& manifest, cons
   nlohmann::ordered_json scenes = nlohmann::ordered_json::array();
   for (std::size_t s = 0; s < id.scenes.size(); ++s) {
     scenes.push_back({{"name", id.scenes[s]},
+                      {"scene", id.view_scene[s]},
+                      {"type", id.view_type[s]},
                       {"sha256", id.scene_sha256[s]},
                       {"triangles", id.scene_triangles[s]},
                       {"gltf", manifest.runs[s].gltf.string()},
@@ -86,6 +88,8 @@ ShardManifest readShardManifest(const fs::path& dir) {
     }
     for (const auto& s : j.at("scenes")) {
       id.scenes.push_back(s.at("name").get<std::string>());
+      id.view_scene.push_back(s.at("scene").get<std::string>());
+      id.view_type.push_back(s.at("type").get<std::string>());
       id.scene_sha256.push_back(s.at("sha256").get<std::string>());
       id.scene_triangles.push_back(s.at("triangles").get<std::uint64_t>());
       m.runs.push_back({fs::path(s.at("gltf").get<std::string>()),

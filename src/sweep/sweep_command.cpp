@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
@@ -24,6 +25,7 @@
 #include "common/progress.h"
 #include "common/threads.h"
 #include "gtbake_version.h"
+#include "scene/auto_camera.h"
 #include "scene/gltf_reader.h"
 #include "scene/scene.h"
 #include "sweep/escape_image.h"
@@ -117,22 +119,59 @@ std::string formatNumber(double value) {
   return text;
 }
 
-// Loads every scene before anything is written: a bad scene fails the run with no output.
-std::vector<Scene> loadScenes(const std::vector<fs::path>& files, const std::string& camera) {
-  std::vector<Scene> scenes;
+// One image of the sweep: a scene seen from one camera.
+struct SweepView {
+  std::size_t scene = 0;  // index into SweepInputs::scenes and ::files
+  PerspectiveCamera camera;
+  std::string name;  // the glTF stem, or <stem>_v<k> for automatic views
+};
+
+struct SweepInputs {
+  std::vector<fs::path> files;
+  std::vector<Scene> scenes;  // per file; name = the stem, type as read ("" = none)
+  std::vector<SweepView> views;
+};
+
+// Loads every scene before anything is written: a bad scene fails the run with no output. A
+// file gets its own camera, or kAutoViews automatic views when it has none; --camera auto[:K]
+// gives every file K automatic views (auto_camera.h).
+SweepInputs loadScenes(const std::vector<fs::path>& files, const SweepOptions& o) {
+  const int auto_views = parseAutoCamera(o.camera);
+  SweepInputs in;
+  in.files = files;
+  std::set<std::string> names;
   for (const fs::path& file : files) {
     GltfReadInfo info;
-    scenes.push_back(readGltfScene(file, {camera, false}, &info));
-    if (info.perspective_cameras > 1) {
+    GltfReadOptions read;
+    read.camera = auto_views > 0 ? "" : o.camera;
+    read.allow_no_camera = true;
+    in.scenes.push_back(readGltfScene(file, read, &info));
+    Scene& scene = in.scenes.back();
+    scene.name = file.stem().string();
+    if (scene.triangles.empty()) throw Error("scene " + file.string() + " has no triangles");
+    if (auto_views == 0 && info.perspective_cameras > 1) {
       std::fprintf(stderr, "sweep: %s: camera %d '%s' of %d (choose with --camera NAME|INDEX)\n",
                    file.string().c_str(), info.camera_instance, info.camera_name.c_str(),
                    info.perspective_cameras);
     }
-    scenes.back().name = file.stem().string();
-    if (scenes.back().triangles.empty())
-      throw Error("scene " + file.string() + " has no triangles");
+    const int k_views = auto_views > 0                  ? auto_views
+                        : info.perspective_cameras == 0 ? kAutoViews
+                                                        : 0;
+    std::vector<SweepView> views;
+    if (k_views == 0) views.push_back({in.scenes.size() - 1, scene.camera, scene.name});
+    const auto cameras = autoCameras(scene, k_views, static_cast<double>(o.width) / o.height);
+    for (int k = 0; k < k_views; ++k) {
+      views.push_back({in.scenes.size() - 1, cameras[k], scene.name + "_v" + std::to_string(k)});
+    }
+    for (const SweepView& v : views) {
+      if (!names.insert(v.name).second) {
+        throw Error("two views are named '" + v.name + "' (" + file.string() +
+                    "); outputs are named by file stem and view");
+      }
+      in.views.push_back(v);
+    }
   }
-  return scenes;
+  return in;
 }
 
 WalkSettings walkSettings(const SweepOptions& o) {
@@ -149,8 +188,7 @@ WalkSettings walkSettings(const SweepOptions& o) {
 
 // Everything that determines a pixel's values (the thread count and shard do not), as recorded in
 // sweep.json's "settings" (plus "threads") and the EXR attributes (plus "gtbake.scene").
-SweepIdentity describeSweep(const SweepOptions& o, const std::vector<fs::path>& files,
-                            const std::vector<Scene>& scenes) {
+SweepIdentity describeSweep(const SweepOptions& o, const SweepInputs& in) {
   SweepIdentity id;
   id.version = GTBAKE_VERSION;
   nlohmann::ordered_json& settings = id.settings;
@@ -174,10 +212,15 @@ SweepIdentity describeSweep(const SweepOptions& o, const std::vector<fs::path>& 
       {"gtbake.stratified_first_bounce", o.stratify_first_bounce ? "1" : "0"},
       {"gtbake.specular_roughness", specularRoughnessList(o.specular_roughness)},
       {"gtbake.specular_spp", std::to_string(o.specular_roughness.empty() ? 0 : o.specular_spp)}};
-  for (std::size_t s = 0; s < files.size(); ++s) {
-    id.scenes.push_back(files[s].stem().string());
-    id.scene_sha256.push_back(sceneSha256(files[s]));
-    id.scene_triangles.push_back(scenes[s].triangles.size());
+  std::vector<std::string> sha256;
+  for (const fs::path& file : in.files) sha256.push_back(sceneSha256(file));
+  for (const SweepView& v : in.views) {
+    const Scene& scene = in.scenes[v.scene];
+    id.scenes.push_back(v.name);
+    id.view_scene.push_back(scene.name);
+    id.view_type.push_back(scene.type.empty() ? scene.name : scene.type);
+    id.scene_sha256.push_back(sha256[v.scene]);
+    id.scene_triangles.push_back(scene.triangles.size());
   }
   id.width = o.width;
   id.height = o.height;
@@ -280,8 +323,7 @@ struct TraceReport {
 // Traces the tiles `mine` that are not checkpointed yet, scene by scene (TBB over the tiles, and
 // inside each tile over 8×8 blocks), saving each tile as it finishes. Stops starting tiles after
 // SIGINT/SIGTERM.
-TraceReport traceTiles(const SweepOptions& o, const std::vector<Scene>& scenes,
-                       const std::vector<fs::path>& files, const SweepIdentity& id,
+TraceReport traceTiles(const SweepOptions& o, const SweepInputs& in, const SweepIdentity& id,
                        const TilePlan& plan, const std::vector<int>& mine, const fs::path& dir) {
   TraceReport report;
   WalkSettings settings = walkSettings(o);
@@ -289,8 +331,11 @@ TraceReport traceTiles(const SweepOptions& o, const std::vector<Scene>& scenes,
       o.shards > 0 ? "shard " + std::to_string(o.shard) + "/" + std::to_string(o.shards) + " "
                    : "sweep ";
   const StopOnSignals stop;
-  for (std::size_t s = 0; s < scenes.size(); ++s) {
-    report.runs.push_back({files[s], 0.0, 0.0});
+  std::unique_ptr<EmbreeTracer> tracer;  // of scene `built`, shared by its consecutive views
+  std::size_t built = in.scenes.size();
+  for (std::size_t s = 0; s < in.views.size(); ++s) {
+    const SweepView& view = in.views[s];
+    report.runs.push_back({in.files[view.scene], 0.0, 0.0});
     std::vector<int> pending;
     for (int t : mine) {
       if (plan.tiles[t].scene != static_cast<int>(s)) continue;
@@ -303,8 +348,12 @@ TraceReport traceTiles(const SweepOptions& o, const std::vector<Scene>& scenes,
     }
     if (pending.empty() || stop.signal() != 0) continue;
     const auto build_start = std::chrono::steady_clock::now();
-    const EmbreeTracer tracer(scenes[s]);
-    settings.scene_key = sceneStreamKey(scenes[s].name);
+    if (built != view.scene) {
+      tracer.reset();
+      tracer = std::make_unique<EmbreeTracer>(in.scenes[view.scene]);
+      built = view.scene;
+    }
+    settings.scene_key = sceneStreamKey(view.name);
     const auto trace_start = std::chrono::steady_clock::now();
     report.runs[s].build_seconds = std::chrono::duration<double>(trace_start - build_start).count();
     std::uint64_t pixels = 0;
@@ -315,8 +364,8 @@ TraceReport traceTiles(const SweepOptions& o, const std::vector<Scene>& scenes,
     tbb::parallel_for(std::size_t{0}, pending.size(), [&](std::size_t k) {
       if (stop.signal() != 0) return;
       const Tile& tile = plan.tiles[pending[k]];
-      const EscapeImage image = traceEscapeImage(tracer, scenes[s].camera, o.width, o.height,
-                                                 tile.rect, settings, "", false);
+      const EscapeImage image =
+          traceEscapeImage(*tracer, view.camera, o.width, o.height, tile.rect, settings, "", false);
       writeTile(dir / tileFileName(id.scenes[s], tile.index),
                 makeTile(image, id.key, id.scenes[s], tile.index, tile.rect));
       rays += image.rays;
@@ -382,16 +431,16 @@ SweepResult runSweep(const SweepOptions& options) {
   validateOptions(options);
   const ThreadLimit threads(options.threads);
   const std::vector<fs::path> files = resolveSceneFiles(options.scenes);
-  const std::vector<Scene> scenes = loadScenes(files, options.camera);
-  const SweepIdentity id = describeSweep(options, files, scenes);
+  const SweepInputs inputs = loadScenes(files, options);
+  const SweepIdentity id = describeSweep(options, inputs);
   const bool sharded = options.shards > 0;
-  const TilePlan plan = planTiles(static_cast<int>(scenes.size()), options.width, options.height,
-                                  sharded ? options.shards : 1);
+  const TilePlan plan = planTiles(static_cast<int>(inputs.views.size()), options.width,
+                                  options.height, sharded ? options.shards : 1);
   const std::vector<int> mine = plan.tilesOfShard(sharded ? options.shard : 0);
   ensureWritableDirectory(options.out);
   const fs::path dir = openTileDirectory(options, id);
 
-  const TraceReport report = traceTiles(options, scenes, files, id, plan, mine, dir);
+  const TraceReport report = traceTiles(options, inputs, id, plan, mine, dir);
   if (report.signal != 0) throwInterrupted(options, report, mine.size(), dir);
   if (report.reused > 0 && options.progress) {
     std::fprintf(stderr, "sweep: resumed: %zu of %zu tiles were checkpointed in %s\n",

@@ -33,7 +33,9 @@ struct SweepOptions {
   std::uint64_t seed = 1;
   int threads = 0;  // 0 = all cores
   // Camera of glTF files with several: a name or a walk-order index; "" = the first (the sweep
-  // prints which one it took).
+  // prints which one it took). "auto" or "auto:K": K views framing each scene's bounding box
+  // (scene/auto_camera.h), each one image <stem>_v<k>; a glTF without a camera always gets
+  // kAutoViews of them.
   std::string camera;
   bool progress = true;
   // First walk direction stratified within each half-sample estimate (docs/sweep.md); off gives

@@ -76,6 +76,8 @@ void sealIdentity(SweepIdentity* identity) {
   j["settings"] = identity->settings;
   j["attributes"] = identity->attributes;
   j["scenes"] = identity->scenes;
+  j["view_scene"] = identity->view_scene;
+  j["view_type"] = identity->view_type;
   j["scene_sha256"] = identity->scene_sha256;
   j["scene_triangles"] = identity->scene_triangles;
   j["width"] = identity->width;
@@ -149,6 +151,8 @@ SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity
     result.rays += image.rays;
     nlohmann::ordered_json entry;
     entry["name"] = name;
+    entry["scene"] = identity.view_scene[s];
+    entry["type"] = identity.view_type[s];
     entry["file"] = exr.filename().string();
     entry["gltf"] = gltf;
     entry["width"] = plan.width;

@@ -21,9 +21,14 @@ struct SweepIdentity {
   std::string version;                            // gtbake version that traced it
   nlohmann::ordered_json settings;                // sweep.json "settings" without "threads"
   std::map<std::string, std::string> attributes;  // EXR attributes without "gtbake.scene"
-  std::vector<std::string> scenes;                // names (glTF stems), in sweep order
-  std::vector<std::string> scene_sha256;          // of each glTF and its buffers
-  std::vector<std::uint64_t> scene_triangles;     // triangle count of each scene
+  // Per view (one image each), in sweep order: its name (the glTF stem, or <stem>_v<k> for
+  // automatic views), its scene (the glTF stem: the cluster the views of one file share) and
+  // its scene type (the glTF's "gtbake_type", else the scene).
+  std::vector<std::string> scenes;
+  std::vector<std::string> view_scene;
+  std::vector<std::string> view_type;
+  std::vector<std::string> scene_sha256;       // of each glTF and its buffers
+  std::vector<std::uint64_t> scene_triangles;  // triangle count of each scene
   int width = 0;
   int height = 0;
   std::string camera;  // --camera ("" = each glTF's first)

@@ -52,6 +52,10 @@ SpecularSweep readSpecularSweep(const fs::path& dir) {
           throw Error(json_path.string() + ": scene must be a string");
         scene.cluster = entry["scene"].get<std::string>();
       }
+      if (entry.contains("type")) {
+        if (!entry["type"].is_string()) throw Error(json_path.string() + ": type must be a string");
+        scene.type = entry["type"].get<std::string>();
+      }
       const std::string file = entry.at("file").get<std::string>();
       fileInsideDirectory(dir, file, json_path.string());
       ExrExpect expect;

@@ -15,6 +15,7 @@ struct SpecularScene {
   // The scene this entry views (sweep.json scenes[].scene; empty: its own name): views of one
   // scene are one unit of every scene-level statistic (docs/validate_gtso.md §3).
   std::string cluster;
+  std::string type;  // sweep.json "type" (else the cluster): the delete-one-type jackknife's unit
   int width = 0;
   int height = 0;
   std::vector<std::uint8_t> mask;  // per pixel, 1 = geometry

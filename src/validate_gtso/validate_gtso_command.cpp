@@ -21,6 +21,7 @@
 #include "sweep/escape_image.h"
 #include "validate_gtso/cone_u_fit.h"
 #include "validate_gtso/gtso_lookup.h"
+#include "validate_gtso/method_jackknife.h"
 #include "validate_gtso/scene_statistics.h"
 #include "validate_gtso/specular_methods.h"
 #include "validate_gtso/specular_sweep.h"
@@ -403,6 +404,19 @@ void addMethodsJson(const Analysis& a, Json& json) {
 }
 
 // validate_gtso.json: the out-of-plane bins, each format against float, and every scene.
+// validate_gtso.json scene_jackknife, type_jackknife: every method's RMSE with its delete-one-scene
+// and delete-one-type SE (method_jackknife.h).
+void addMethodJackknifeJson(const Analysis& a, Json& json) {
+  std::vector<std::string> scored;
+  std::vector<std::vector<std::vector<ErrorStats>>> scored_cells;
+  for (Method m : a.methods) {
+    scored.push_back(methodName(m));
+    scored_cells.push_back(a.t.cell[static_cast<int>(m)]);
+  }
+  json["scene_jackknife"] = methodJackknifeJson(a.sweep, "scene", scored, scored_cells);
+  json["type_jackknife"] = methodJackknifeJson(a.sweep, "type", scored, scored_cells);
+}
+
 void addBreakdownJson(const Analysis& a, Json& json) {
   const Tables& t = a.t;
   Json plane = Json::array();
@@ -454,6 +468,7 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   addMethodsJson(a, json);
   addBreakdownJson(a, json);
   addSceneStatisticsJson(a.sweep, a.scene_stats, json);
+  addMethodJackknifeJson(a, json);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   json["timings"] = {{"seconds", seconds}};

@@ -81,7 +81,7 @@ TEST(Cli, HelpAndVersionExitZero) {
 
 TEST(Cli, ScenesReproduceCommittedData) {
   const TempDir dir("cli-scenes");
-  const RunResult result = runGtbake("scenes --quiet --out " + dir.path().string());
+  const RunResult result = runGtbake("scenes --quiet --classic --out " + dir.path().string());
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const fs::path committed = fs::path(GTBAKE_SOURCE_DIR) / "data" / "scenes";
   size_t compared = 0;

@@ -200,3 +200,67 @@ TEST(SceneJackknife, UndeterminedReplicaMakesTheJackknifeUnavailable) {
 
 }  // namespace
 }  // namespace gtbake
+
+namespace gtbake {
+namespace {
+
+// Two levels: 8 types of 4 scenes of 2 views each. A type moves c(ρ) by δ_t ~ N(0, 0.05²), a
+// scene by a further ε_s ~ N(0, 0.01²); the two views of a scene share its constants (other
+// pixels, same geometry). The delete-one-type jackknife deletes all 8 views of a type and
+// recovers the sample spread of the type means over the 8 types; the delete-one-scene jackknife
+// clusters the two views of a scene, so it recovers the spread of the 32 scene constants (a
+// delete-one-view jackknife would treat the pair as independent and shrink the SE by about √2).
+// Both are the jackknife of a mean of equal-sized groups, exact up to the groups' Gram matrices.
+TEST(GroupJackknife, TypesAndScenesClusterTheirViews) {
+  constexpr int kTypes = 8, kScenesPerType = 4, kViews = 2;
+  std::mt19937_64 rng(77);
+  std::normal_distribution<double> type_shift(0.0, 0.05), scene_shift(0.0, 0.01);
+  std::vector<test::SyntheticScene> views;
+  std::vector<double> type_delta, scene_delta;
+  for (int t = 0; t < kTypes; ++t) {
+    type_delta.push_back(type_shift(rng));
+    for (int s = 0; s < kScenesPerType; ++s) {
+      scene_delta.push_back(type_delta.back() + scene_shift(rng));
+      MultiBounceCoeffs k = kPaperCoeffs;
+      for (int i = 0; i < 6; ++i) k[i] += scene_delta.back() * kDirection[i];
+      for (int v = 0; v < kViews; ++v) {
+        views.push_back(
+            {"t" + std::to_string(t) + "s" + std::to_string(s) + "v" + std::to_string(v), k,
+             kPointsPerScene});
+      }
+    }
+  }
+  SweepData data = test::pooledSweep(views, 0.0, 1e-4, 0.3, 5000);
+  for (std::size_t i = 0; i < data.scenes.size(); ++i) {
+    const std::size_t scene = i / kViews, type = scene / kScenesPerType;
+    data.scenes[i].cluster = "scene" + std::to_string(scene);
+    data.scenes[i].type = "type" + std::to_string(type);
+  }
+  const MultiBounceFit fit = fitMultiBounce(data);
+  const auto spread = [](const std::vector<double>& x) {
+    double mean = 0.0, var = 0.0;
+    for (double d : x) mean += d / x.size();
+    for (double d : x) var += (d - mean) * (d - mean) / (x.size() - 1);
+    return std::sqrt(var / x.size());  // SE of the mean
+  };
+  const SceneJackknife by_type = typeJackknife(data, fit, kPaperCoeffs);
+  const SceneJackknife by_scene = sceneJackknife(data, fit, kPaperCoeffs);
+  ASSERT_TRUE(by_type.available && by_scene.available);
+  EXPECT_EQ(by_type.scenes, static_cast<std::size_t>(kTypes));
+  EXPECT_EQ(by_scene.scenes, static_cast<std::size_t>(kTypes * kScenesPerType));
+  EXPECT_EQ(by_type.unit, "type");
+  EXPECT_EQ(by_scene.leave_one_out[5].left_out, "scene5");
+  EXPECT_DOUBLE_EQ(by_type.threshold, studentT975(kTypes - 1));
+  for (int i : {4, 5}) {
+    EXPECT_NEAR(by_type.se[i] / spread(type_delta), 1.0, 0.1) << i;
+    EXPECT_NEAR(by_scene.se[i] / spread(scene_delta), 1.0, 0.1) << i;
+  }
+  // Without clusters every view is its own group: the pairs count twice and the SE shrinks.
+  for (SweepScene& v : data.scenes) v.cluster.clear();
+  const SceneJackknife by_view = sceneJackknife(data, fit, kPaperCoeffs);
+  EXPECT_EQ(by_view.scenes, views.size());
+  EXPECT_LT(by_view.se[4], 0.85 * by_scene.se[4]);
+}
+
+}  // namespace
+}  // namespace gtbake

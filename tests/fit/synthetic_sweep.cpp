@@ -27,7 +27,7 @@ SweepData knownCoefficientSweep(const MultiBounceCoeffs& coeffs, std::size_t n, 
   data.spp = 2;
   data.bounces = 3;
   data.albedos = kAlbedos;
-  data.scenes.push_back({"synthetic", 0, n});
+  data.scenes.push_back({"synthetic", 0, n, "", ""});
   for (PointSet* set : {&data.full, &data.half[0], &data.half[1]}) set->G.resize(kAlbedos.size());
   for (std::size_t i = 0; i < n; ++i) {
     const double a = uniform(rng);
@@ -73,7 +73,7 @@ void appendScene(const SweepData& from, std::size_t s, SweepData& to, int copies
       }
     }
   }
-  to.scenes.push_back({scene.name, begin, to.full.A.size()});
+  to.scenes.push_back({scene.name, begin, to.full.A.size(), scene.cluster, scene.type});
 }
 
 SweepData pooledSweep(const std::vector<SyntheticScene>& scenes, double sigma_A, double sigma_G,

@@ -357,11 +357,11 @@ TEST(GtsoBounds, SamplesAndSizeAreBoundedBeforeWork) {
 
 TEST(ScenesWrite, InjectedFailureOnTheBufferIsAnErrorAndKeepsOldFiles) {
   TempDir dir("scenes_fail");
-  runScenes({dir.path(), 1, false});
+  runScenes({dir.path(), 1, false, true});
   const std::string bin = readBytes(dir.path() / "wells.bin");
   const std::string gltf = readBytes(dir.path() / "wells.gltf");
   const ScopedEnv fail("GTBAKE_TEST_FAIL_WRITE", "wells.bin");
-  EXPECT_ERROR(runScenes({dir.path(), 2, false}), "No space left");
+  EXPECT_ERROR(runScenes({dir.path(), 2, false, true}), "No space left");
   EXPECT_EQ(readBytes(dir.path() / "wells.bin"), bin);
   EXPECT_EQ(readBytes(dir.path() / "wells.gltf"), gltf);
 }
@@ -373,7 +373,7 @@ TEST(ScenesWrite, StaleTemporariesOfAKilledRunAreRemoved) {
   ::waitpid(child, nullptr, 0);
   const fs::path stale = dir.path() / ("cavity.gltf.tmp-" + std::to_string(child));
   spit(stale, "{");
-  runScenes({dir.path(), 1, false});
+  runScenes({dir.path(), 1, false, true});
   EXPECT_FALSE(fs::exists(stale));
 }
 
@@ -387,7 +387,7 @@ TEST(ScenesWrite, FullTmpfsIsAnError) {
     fs::path p;
     ~Unmount() { (void)!std::system(("umount " + p.string()).c_str()); }
   } unmount{mount};
-  EXPECT_ERROR(runScenes({mount, 1, false}), "cannot write");
+  EXPECT_ERROR(runScenes({mount, 1, false, true}), "cannot write");
   for (const auto& e : fs::directory_iterator(mount)) {
     EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos) << e.path();
     EXPECT_GT(fs::file_size(e.path()), 0u) << e.path();

@@ -48,9 +48,17 @@ TEST(GltfRoundTrip, EveryProceduralSceneReadsBackIdentical) {
 // runScenes twice gives the same bytes, in the fixed order, seeded by the seed alone.
 TEST(ScenesCommand, SameSeedSameBytesOtherSeedOtherTerrain) {
   TempDir a("bytes_a"), b("bytes_b"), c("bytes_c");
-  const auto paths_a = runScenes({a.path(), 1, false});
-  const auto paths_b = runScenes({b.path(), 1, false});
-  const auto paths_c = runScenes({c.path(), 2, false});
+  const auto classic = [](const std::filesystem::path& out, std::uint64_t seed) {
+    ScenesOptions options;
+    options.out = out;
+    options.seed = seed;
+    options.classic = true;
+    options.progress = false;
+    return runScenes(options);
+  };
+  const auto paths_a = classic(a.path(), 1);
+  const auto paths_b = classic(b.path(), 1);
+  const auto paths_c = classic(c.path(), 2);
   ASSERT_EQ(paths_a.size(), 7u);
   for (std::size_t k = 0; k < 7; ++k) {
     EXPECT_EQ(paths_a[k].stem().string(), sceneTypeNames()[k]);
@@ -234,9 +242,9 @@ TEST(GltfRead, BadInputGivesOneLineErrors) {
   HandWritten lines = oneTriangle();
   lines.doc["meshes"][0]["primitives"][0]["mode"] = 1;
   EXPECT_NE(errorOf(lines.write(dir.path(), "lines")).find("LINES"), std::string::npos);
-  HandWritten strip = oneTriangle();
-  strip.doc["meshes"][0]["primitives"][0]["mode"] = 5;
-  EXPECT_NE(errorOf(strip.write(dir.path(), "strip")).find("TRIANGLE_STRIP"), std::string::npos);
+  HandWritten loop = oneTriangle();
+  loop.doc["meshes"][0]["primitives"][0]["mode"] = 2;
+  EXPECT_NE(errorOf(loop.write(dir.path(), "loop")).find("LINE_LOOP"), std::string::npos);
 
   HandWritten no_triangles = oneTriangle();
   no_triangles.doc["scenes"][0]["nodes"] = {1};
@@ -255,11 +263,62 @@ TEST(GltfRead, BadInputGivesOneLineErrors) {
       nan.addAccessor(nan.addBytes(p, sizeof(p)), 5126, "VEC3", 3);
   EXPECT_NE(errorOf(nan.write(dir.path(), "nan")).find("non-finite"), std::string::npos);
 
+  // As Draco encoders write it: the accessors have no bufferView of their own, the primitive's
+  // extension points at the compressed bytes. The error names the extension, not a bufferView.
   HandWritten draco = oneTriangle();
   draco.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
   draco.doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
-  EXPECT_NE(errorOf(draco.write(dir.path(), "draco")).find("KHR_draco_mesh_compression"),
-            std::string::npos);
+  for (auto& accessor : draco.doc["accessors"]) accessor.erase("bufferView");
+  draco.doc["meshes"][0]["primitives"][0]["extensions"] = {
+      {"KHR_draco_mesh_compression", {{"bufferView", 0}, {"attributes", {{"POSITION", 0}}}}}};
+  const std::string message = errorOf(draco.write(dir.path(), "draco"));
+  EXPECT_NE(message.find("unsupported extension KHR_draco_mesh_compression"), std::string::npos)
+      << message;
+  EXPECT_EQ(message.find("bufferView"), std::string::npos) << message;
+}
+
+// Strips and fans become triangles as glTF 2.0 §3.7.2.1 orders them (every strip triangle keeps
+// the first one's winding; the degenerate joint of a stitched strip is dropped), with and without
+// indices, and mirrored nodes still flip them.
+TEST(GltfRead, TriangleStripsAndFansAreTriangulated) {
+  TempDir dir("strips");
+  HandWritten h = oneTriangle();
+  const float square[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+  const int pos = h.addAccessor(h.addBytes(square, sizeof(square)), 5126, "VEC3", 4);
+  const std::uint16_t strip[5] = {0, 1, 2, 3, 3};
+  const std::uint16_t fan[4] = {0, 1, 3, 2};
+  const int strip_idx = h.addAccessor(h.addBytes(strip, sizeof(strip)), 5123, "SCALAR", 5);
+  const int fan_idx = h.addAccessor(h.addBytes(fan, sizeof(fan)), 5123, "SCALAR", 4);
+  h.doc["meshes"][0]["primitives"] = {
+      {{"attributes", {{"POSITION", pos}}}, {"indices", strip_idx}, {"mode", 5}},
+      {{"attributes", {{"POSITION", pos}}}, {"indices", fan_idx}, {"mode", 6}},
+      {{"attributes", {{"POSITION", pos}}}, {"mode", 5}}};
+  const Scene scene = readGltfScene(h.write(dir.path(), "strips"));
+  using Tri = std::array<std::uint32_t, 3>;
+  const std::vector<Tri> expected = {{0, 1, 2},  {1, 3, 2},     // strip, joint (2, 3, 3) dropped
+                                     {5, 7, 4},  {7, 6, 4},     // fan from vertex 4
+                                     {8, 9, 10}, {9, 11, 10}};  // non-indexed strip
+  EXPECT_EQ(scene.triangles, expected);
+  for (const Tri& t : scene.triangles) {  // all face +Z, as the first strip triangle
+    const Eigen::Vector3f n = (scene.positions[t[1]] - scene.positions[t[0]])
+                                  .cross(scene.positions[t[2]] - scene.positions[t[0]]);
+    EXPECT_GT(n.z(), 0.0f);
+  }
+  h.doc["nodes"][0]["scale"] = {-1, 1, 1};
+  const Scene mirrored = readGltfScene(h.write(dir.path(), "mirrored"));
+  ASSERT_EQ(mirrored.triangles.size(), expected.size());
+  EXPECT_EQ(mirrored.triangles[1], (Tri{1, 2, 3}));
+}
+
+// The generated scenes carry their type; a file without one reads back with an empty type.
+TEST(GltfRead, SceneTypeRoundTrips) {
+  TempDir dir("types");
+  Scene scene = makeCavityScene();
+  scene.name = "bowls";
+  scene.type = "cavity";
+  writeGltfScene(dir.path() / "bowls.gltf", scene);
+  EXPECT_EQ(readGltfScene(dir.path() / "bowls.gltf").type, "cavity");
+  EXPECT_EQ(readGltfScene(oneTriangle().write(dir.path(), "plain")).type, "");
 }
 
 TEST(GltfWrite, RefusesOtherExtensionsAndKeepsOldFilesOnFailure) {

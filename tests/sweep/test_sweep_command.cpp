@@ -11,6 +11,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/image_io.h"
+#include "scene/auto_camera.h"
 #include "scene/procedural_scenes.h"
 #include "support/test_scenes.h"
 #include "scene/scene.h"
@@ -235,8 +236,11 @@ TEST_F(SweepCommand, RejectsBadOptionsWithoutOutput) {
   expectRejected(o, "no .gltf files");
 }
 
-TEST_F(SweepCommand, RejectsSceneWithoutCameraAndLeavesNothing) {
-  // One triangle, no camera: buffer = 3 float3 positions as a base64 data URI.
+// A glTF without a camera gets kAutoViews automatic views, one image each, named <stem>_v<k>
+// and clustered by the file; a scene with a camera keeps its one image. View k is traced with
+// exactly autoCameras(scene)[k]: the same scene written with that camera and swept under the
+// view's name gives the same pixels.
+TEST_F(SweepCommand, SceneWithoutCameraGetsAutomaticViews) {
   const fs::path path = root_ / "scenes" / "nocamera.gltf";
   std::ofstream(path) << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],
     "nodes":[{"mesh":0}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],
@@ -246,8 +250,33 @@ TEST_F(SweepCommand, RejectsSceneWithoutCameraAndLeavesNothing) {
     "buffers":[{"byteLength":36,"uri":"data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}]})";
   const fs::path good = writeScene(makeOpenPlaneScene(), "plane");
   SweepOptions o = options(good, "out");
-  o.scenes = {good, path};  // the good scene first: nothing may be written for it either
-  expectRejected(o, "camera");
+  o.scenes = {good, path};
+  runSweep(o);
+  const nlohmann::json views = nlohmann::json::parse(readFile(o.out / "sweep.json"))["scenes"];
+  ASSERT_EQ(views.size(), 1u + kAutoViews);
+  EXPECT_EQ(views[0]["name"], "plane");
+  EXPECT_EQ(views[0]["scene"], "plane");
+  EXPECT_EQ(views[0]["type"], "open_plane");  // the generated file carries its type
+  for (int k = 0; k < kAutoViews; ++k) {
+    EXPECT_EQ(views[1 + k]["name"], "nocamera_v" + std::to_string(k));
+    EXPECT_EQ(views[1 + k]["scene"], "nocamera");
+    EXPECT_EQ(views[1 + k]["type"], "nocamera");  // no type in the file: the scene
+    EXPECT_GT(views[1 + k]["unmasked_pixels"].get<int>(), 0);
+    EXPECT_TRUE(fs::exists(o.out / ("nocamera_v" + std::to_string(k) + ".exr")));
+  }
+  // --camera auto:2 for the plane; view 1 against the plane written with that camera.
+  SweepOptions two = options(good, "two");
+  two.camera = "auto:2";
+  runSweep(two);
+  Scene plane = makeOpenPlaneScene();
+  plane.camera = autoCameras(plane, 2, 40.0 / 30.0)[1];
+  SweepOptions same = options(writeScene(plane, "plane_v1"), "same");
+  runSweep(same);
+  EXPECT_EQ(readFile(two.out / "plane_v1_A.png"), readFile(same.out / "plane_v1_A.png"));
+  EXPECT_EQ(readFile(two.out / "plane_v1_G050.png"), readFile(same.out / "plane_v1_G050.png"));
+  SweepOptions bad = options(good, "bad");
+  bad.camera = "auto:0";
+  expectRejected(bad, "auto:K");
 }
 
 TEST_F(SweepCommand, RejectsUnwritableOutput) {

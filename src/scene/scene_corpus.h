@@ -1,0 +1,52 @@
+// The scene corpus: twelve scene types in seeded variants (docs/scenes.md, "The corpus").
+//
+// The seven classic types (procedural_scenes.h) and five more that stress ambient occlusion
+// differently: interiors (a room open on one side, with furniture-like boxes), colonnades and
+// arcades, rock piles, thin geometry (blades, slats, railings) and mechanical parts. Variant 0 of
+// a classic type is the classic scene (clutter and terrain with the corpus seed); variants 1, 2, …
+// draw their parameters from counter `variant` of the type's own random stream, so every scene is
+// a pure function of (type, variant, seed). Every scene is named "<type>_<variant>" and carries
+// its type (written into the glTF, read back by the sweep).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "scene/mesh_builder.h"
+#include "scene/scene.h"
+
+namespace gtbake {
+
+// Variants per type in the default corpus: 12 types × 4 = 48 scenes.
+inline constexpr int kCorpusVariants = 4;
+
+// The twelve corpus types in their fixed order: the seven classic ones, then interior, colonnade,
+// rocks, thin, mechanical.
+const std::vector<std::string>& corpusTypeNames();
+
+// Scene `variant` (≥ 0) of corpus type `type`; throws gtbake::Error for an unknown type.
+Scene makeCorpusScene(const std::string& type, int variant, std::uint64_t seed);
+
+// The five new types; `seed` and `variant` pick every parameter (docs/scenes.md lists them).
+Scene makeInteriorScene(std::uint64_t seed, int variant);
+Scene makeColonnadeScene(std::uint64_t seed, int variant);
+Scene makeRocksScene(std::uint64_t seed, int variant);
+Scene makeThinScene(std::uint64_t seed, int variant);
+Scene makeMechanicalScene(std::uint64_t seed, int variant);
+
+// Building blocks of the new types (outward facing closed solids unless said otherwise).
+//
+// Box centred at `centre` with half-extents h along the orthonormal axes a0, a1, a2.
+void addOrientedBox(MeshBuilder& mesh, const Eigen::Vector3d& centre, const Eigen::Vector3d& a0,
+                    const Eigen::Vector3d& a1, const Eigen::Vector3d& a2, const Eigen::Vector3d& h);
+// Upright prism over a profile star-shaped about its origin (points (x, z) in order around it),
+// placed at `base` (its bottom centre), `height` tall; caps are fans from the centre.
+void addExtrusion(MeshBuilder& mesh, const Eigen::Vector3d& base,
+                  const std::vector<Eigen::Vector2d>& profile, double height);
+// Upright tube: radii inner < outer, flat annular ends, `segments` sides.
+void addTube(MeshBuilder& mesh, const Eigen::Vector3d& base, double inner, double outer,
+             double height, int segments);
+
+}  // namespace gtbake
