@@ -35,6 +35,8 @@ EscapeImage makeEscapeImage(int width, int height, const WalkSettings& settings)
   image.normal.assign(3 * pixels, 0.0f);
   image.view.assign(3 * pixels, 0.0f);
   image.bent.assign(3 * pixels, 0.0f);
+  image.depth.assign(pixels, 0.0f);
+  image.radius_hits.assign(pixels * settings.gbuffer_radii.size(), 0);
   image.specular.assign(3 * pixels * settings.specular_roughness.size(), 0.0f);
   return image;
 }
@@ -52,8 +54,13 @@ std::uint64_t tracePixel(const EmbreeTracer& tracer, const PerspectiveCamera& ca
       pixelStream(settings.scene_key, static_cast<std::uint64_t>(j) * width + i);
   const std::size_t per_pixel = 2 * static_cast<std::size_t>(settings.bounces + 1);
   double bent[3] = {0.0, 0.0, 0.0};
-  std::uint64_t rays = 1 + countEscapes(tracer, hit, settings, stream,
-                                        &image->counts[p * per_pixel], &scratch->walks, bent);
+  const std::size_t radii = settings.gbuffer_radii.size();
+  std::uint64_t rays =
+      1 + countEscapes(tracer, hit, settings, stream, &image->counts[p * per_pixel],
+                       &scratch->walks, bent, radii > 0 ? &image->radius_hits[p * radii] : nullptr);
+  const Eigen::Vector3d forward = -camera.basis.col(2);
+  image->depth[p] =
+      static_cast<float>((hit.position.cast<double>() - camera.position).dot(forward));
   const float wo[3] = {-camera_ray.direction.x(), -camera_ray.direction.y(),
                        -camera_ray.direction.z()};
   const double length = std::sqrt(bent[0] * bent[0] + bent[1] * bent[1] + bent[2] * bent[2]);
@@ -118,6 +125,14 @@ std::string albedoChannelName(double albedo) {
   return name;
 }
 
+std::string gbufferRadiusChannelName(double radius) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%g", radius);
+  std::string name = std::string("A_R") + text;
+  std::replace(name.begin(), name.end(), '.', 'p');
+  return name;
+}
+
 std::string specularChannelName(double roughness) {
   char name[8];
   std::snprintf(name, sizeof(name), "S%03d", static_cast<int>(std::lround(roughness * 100.0)));
@@ -150,6 +165,11 @@ std::vector<ExrChannel> escapeChannels(const EscapeImage& image) {
   for (const char* prefix : {"N", "V", "BN"}) {
     for (const char* axis : {"X", "Y", "Z"}) vectors.push_back(blank(std::string(prefix) + axis));
   }
+  ExrChannel depth = blank("Z");
+  std::vector<ExrChannel> at_radius;
+  for (float r : image.settings.gbuffer_radii)
+    at_radius.push_back(blank(gbufferRadiusChannelName(r)));
+  const std::size_t radii = at_radius.size();
   const std::size_t roughness = image.settings.specular_roughness.size();
   std::vector<ExrChannel> specular;
   std::vector<ExrChannel> specular_halves[2];
@@ -182,6 +202,12 @@ std::vector<ExrChannel> escapeChannels(const EscapeImage& image) {
     for (int v = 0; v < 3; ++v) {
       for (int c = 0; c < 3; ++c) vectors[3 * v + c].pixels[p] = (*sources[v])[3 * p + c];
     }
+    depth.pixels[p] = image.depth[p];
+    const double escaped = static_cast<double>(image.count(p, 0, 0)) + image.count(p, 1, 0);
+    for (std::size_t r = 0; r < radii; ++r) {
+      at_radius[r].pixels[p] =
+          static_cast<float>((escaped + image.radius_hits[p * radii + r]) / n_full);
+    }
     for (std::size_t r = 0; r < roughness; ++r) {
       const float* s = &image.specular[3 * (p * roughness + r)];
       specular[r].pixels[p] = s[0];
@@ -194,6 +220,8 @@ std::vector<ExrChannel> escapeChannels(const EscapeImage& image) {
   for (auto& c : g) channels.push_back(std::move(c));
   channels.push_back(std::move(mask));
   for (auto& c : vectors) channels.push_back(std::move(c));
+  channels.push_back(std::move(depth));
+  for (auto& c : at_radius) channels.push_back(std::move(c));
   for (auto& c : specular) channels.push_back(std::move(c));
   for (auto& half : halves) {
     for (auto& c : half) channels.push_back(std::move(c));

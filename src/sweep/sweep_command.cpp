@@ -12,6 +12,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -26,6 +27,7 @@
 #include "gtbake_version.h"
 #include "scene/gltf_reader.h"
 #include "scene/scene.h"
+#include "sweep/camera_json.h"
 #include "sweep/escape_image.h"
 #include "sweep/shard_manifest.h"
 #include "sweep/sweep_output.h"
@@ -63,6 +65,20 @@ void validateOptions(const SweepOptions& o) {
   }
   if (!(o.radius > 0.0)) throw Error("--radius must be a positive distance in metres");
   validateSpecularOptions(o.specular_roughness, o.specular_spp);
+  for (std::size_t r = 0; r < o.gbuffer_radii.size(); ++r) {
+    if (!(o.gbuffer_radii[r] > 0.0) || !std::isfinite(o.gbuffer_radii[r]) ||
+        (r > 0 && (!(o.gbuffer_radii[r] > o.gbuffer_radii[r - 1]) ||
+                   gbufferRadiusChannelName(o.gbuffer_radii[r]) ==
+                       gbufferRadiusChannelName(o.gbuffer_radii[r - 1])))) {
+      throw Error(
+          "--gbuffer-radius must be ascending positive finite metres with distinct channel names "
+          "(%g), got " +
+          gbufferRadiusList(o.gbuffer_radii));
+    }
+  }
+  if (!o.gbuffer_radii.empty() && o.bounces < 1) {
+    throw Error("--gbuffer-radius needs --bounces >= 1 (or --gbuffer-radius none)");
+  }
   if (o.shards < 0 || o.shards > kMaxShards ||
       (o.shards > 0 && (o.shard < 0 || o.shard >= o.shards))) {
     throw Error("--shard must be I/N with 0 <= I < N <= " + std::to_string(kMaxShards) + ", got " +
@@ -145,6 +161,7 @@ WalkSettings walkSettings(const SweepOptions& o) {
   settings.stratify_first_bounce = o.stratify_first_bounce;
   settings.specular_roughness = o.specular_roughness;
   settings.specular_spp = o.specular_roughness.empty() ? 0 : o.specular_spp;
+  for (double r : o.gbuffer_radii) settings.gbuffer_radii.push_back(static_cast<float>(r));
   return settings;
 }
 
@@ -166,6 +183,7 @@ SweepIdentity describeSweep(const SweepOptions& o, const std::vector<fs::path>& 
   settings["stratified_first_bounce"] = o.stratify_first_bounce;
   settings["specular_roughness"] = o.specular_roughness;
   settings["specular_spp"] = o.specular_roughness.empty() ? 0 : o.specular_spp;
+  settings["gbuffer_radii"] = o.gbuffer_radii;
   id.attributes = {
       {"gtbake.version", GTBAKE_VERSION},
       {"gtbake.spp", std::to_string(o.spp)},
@@ -174,11 +192,13 @@ SweepIdentity describeSweep(const SweepOptions& o, const std::vector<fs::path>& 
       {"gtbake.radius", std::isinf(o.radius) ? "inf" : formatNumber(o.radius)},
       {"gtbake.stratified_first_bounce", o.stratify_first_bounce ? "1" : "0"},
       {"gtbake.specular_roughness", specularRoughnessList(o.specular_roughness)},
-      {"gtbake.specular_spp", std::to_string(o.specular_roughness.empty() ? 0 : o.specular_spp)}};
+      {"gtbake.specular_spp", std::to_string(o.specular_roughness.empty() ? 0 : o.specular_spp)},
+      {"gtbake.gbuffer_radii", gbufferRadiusList(o.gbuffer_radii)}};
   for (std::size_t s = 0; s < files.size(); ++s) {
     id.scenes.push_back(files[s].stem().string());
     id.scene_sha256.push_back(sceneSha256(files[s]));
     id.scene_triangles.push_back(scenes[s].triangles.size());
+    id.scene_cameras.push_back(cameraJson(scenes[s].camera));
   }
   id.width = o.width;
   id.height = o.height;
@@ -377,6 +397,33 @@ SweepResult finishShard(const SweepOptions& o, const SweepIdentity& id, const Ti
 }
 
 }  // namespace
+
+std::vector<double> parseGbufferRadii(const std::string& text) {
+  if (text == "none") return {};
+  std::vector<double> values;
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t end = text.find(',', begin);
+    const std::string item = text.substr(begin, end == std::string::npos ? end : end - begin);
+    char* stop = nullptr;
+    const double v = std::strtod(item.c_str(), &stop);
+    if (item.empty() || stop != item.c_str() + item.size() || !std::isfinite(v) || !(v > 0.0)) {
+      throw Error("--gbuffer-radius must be 'none' or comma-separated positive metres, got '" +
+                  text + "'");
+    }
+    values.push_back(v);
+    if (end == std::string::npos) break;
+    begin = end + 1;
+  }
+  return values;
+}
+
+std::string gbufferRadiusList(const std::vector<double>& radii) {
+  if (radii.empty()) return "none";
+  std::string list;
+  for (double r : radii) list += (list.empty() ? "" : ",") + formatNumber(r);
+  return list;
+}
 
 std::pair<int, int> parseShard(const std::string& text) {
   static const std::regex kPattern("([0-9]{1,6})/([0-9]{1,6})");

@@ -42,6 +42,9 @@ struct SweepOptions {
   // empty: none) with this many VNDF samples per value and pixel (even; docs/sweep.md §2).
   std::vector<double> specular_roughness = {0.10, 0.25, 0.40, 0.60, 0.80};
   int specular_spp = 64;
+  // A_R channels (A with the sky beyond R, from the same walks; docs/sweep.md, "G-buffer") at these
+  // radii in metres, ascending (empty: none). The default is screen-ao's default radius.
+  std::vector<double> gbuffer_radii = {1.0};
   // Shard `shard` of `shards` (0-based; shards = 0: not sharded). A shard traces only its tiles
   // (tile_plan.h) and writes them with <out>/shard.json for `gtbake merge` (docs/cluster.md).
   int shard = 0;
@@ -80,6 +83,11 @@ class SweepInterrupted : public Error {
 // sweep stopped by a signal or killed resumes from them. Sharded: writes <out>/sweep-tiles and
 // <out>/shard.json instead (result.scenes is then empty).
 SweepResult runSweep(const SweepOptions& options);
+
+// --gbuffer-radius: "none" or comma-separated positive finite metres, ascending. Throws
+// gtbake::Error otherwise; gbufferRadiusList is the inverse.
+std::vector<double> parseGbufferRadii(const std::string& text);
+std::string gbufferRadiusList(const std::vector<double>& radii);
 
 // "I/N" with 0 ≤ I < N → (I, N); a one-line gtbake::Error otherwise.
 std::pair<int, int> parseShard(const std::string& text);

@@ -18,12 +18,13 @@ namespace gtbake {
 
 // What every shard of one sweep shares and what its outputs record besides pixels.
 struct SweepIdentity {
-  std::string version;                            // gtbake version that traced it
-  nlohmann::ordered_json settings;                // sweep.json "settings" without "threads"
-  std::map<std::string, std::string> attributes;  // EXR attributes without "gtbake.scene"
-  std::vector<std::string> scenes;                // names (glTF stems), in sweep order
-  std::vector<std::string> scene_sha256;          // of each glTF and its buffers
-  std::vector<std::uint64_t> scene_triangles;     // triangle count of each scene
+  std::string version;                                // gtbake version that traced it
+  nlohmann::ordered_json settings;                    // sweep.json "settings" without "threads"
+  std::map<std::string, std::string> attributes;      // EXR attributes without "gtbake.scene"
+  std::vector<std::string> scenes;                    // names (glTF stems), in sweep order
+  std::vector<std::string> scene_sha256;              // of each glTF and its buffers
+  std::vector<std::uint64_t> scene_triangles;         // triangle count of each scene
+  std::vector<nlohmann::ordered_json> scene_cameras;  // cameraJson of each scene's camera
   int width = 0;
   int height = 0;
   std::string camera;  // --camera ("" = each glTF's first)

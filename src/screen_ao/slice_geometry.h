@@ -1,0 +1,89 @@
+// The slice geometry every horizon-based estimator shares (docs/screen_ao.md, "Slices").
+//
+// A slice is the plane through the view-space point P that holds the view vector V = −P/|P| and
+// the image-plane direction ω = (cos φ, sin φ) (view space (cos φ, sin φ, 0)). Angles θ in it are
+// measured from V, positive towards o, the unit part of (ω, 0) orthogonal to V. The normal N
+// projects to N' = N − a(N·a), a = unit (ω, 0) × V; n is the signed angle from V to N' and |N'|
+// its length (Timonen's and the paper's projected-normal correction, Eq. 8).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "common/math_constants.h"
+#include "screen_ao/gbuffer.h"
+
+namespace gtbake {
+
+struct Slice {
+  Eigen::Vector2d omega;          // image-plane direction (x right, y up)
+  Eigen::Vector3d o;              // unit, in the slice, orthogonal to V, towards +ω
+  double projected_length = 0.0;  // |N'|
+  double n = 0.0;                 // signed angle from V to N'
+};
+
+inline Slice makeSlice(const Eigen::Vector3d& v, const Eigen::Vector3d& normal, double phi) {
+  Slice s;
+  s.omega = Eigen::Vector2d(std::cos(phi), std::sin(phi));
+  const Eigen::Vector3d d(s.omega.x(), s.omega.y(), 0.0);
+  s.o = (d - d.dot(v) * v).normalized();
+  const Eigen::Vector3d axis = d.cross(v).normalized();
+  const Eigen::Vector3d projected = normal - axis * normal.dot(axis);
+  s.projected_length = projected.norm();
+  if (s.projected_length <= 0.0) return s;
+  const double c = std::clamp(projected.dot(v) / s.projected_length, -1.0, 1.0);
+  s.n = (s.o.dot(projected) < 0.0 ? -1.0 : 1.0) * std::acos(c);
+  return s;
+}
+
+// One side's cosine-weighted arc (paper Eq. 7, memo Alg. 1 line 28) for a signed horizon angle h:
+// ∫ from 0 to h of cos(θ − n)|sin θ| dθ, = (cos n + 2h sin n − cos(2h − n))/4.
+inline double arcIntegral(double h, double n) {
+  return 0.25 * (std::cos(n) + 2.0 * h * std::sin(n) - std::cos(2.0 * h - n));
+}
+
+// The horizon angle of one side from its largest cos (memo Alg. 1 line 27): side 0 searches −ω
+// (θ ≤ 0), side 1 +ω, clamped to the hemisphere [n − π/2, n + π/2] about N'.
+inline double horizonAngle(double horizon_cos, int side, double n) {
+  const double theta = (side == 0 ? -1.0 : 1.0) * std::acos(std::clamp(horizon_cos, -1.0, 1.0));
+  return n + std::clamp(theta - n, -0.5 * kPi, 0.5 * kPi);
+}
+
+// The slice's bent-normal integrals (memo Alg. 2, lines 4–5): t0 = ∫ cos(θ − n)|sin θ| sin θ dθ
+// (along o) and t1 = ∫ cos(θ − n)|sin θ| cos θ dθ (along V), both over [h0, h1].
+inline void bentIntegrals(double h0, double h1, double n, double* t0, double* t1) {
+  // clang-format off
+  *t0 = (6.0 * std::sin(h0 - n) - std::sin(3.0 * h0 - n) + 6.0 * std::sin(h1 - n) -
+         std::sin(3.0 * h1 - n) + 16.0 * std::sin(n) - 3.0 * (std::sin(h0 + n) + std::sin(h1 + n))) /
+        12.0;
+  *t1 = (-std::cos(3.0 * h0 - n) - std::cos(3.0 * h1 - n) + 8.0 * std::cos(n) -
+         3.0 * (std::cos(h0 + n) + std::cos(h1 + n))) /
+        12.0;
+  // clang-format on
+}
+
+// The view-space point of the texel nearest to the image point (x, y) (continuous pixel
+// coordinates), or false off the image or where the pixel is masked (sky: no occluder).
+inline bool texelPoint(const GBuffer& g, double x, double y, Eigen::Vector3d* point,
+                       std::size_t* texel = nullptr) {
+  const double fi = std::floor(x);
+  const double fj = std::floor(y);
+  if (fi < 0.0 || fj < 0.0 || fi >= g.width || fj >= g.height) return false;
+  const std::size_t p = static_cast<std::size_t>(fj) * g.width + static_cast<std::size_t>(fi);
+  if (g.mask[p] == 0) return false;
+  *point = Eigen::Vector3d(g.position[3 * p], g.position[3 * p + 1], g.position[3 * p + 2]);
+  if (texel != nullptr) *texel = p;
+  return true;
+}
+
+// Pixel p's view-space point and normal.
+inline Eigen::Vector3d viewPosition(const GBuffer& g, std::size_t p) {
+  return Eigen::Vector3d(g.position[3 * p], g.position[3 * p + 1], g.position[3 * p + 2]);
+}
+inline Eigen::Vector3d viewNormal(const GBuffer& g, std::size_t p) {
+  return Eigen::Vector3d(g.view_normal[3 * p], g.view_normal[3 * p + 1], g.view_normal[3 * p + 2]);
+}
+
+}  // namespace gtbake
