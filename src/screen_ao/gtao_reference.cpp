@@ -9,12 +9,20 @@
 
 namespace gtbake {
 
+namespace {
+
+constexpr double kMaxReferenceSteps = 4096.0;  // per side: beyond 4096 px the image ends anyway
+
+}  // namespace
+
 void validate(const GtaoReferenceSettings& s) {
   if (!(s.radius > 0.0) || !std::isfinite(s.radius)) {
     throw Error("gtao-reference: radius must be a positive finite distance in metres");
   }
   if (s.slices < 1 || s.slices > 1024) throw Error("gtao-reference: slices must be in [1, 1024]");
-  if (s.steps < 1 || s.steps > 4096) throw Error("gtao-reference: steps must be in [1, 4096]");
+  if (s.steps_per_pixel < 1 || s.steps_per_pixel > 64) {
+    throw Error("gtao-reference: steps_per_pixel must be in [1, 64]");
+  }
 }
 
 void gtaoReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSettings& s, double* a,
@@ -24,24 +32,28 @@ void gtaoReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSetti
   const Eigen::Vector3d v = -x.normalized();
   const Eigen::Vector3d normal = viewNormal(g, p);
   const double radius_px = s.radius * g.pixelsPerMetre(g.depth[p]);
+  const int steps =
+      static_cast<int>(std::min(kMaxReferenceSteps, std::ceil(s.steps_per_pixel * radius_px)));
+  const double radius2 = s.radius * s.radius;
   double visibility = 0.0;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (int k = 0; k < s.slices; ++k) {
-    const Slice slice = makeSlice(v, normal, kPi * (k + 0.5) / s.slices);
+    const Slice slice = makeViewSlice(g, x, v, normal, kPi * (k + 0.5) / s.slices);
     double h[2];
     for (int side = 0; side < 2; ++side) {
       const double sign = side == 0 ? -1.0 : 1.0;
       double horizon_cos = -1.0;
-      for (int step = 0; step < s.steps; ++step) {
-        const double t = sign * (step + 0.5) / s.steps * radius_px;
+      for (int step = 0; step < steps; ++step) {
+        const double t = sign * (step + 0.5) / steps * radius_px;
         Eigen::Vector3d sample;
-        if (!texelPoint(g, i + 0.5 + t * slice.omega.x(), j + 0.5 - t * slice.omega.y(), &sample)) {
+        if (!texelPlanePoint(g, i + 0.5 + t * slice.omega.x(), j + 0.5 - t * slice.omega.y(),
+                             &sample)) {
           continue;
         }
         const Eigen::Vector3d d = sample - x;
-        const double length = d.norm();
-        if (length > s.radius || !(length > 0.0)) continue;
-        horizon_cos = std::max(horizon_cos, d.dot(v) / length);
+        const double length2 = d.squaredNorm();
+        if (length2 > radius2 || !(length2 > 0.0)) continue;
+        horizon_cos = std::max(horizon_cos, d.dot(v) / std::sqrt(length2));
       }
       h[side] = horizonAngle(horizon_cos, side, slice.n);
     }
@@ -73,7 +85,7 @@ ReferenceConvergence referenceConvergence(const std::vector<const GBuffer*>& ima
   c.settings = s;
   c.doubled = s;
   c.doubled.slices *= 2;
-  c.doubled.steps *= 2;
+  c.doubled.steps_per_pixel *= 2;
   double sum = 0.0;
   for (const GBuffer* g : images) {
     const int rows = (g->height + kConvergenceStride - 1) / kConvergenceStride;

@@ -13,7 +13,9 @@ namespace gtbake {
 struct GtaoReferenceSettings {
   double radius = 1.0;  // metres: samples farther from P than this are ignored
   int slices = 16;      // φ_s = π(s + ½)/slices
-  int steps = 32;       // samples per side at (k + ½)/steps of the projected radius
+  // Samples per side: ⌈steps_per_pixel × the radius's length in pixels⌉, at (k + ½)/count of it,
+  // so every texel along the line is visited (nearest-texel snapping).
+  int steps_per_pixel = 1;
 };
 
 // Throws gtbake::Error naming the bad setting.

@@ -38,8 +38,8 @@ double sideHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
     const double linear = (k + step_noise) / s.steps;
     const double offset = std::max(1.0, linear * linear * radius_px);  // at least the next texel
     Eigen::Vector3d sample;
-    if (!texelPoint(g, i + 0.5 + sign * offset * omega.x(), j + 0.5 - sign * offset * omega.y(),
-                    &sample)) {
+    if (!texelPlanePoint(g, i + 0.5 + sign * offset * omega.x(),
+                         j + 0.5 - sign * offset * omega.y(), &sample)) {
       continue;
     }
     const Eigen::Vector3d d = sample - x;

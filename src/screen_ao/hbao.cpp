@@ -49,7 +49,7 @@ void hbaoPixel(const GBuffer& g, int i, int j, std::size_t p, const HbaoSettings
     for (int k = 0; k < s.steps; ++k) {
       const double t = (k + u[1]) * step_px + 1.0;
       Eigen::Vector3d sample;
-      if (!texelPoint(g, i + 0.5 + t * omega.x(), j + 0.5 - t * omega.y(), &sample)) continue;
+      if (!texelPlanePoint(g, i + 0.5 + t * omega.x(), j + 0.5 - t * omega.y(), &sample)) continue;
       const Eigen::Vector3d delta = sample - x;
       const double length = delta.norm();
       if (length > s.radius || !(length > 0.0)) continue;

@@ -9,7 +9,7 @@ nlohmann::ordered_json orNull(std::size_t pixels, double value) {
 }
 
 nlohmann::ordered_json referenceSettingsJson(const GtaoReferenceSettings& s) {
-  return {{"radius", s.radius}, {"slices", s.slices}, {"steps", s.steps}};
+  return {{"radius", s.radius}, {"slices", s.slices}, {"steps_per_pixel", s.steps_per_pixel}};
 }
 
 }  // namespace

@@ -122,10 +122,10 @@ void applySetting(ScreenAoSettings* s, const std::string& text) {
       s->reference.radius = parseNumber(value, text);
     } else if (key == "slices") {
       s->reference.slices = parseInteger(value, text);
-    } else if (key == "steps") {
-      s->reference.steps = parseInteger(value, text);
+    } else if (key == "steps_per_pixel") {
+      s->reference.steps_per_pixel = parseInteger(value, text);
     } else {
-      unknownKey(estimator, key, "radius, slices, steps");
+      unknownKey(estimator, key, "radius, slices, steps_per_pixel");
     }
   } else if (estimator == "gtao-runtime") {
     applyRuntime(&s->runtime, key, value, text);
@@ -161,7 +161,7 @@ nlohmann::ordered_json settingsJson(const ScreenAoSettings& s, const std::string
   if (estimator == "gtao-reference") {
     j = {{"radius", s.reference.radius},
          {"slices", s.reference.slices},
-         {"steps", s.reference.steps}};
+         {"steps_per_pixel", s.reference.steps_per_pixel}};
   } else if (estimator == "gtao-runtime") {
     const GtaoRuntimeSettings& r = s.runtime;
     j = {{"radius", r.radius},

@@ -24,18 +24,41 @@ struct Slice {
   double n = 0.0;                 // signed angle from V to N'
 };
 
-inline Slice makeSlice(const Eigen::Vector3d& v, const Eigen::Vector3d& normal, double phi) {
+// The slice through V and the unit o ⊥ V, with image-plane direction omega.
+inline Slice sliceThrough(const Eigen::Vector3d& v, const Eigen::Vector3d& o,
+                          const Eigen::Vector3d& normal, const Eigen::Vector2d& omega) {
   Slice s;
-  s.omega = Eigen::Vector2d(std::cos(phi), std::sin(phi));
-  const Eigen::Vector3d d(s.omega.x(), s.omega.y(), 0.0);
-  s.o = (d - d.dot(v) * v).normalized();
-  const Eigen::Vector3d axis = d.cross(v).normalized();
+  s.omega = omega;
+  s.o = o;
+  const Eigen::Vector3d axis = o.cross(v).normalized();
   const Eigen::Vector3d projected = normal - axis * normal.dot(axis);
   s.projected_length = projected.norm();
   if (s.projected_length <= 0.0) return s;
   const double c = std::clamp(projected.dot(v) / s.projected_length, -1.0, 1.0);
   s.n = (s.o.dot(projected) < 0.0 ? -1.0 : 1.0) * std::acos(c);
   return s;
+}
+
+// The slice of image-plane angle φ (the runtime pass's and HBAO's parametrisation: uniform in the
+// image, so not uniform about V away from the image centre).
+inline Slice makeSlice(const Eigen::Vector3d& v, const Eigen::Vector3d& normal, double phi) {
+  const Eigen::Vector2d omega(std::cos(phi), std::sin(phi));
+  const Eigen::Vector3d d(omega.x(), omega.y(), 0.0);
+  return sliceThrough(v, (d - d.dot(v) * v).normalized(), normal, omega);
+}
+
+// The slice of angle ψ about V (Eq. 5's parametrisation, uniform about V): o = cos ψ e1 + sin ψ e2
+// with e1 the view x axis made orthogonal to V and e2 = V × e1; omega is the image direction in
+// which P + εo moves (screen x right, y up).
+inline Slice makeViewSlice(const GBuffer& g, const Eigen::Vector3d& x, const Eigen::Vector3d& v,
+                           const Eigen::Vector3d& normal, double psi) {
+  const Eigen::Vector3d e1 = (Eigen::Vector3d::UnitX() - v.x() * v).normalized();
+  const Eigen::Vector3d e2 = v.cross(e1);
+  const Eigen::Vector3d o = std::cos(psi) * e1 + std::sin(psi) * e2;
+  const Eigen::Vector2d from = g.project(x);
+  const Eigen::Vector2d to = g.project(x + 1e-3 * x.norm() * o);
+  const Eigen::Vector2d omega = Eigen::Vector2d(to.x() - from.x(), from.y() - to.y()).normalized();
+  return sliceThrough(v, o, normal, omega);
 }
 
 // One side's cosine-weighted arc (paper Eq. 7, memo Alg. 1 line 28) for a signed horizon angle h:
@@ -75,6 +98,34 @@ inline bool texelPoint(const GBuffer& g, double x, double y, Eigen::Vector3d* po
   if (g.mask[p] == 0) return false;
   *point = Eigen::Vector3d(g.position[3 * p], g.position[3 * p + 1], g.position[3 * p + 2]);
   if (texel != nullptr) *texel = p;
+  return true;
+}
+
+// The surface point seen through the image point (x, y), from the texel nearest to it: where that
+// point's view ray meets the texel's tangent plane (its position and normal), so samples lie on
+// the slice's line exactly and a planar surface yields its own tangent horizon. False (no sample)
+// off the image, where masked, where the ray grazes that plane (|N·r̂| < 0.05) or meets it farther
+// than kPlaneReach texel footprints (Z·2tan(yfov/2)/H) from the texel's point: a plane
+// extrapolated past its texel would invent occluders at silhouettes, and the texel's own point
+// lies off the slice (a false horizon above a plane).
+inline constexpr double kPlaneReach = 3.0;
+
+inline bool texelPlanePoint(const GBuffer& g, double x, double y, Eigen::Vector3d* point) {
+  std::size_t p = 0;
+  if (!texelPoint(g, x, y, point, &p)) return false;
+  const double tan_half = std::tan(0.5 * g.camera.yfov);
+  const double aspect = static_cast<double>(g.width) / g.height;
+  const Eigen::Vector3d ray((2.0 * x / g.width - 1.0) * tan_half * aspect,
+                            (1.0 - 2.0 * y / g.height) * tan_half, -1.0);
+  const Eigen::Vector3d n(g.view_normal[3 * p], g.view_normal[3 * p + 1], g.view_normal[3 * p + 2]);
+  const double along = n.dot(ray);
+  if (std::abs(along) < 0.05 * ray.norm()) return false;
+  const Eigen::Vector3d on_plane = (n.dot(*point) / along) * ray;
+  const double footprint = 2.0 * tan_half * g.depth[p] / g.height;
+  if ((on_plane - *point).squaredNorm() > kPlaneReach * kPlaneReach * footprint * footprint) {
+    return false;
+  }
+  *point = on_plane;
   return true;
 }
 

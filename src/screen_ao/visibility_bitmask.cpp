@@ -9,29 +9,45 @@ namespace gtbake {
 
 namespace {
 
-// The open slice's cosine-weighted mass ∫ over [n − π/2, n + π/2] of cos(θ − n)|sin θ| dθ.
-double openMass(double n) {
-  return arcIntegral(n + 0.5 * kPi, n) + arcIntegral(n - 0.5 * kPi, n);
-}
+// Sectors (1e-4 rad for uniform ones): the float32 G-buffer puts a sample on the tangent plane up
+// to ~Z·1e-7/|D| rad off it, which must not set the sector at the hemisphere's end.
+constexpr double kSectorSlack = 1e-3;
 
-// ∫ from n − π/2 to θ of cos(x − n)|sin x| dx (arcIntegral is the signed mass from 0).
-double cumulativeMass(double theta, double n) {
-  const double below = arcIntegral(n - 0.5 * kPi, n);
-  return theta <= 0.0 ? below - arcIntegral(theta, n) : below + arcIntegral(theta, n);
-}
-
-// The slice angle of sector coordinate u (inverse of sectorCoordinate), by bisection.
-double sectorAngle(double u, double n, SectorWeights weights) {
-  const double lo0 = n - 0.5 * kPi;
-  if (weights == SectorWeights::kUniform) return lo0 + kPi * u;
-  double lo = lo0;
-  double hi = n + 0.5 * kPi;
-  for (int k = 0; k < 48; ++k) {
-    const double mid = 0.5 * (lo + hi);
-    (sectorCoordinate(mid, n, weights) < u ? lo : hi) = mid;
+// The map between slice angles and sector coordinates of one slice (n fixed).
+class SectorMap {
+ public:
+  SectorMap(double n, SectorWeights weights)
+      : n_(n),
+        weights_(weights),
+        below_(arcIntegral(n - 0.5 * kPi, n)),
+        open_(below_ + arcIntegral(n + 0.5 * kPi, n)) {}
+  double coordinate(double theta) const {
+    const double t = std::clamp(theta, n_ - 0.5 * kPi, n_ + 0.5 * kPi);
+    if (weights_ == SectorWeights::kUniform) return (t - n_ + 0.5 * kPi) / kPi;
+    // ∫ from n − π/2 to θ of cos(x − n)|sin x| dx (arcIntegral is the signed mass from 0).
+    const double mass = t <= 0.0 ? below_ - arcIntegral(t, n_) : below_ + arcIntegral(t, n_);
+    return std::clamp(mass / open_, 0.0, 1.0);
   }
-  return 0.5 * (lo + hi);
-}
+  // The inverse, by bisection for cosine sectors (24 halvings: 2e-7 rad).
+  double angle(double u) const {
+    const double lo0 = n_ - 0.5 * kPi;
+    if (weights_ == SectorWeights::kUniform) return lo0 + kPi * u;
+    double lo = lo0;
+    double hi = n_ + 0.5 * kPi;
+    for (int k = 0; k < 24; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (coordinate(mid) < u ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+  }
+  double openMass() const { return open_; }
+
+ private:
+  double n_;
+  SectorWeights weights_;
+  double below_;
+  double open_;
+};
 
 // ∫ over [θa, θb] of cos(θ − n)|sin θ| (sin θ, cos θ) dθ: differences of Alg. 2's one-side terms.
 void bentOver(double a, double b, double n, double* t0, double* t1) {
@@ -46,15 +62,16 @@ void bentOver(double a, double b, double n, double* t0, double* t1) {
 
 // One slice's 32 sectors from both sides' samples.
 std::uint32_t sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
-                        const Eigen::Vector3d& v, const Slice& slice, double radius_px,
-                        const BitmaskSettings& s) {
+                        const Eigen::Vector3d& v, const Slice& slice, const SectorMap& map,
+                        double radius_px, const BitmaskSettings& s) {
   std::uint32_t bits = 0;
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
     for (int step = 0; step < s.steps; ++step) {
       const double t = sign * (step + 0.5) / s.steps * radius_px;
       Eigen::Vector3d sample;
-      if (!texelPoint(g, i + 0.5 + t * slice.omega.x(), j + 0.5 - t * slice.omega.y(), &sample)) {
+      if (!texelPlanePoint(g, i + 0.5 + t * slice.omega.x(), j + 0.5 - t * slice.omega.y(),
+                           &sample)) {
         continue;
       }
       const Eigen::Vector3d front = sample - x;
@@ -63,8 +80,7 @@ std::uint32_t sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x
       const Eigen::Vector3d back = front - s.thickness * v;
       const double theta_f = sign * std::acos(std::clamp(front.dot(v) / length, -1.0, 1.0));
       const double theta_b = sign * std::acos(std::clamp(back.normalized().dot(v), -1.0, 1.0));
-      bits |= sectorBits(sectorCoordinate(theta_f, slice.n, s.weights),
-                         sectorCoordinate(theta_b, slice.n, s.weights));
+      bits |= sectorBits(map.coordinate(theta_f), map.coordinate(theta_b));
     }
   }
   return bits;
@@ -79,12 +95,13 @@ void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSe
   double visibility = 0.0;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (int k = 0; k < s.slices; ++k) {
-    const Slice slice = makeSlice(v, normal, kPi * (k + 0.5) / s.slices);
-    const std::uint32_t bits = sliceBits(g, i, j, x, v, slice, radius_px, s);
+    const Slice slice = makeViewSlice(g, x, v, normal, kPi * (k + 0.5) / s.slices);
+    const SectorMap map(slice.n, s.weights);
+    const std::uint32_t bits = sliceBits(g, i, j, x, v, slice, map, radius_px, s);
     const double clear = 1.0 - static_cast<double>(std::bitset<32>(bits).count()) / kSectors;
     visibility += s.weights == SectorWeights::kUniform
                       ? clear
-                      : slice.projected_length * openMass(slice.n) * clear;
+                      : slice.projected_length * map.openMass() * clear;
     for (int run = 0; run < kSectors;) {  // each run of clear sectors
       if ((bits >> run) & 1u) {
         ++run;
@@ -94,9 +111,8 @@ void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSe
       while (end < kSectors && !((bits >> end) & 1u)) ++end;
       double t0 = 0.0;
       double t1 = 0.0;
-      bentOver(sectorAngle(static_cast<double>(run) / kSectors, slice.n, s.weights),
-               sectorAngle(static_cast<double>(end) / kSectors, slice.n, s.weights), slice.n, &t0,
-               &t1);
+      bentOver(map.angle(static_cast<double>(run) / kSectors),
+               map.angle(static_cast<double>(end) / kSectors), slice.n, &t0, &t1);
       sum += slice.projected_length * (t0 * slice.o + t1 * v);
       run = end;
     }
@@ -108,16 +124,14 @@ void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSe
 }  // namespace
 
 double sectorCoordinate(double theta, double n, SectorWeights weights) {
-  const double clamped = std::clamp(theta, n - 0.5 * kPi, n + 0.5 * kPi);
-  if (weights == SectorWeights::kUniform) return (clamped - n + 0.5 * kPi) / kPi;
-  return std::clamp(cumulativeMass(clamped, n) / openMass(n), 0.0, 1.0);
+  return SectorMap(n, weights).coordinate(theta);
 }
 
 std::uint32_t sectorBits(double ua, double ub) {
   const double lo = std::clamp(std::min(ua, ub), 0.0, 1.0);
   const double hi = std::clamp(std::max(ua, ub), 0.0, 1.0);
   const int start = std::min(kSectors - 1, static_cast<int>(std::floor(lo * kSectors)));
-  const int count = static_cast<int>(std::ceil((hi - lo) * kSectors));
+  const int count = static_cast<int>(std::ceil((hi - lo) * kSectors - kSectorSlack));
   if (count <= 0) return 0u;
   const std::uint32_t run = count >= kSectors ? 0xffffffffu : (1u << count) - 1u;
   return run << start;
