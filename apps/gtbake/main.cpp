@@ -260,7 +260,8 @@ Subcommand addScreenAoCommand(CLI::App& app) {
 
 Subcommand addAllCommand(CLI::App& app) {
   auto options = std::make_shared<AllOptions>();
-  auto* parser = app.add_subcommand("all", "scenes, sweep, fit, gtso and export with defaults");
+  auto* parser =
+      app.add_subcommand("all", "scenes, sweep, fit, gtso, export and screen-ao with defaults");
   parser->add_option("--out", options->out, "Output directory")->capture_default_str();
   addThreadsOption(parser, options->threads);
   parser->add_option("--scenes", options->scenes,

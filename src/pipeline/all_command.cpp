@@ -12,6 +12,7 @@
 #include "fit/fit_command.h"
 #include "gtso/gtso_command.h"
 #include "scene/scenes_command.h"
+#include "screen_ao/screen_ao_command.h"
 #include "sweep/sweep_command.h"
 #include "validate_gtso/validate_gtso_command.h"
 
@@ -99,6 +100,14 @@ void runAll(const AllOptions& options) {
   const ExportResult exported = runExport(exporter);
   const double export_seconds = secondsSince(t);
 
+  banner("screen-ao", options.progress);
+  ScreenAoOptions screen_ao;
+  screen_ao.sweep = sweep.out;
+  screen_ao.out = options.out / "screen_ao";
+  screen_ao.threads = limit.threads();
+  screen_ao.progress = options.progress;
+  const ScreenAoResult screened = runScreenAo(screen_ao);
+
   std::printf("\ngtbake all: summary (%s)\n", options.out.c_str());
   std::printf("  Equation 10      refit ± SE scenes (SE Monte Carlo)   paper     refit - paper\n");
   for (size_t i = 0; i < 6; ++i) {
@@ -117,11 +126,15 @@ void runAll(const AllOptions& options) {
   std::printf("  BC4 4D table     RMSE %.2e  max %.2e\n", exported.bc4_rmse_4d,
               exported.bc4_max_4d);
   std::printf(
+      "  screen-space AO  gtao-reference RMSE %.4f vs ray-traced A at its radius"
+      " (screen_ao/screen_ao.json)\n",
+      screened.reference_rmse);
+  std::printf(
       "  time             scenes %.1f s, sweep %.1f s (%.1f Mrays/s), fit %.1f s, gtso %.1f s,"
-      " BC4 layouts %.1f s, validate-gtso %.1f s, export %.1f s; total %.1f s\n",
+      " BC4 layouts %.1f s, validate-gtso %.1f s, export %.1f s, screen-ao %.1f s; total %.1f s\n",
       scenes_seconds, swept.seconds, swept.seconds > 0 ? swept.rays / swept.seconds * 1e-6 : 0.0,
       fit_seconds, baked.seconds, layout_seconds, validated.seconds, export_seconds,
-      secondsSince(start));
+      screened.seconds, secondsSince(start));
 }
 
 }  // namespace gtbake

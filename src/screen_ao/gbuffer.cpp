@@ -61,20 +61,16 @@ SweepImage readImage(const OutputManifest& files, const nlohmann::json& entry,
 }  // namespace
 
 double GBuffer::pixelsPerMetre(double z) const {
-  return 0.5 * height / (std::tan(0.5 * camera.yfov) * z);
+  return 0.5 * height / (tan_half * z);
 }
 
 Eigen::Vector2d GBuffer::project(const Eigen::Vector3d& v) const {
-  const double tan_half = std::tan(0.5 * camera.yfov);
-  const double aspect = static_cast<double>(width) / height;
   const double sx = v.x() / -v.z();
   const double sy = v.y() / -v.z();
   return {0.5 * width * (sx / (tan_half * aspect) + 1.0), 0.5 * height * (1.0 - sy / tan_half)};
 }
 
 Eigen::Vector3d GBuffer::viewPoint(int i, int j, double z) const {
-  const double tan_half = std::tan(0.5 * camera.yfov);
-  const double aspect = static_cast<double>(width) / height;
   const double sx = (2.0 * (i + 0.5) / width - 1.0) * tan_half * aspect;
   const double sy = (1.0 - 2.0 * (j + 0.5) / height) * tan_half;
   return {sx * z, sy * z, -z};
@@ -89,6 +85,8 @@ Eigen::Vector3d GBuffer::viewToWorld(const Eigen::Vector3d& v) const {
 }
 
 void makeViewSpace(GBuffer* g) {
+  g->tan_half = std::tan(0.5 * g->camera.yfov);
+  g->aspect = static_cast<double>(g->width) / g->height;
   const std::size_t pixels = g->pixels();
   g->position.assign(3 * pixels, 0.0f);
   g->view_normal.assign(3 * pixels, 0.0f);

@@ -30,6 +30,8 @@ struct GBuffer {
   // Derived once (makeViewSpace): view-space position and normal, xyz at 3p.
   std::vector<float> position;
   std::vector<float> view_normal;
+  double tan_half = 0.0;  // tan(yfov/2)
+  double aspect = 1.0;    // width/height
 
   std::size_t pixels() const { return static_cast<std::size_t>(width) * height; }
   // Pixels per metre at depth Z along the image's vertical axis: (H/2)/(tan(yfov/2)·Z).

@@ -13,8 +13,8 @@ namespace {
 double tangentSine(const GBuffer& g, int i, int j, const Eigen::Vector2d& omega,
                    const Eigen::Vector3d& x, const Eigen::Vector3d& v,
                    const Eigen::Vector3d& normal) {
-  const double tan_half = std::tan(0.5 * g.camera.yfov);
-  const double aspect = static_cast<double>(g.width) / g.height;
+  const double tan_half = g.tan_half;
+  const double aspect = g.aspect;
   const double px = i + 0.5 + omega.x();
   const double py = j + 0.5 - omega.y();
   const Eigen::Vector3d ray((2.0 * px / g.width - 1.0) * tan_half * aspect,

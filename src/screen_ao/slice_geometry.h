@@ -113,15 +113,13 @@ inline constexpr double kPlaneReach = 3.0;
 inline bool texelPlanePoint(const GBuffer& g, double x, double y, Eigen::Vector3d* point) {
   std::size_t p = 0;
   if (!texelPoint(g, x, y, point, &p)) return false;
-  const double tan_half = std::tan(0.5 * g.camera.yfov);
-  const double aspect = static_cast<double>(g.width) / g.height;
-  const Eigen::Vector3d ray((2.0 * x / g.width - 1.0) * tan_half * aspect,
-                            (1.0 - 2.0 * y / g.height) * tan_half, -1.0);
+  const Eigen::Vector3d ray((2.0 * x / g.width - 1.0) * g.tan_half * g.aspect,
+                            (1.0 - 2.0 * y / g.height) * g.tan_half, -1.0);
   const Eigen::Vector3d n(g.view_normal[3 * p], g.view_normal[3 * p + 1], g.view_normal[3 * p + 2]);
   const double along = n.dot(ray);
   if (std::abs(along) < 0.05 * ray.norm()) return false;
   const Eigen::Vector3d on_plane = (n.dot(*point) / along) * ray;
-  const double footprint = 2.0 * tan_half * g.depth[p] / g.height;
+  const double footprint = 2.0 * g.tan_half * g.depth[p] / g.height;
   if ((on_plane - *point).squaredNorm() > kPlaneReach * kPlaneReach * footprint * footprint) {
     return false;
   }
