@@ -90,6 +90,7 @@ void makeViewSpace(GBuffer* g) {
   const std::size_t pixels = g->pixels();
   g->position.assign(3 * pixels, 0.0f);
   g->view_normal.assign(3 * pixels, 0.0f);
+  g->texels.assign(pixels, Texel{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0.0f, 0u});
   for (int j = 0; j < g->height; ++j) {
     for (int i = 0; i < g->width; ++i) {
       const std::size_t p = static_cast<std::size_t>(j) * g->width + i;
@@ -99,10 +100,13 @@ void makeViewSpace(GBuffer* g) {
           g->worldToView(
                Eigen::Vector3d(g->normal[3 * p], g->normal[3 * p + 1], g->normal[3 * p + 2]))
               .normalized();
+      Texel& t = g->texels[p];
       for (int c = 0; c < 3; ++c) {
-        g->position[3 * p + c] = static_cast<float>(x[c]);
-        g->view_normal[3 * p + c] = static_cast<float>(n[c]);
+        g->position[3 * p + c] = t.position[c] = static_cast<float>(x[c]);
+        g->view_normal[3 * p + c] = t.normal[c] = static_cast<float>(n[c]);
       }
+      t.depth = g->depth[p];
+      t.valid = 1u;
     }
   }
 }

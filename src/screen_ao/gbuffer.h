@@ -20,6 +20,15 @@
 
 namespace gtbake {
 
+// One pixel's view-space sample data in one 32-byte record, so a horizon step touches one cache
+// line.
+struct Texel {
+  float position[3];
+  float normal[3];
+  float depth;
+  std::uint32_t valid;  // the mask
+};
+
 struct GBuffer {
   int width = 0;
   int height = 0;
@@ -30,8 +39,9 @@ struct GBuffer {
   // Derived once (makeViewSpace): view-space position and normal, xyz at 3p.
   std::vector<float> position;
   std::vector<float> view_normal;
-  double tan_half = 0.0;  // tan(yfov/2)
-  double aspect = 1.0;    // width/height
+  std::vector<Texel> texels;  // the same, interleaved
+  double tan_half = 0.0;      // tan(yfov/2)
+  double aspect = 1.0;        // width/height
 
   std::size_t pixels() const { return static_cast<std::size_t>(width) * height; }
   // Pixels per metre at depth Z along the image's vertical axis: (H/2)/(tan(yfov/2)·Z).

@@ -95,8 +95,9 @@ inline bool texelPoint(const GBuffer& g, double x, double y, Eigen::Vector3d* po
   const double fj = std::floor(y);
   if (fi < 0.0 || fj < 0.0 || fi >= g.width || fj >= g.height) return false;
   const std::size_t p = static_cast<std::size_t>(fj) * g.width + static_cast<std::size_t>(fi);
-  if (g.mask[p] == 0) return false;
-  *point = Eigen::Vector3d(g.position[3 * p], g.position[3 * p + 1], g.position[3 * p + 2]);
+  const Texel& t = g.texels[p];
+  if (t.valid == 0) return false;
+  *point = Eigen::Vector3d(t.position[0], t.position[1], t.position[2]);
   if (texel != nullptr) *texel = p;
   return true;
 }
@@ -115,11 +116,12 @@ inline bool texelPlanePoint(const GBuffer& g, double x, double y, Eigen::Vector3
   if (!texelPoint(g, x, y, point, &p)) return false;
   const Eigen::Vector3d ray((2.0 * x / g.width - 1.0) * g.tan_half * g.aspect,
                             (1.0 - 2.0 * y / g.height) * g.tan_half, -1.0);
-  const Eigen::Vector3d n(g.view_normal[3 * p], g.view_normal[3 * p + 1], g.view_normal[3 * p + 2]);
+  const Texel& t = g.texels[p];
+  const Eigen::Vector3d n(t.normal[0], t.normal[1], t.normal[2]);
   const double along = n.dot(ray);
   if (std::abs(along) < 0.05 * ray.norm()) return false;
   const Eigen::Vector3d on_plane = (n.dot(*point) / along) * ray;
-  const double footprint = 2.0 * g.tan_half * g.depth[p] / g.height;
+  const double footprint = 2.0 * g.tan_half * t.depth / g.height;
   if ((on_plane - *point).squaredNorm() > kPlaneReach * kPlaneReach * footprint * footprint) {
     return false;
   }
