@@ -9,12 +9,6 @@
 
 namespace gtbake {
 
-namespace {
-
-constexpr double kMaxReferenceSteps = 4096.0;  // per side: beyond 4096 px the image ends anyway
-
-}  // namespace
-
 void validate(const GtaoReferenceSettings& s) {
   if (!(s.radius > 0.0) || !std::isfinite(s.radius)) {
     throw Error("gtao-reference: radius must be a positive finite distance in metres");
@@ -32,8 +26,6 @@ void gtaoReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSetti
   const Eigen::Vector3d v = -x.normalized();
   const Eigen::Vector3d normal = viewNormal(g, p);
   const double radius_px = s.radius * g.pixelsPerMetre(g.depth[p]);
-  const int steps =
-      static_cast<int>(std::min(kMaxReferenceSteps, std::ceil(s.steps_per_pixel * radius_px)));
   const double radius2 = s.radius * s.radius;
   double visibility = 0.0;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -43,18 +35,15 @@ void gtaoReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSetti
     for (int side = 0; side < 2; ++side) {
       const double sign = side == 0 ? -1.0 : 1.0;
       double horizon_cos = -1.0;
-      for (int step = 0; step < steps; ++step) {
-        const double t = sign * (step + 0.5) / steps * radius_px;
-        Eigen::Vector3d sample;
-        if (!texelPlanePoint(g, i + 0.5 + t * slice.omega.x(), j + 0.5 - t * slice.omega.y(),
-                             &sample)) {
-          continue;
-        }
-        const Eigen::Vector3d d = sample - x;
-        const double length2 = d.squaredNorm();
-        if (length2 > radius2 || !(length2 > 0.0)) continue;
-        horizon_cos = std::max(horizon_cos, d.dot(v) / std::sqrt(length2));
-      }
+      forEachCrossedTexel(i + 0.5, j + 0.5, sign * slice.omega.x(), -sign * slice.omega.y(),
+                          radius_px, s.steps_per_pixel, [&](double sx, double sy) {
+                            Eigen::Vector3d sample;
+                            if (!texelPlanePoint(g, sx, sy, &sample)) return;
+                            const Eigen::Vector3d d = sample - x;
+                            const double length2 = d.squaredNorm();
+                            if (length2 > radius2 || !(length2 > 0.0)) return;
+                            horizon_cos = std::max(horizon_cos, d.dot(v) / std::sqrt(length2));
+                          });
       h[side] = horizonAngle(horizon_cos, side, slice.n);
     }
     visibility +=

@@ -1,5 +1,6 @@
 // `gtao-reference`: GTAO as the paper (Eqs. 5–8) and the technical memo (Alg. 1, 2) define it,
-// run to convergence: evenly spaced slices, horizons from every step within the radius, the
+// run to convergence: evenly spaced slices, horizons from every texel the slice's line crosses
+// within the radius, the
 // analytic cosine-weighted slice integral with the projected-normal term, Alg. 2's bent normal
 // (docs/screen_ao.md, "gtao-reference").
 #pragma once
@@ -13,8 +14,8 @@ namespace gtbake {
 struct GtaoReferenceSettings {
   double radius = 1.0;  // metres: samples farther from P than this are ignored
   int slices = 16;      // φ_s = π(s + ½)/slices
-  // Samples per side: ⌈steps_per_pixel × the radius's length in pixels⌉, at (k + ½)/count of it,
-  // so every texel along the line is visited (nearest-texel snapping).
+  // Samples per texel the side's line crosses within the projected radius (forEachCrossedTexel):
+  // every texel along the line is visited.
   int steps_per_pixel = 1;
 };
 
@@ -31,8 +32,8 @@ void gtaoReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSetti
 
 namespace gtbake {
 
-// Convergence evidence: Â at s and at twice the slices and steps, on every 4th pixel of every 4th
-// row of every image (1 in 16 of the pixels, where unmasked).
+// Convergence evidence: Â at s and at twice the slices and steps, on every 8th pixel of every 8th
+// row of every image (1 in 64 of the pixels, where unmasked).
 struct ReferenceConvergence {
   GtaoReferenceSettings settings;
   GtaoReferenceSettings doubled;
@@ -41,7 +42,7 @@ struct ReferenceConvergence {
   double max_change = 0.0;
 };
 
-inline constexpr int kConvergenceStride = 4;
+inline constexpr int kConvergenceStride = 8;
 inline constexpr double kConvergenceBar = 0.002;  // RMS change that counts as converged
 
 ReferenceConvergence referenceConvergence(const std::vector<const GBuffer*>& images,

@@ -21,7 +21,7 @@ struct GtaoRuntimeSettings {
   double thin_compensation = 0.0;  // 0 = off (typical 0 – 0.7)
   double intensity = 1.0;          // power-curve exponent (typical 0.5 – 3; 1 leaves A as is)
   double temporal_blend = 0.9;     // history weight (0 – 0.98)
-  int frames = 8;                  // frames of the static camera
+  int frames = 6;                  // frames of the static camera (the paper's 6 rotations)
   bool blur = true;                // the spatial pass
 };
 

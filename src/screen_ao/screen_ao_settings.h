@@ -21,7 +21,7 @@ struct ScreenAoSettings {
   GtaoRuntimeSettings runtime;
   HbaoSettings hbao;
   BitmaskSettings bitmask_uniform;
-  BitmaskSettings bitmask_cosine{1.0, 8, 16, 0.5, SectorWeights::kCosine};
+  BitmaskSettings bitmask_cosine{1.0, 8, 8, 0.5, SectorWeights::kCosine};
 };
 
 // "a,b,c" of known names, no repeats ("all" = every one). Throws gtbake::Error naming the word.

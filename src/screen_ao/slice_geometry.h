@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "common/math_constants.h"
 #include "screen_ao/gbuffer.h"
@@ -115,11 +116,11 @@ inline bool texelPlanePoint(const GBuffer& g, double x, double y, Eigen::Vector3
   std::size_t p = 0;
   if (!texelPoint(g, x, y, point, &p)) return false;
   const Eigen::Vector3d ray((2.0 * x / g.width - 1.0) * g.tan_half * g.aspect,
-                            (1.0 - 2.0 * y / g.height) * g.tan_half, -1.0);
+                            (1.0 - 2.0 * y / g.height) * g.tan_half, -1.0);  // z = −1
   const Texel& t = g.texels[p];
   const Eigen::Vector3d n(t.normal[0], t.normal[1], t.normal[2]);
   const double along = n.dot(ray);
-  if (std::abs(along) < 0.05 * ray.norm()) return false;
+  if (along * along < 0.0025 * ray.squaredNorm()) return false;
   const Eigen::Vector3d on_plane = (n.dot(*point) / along) * ray;
   const double footprint = 2.0 * g.tan_half * t.depth / g.height;
   if ((on_plane - *point).squaredNorm() > kPlaneReach * kPlaneReach * footprint * footprint) {
@@ -127,6 +128,41 @@ inline bool texelPlanePoint(const GBuffer& g, double x, double y, Eigen::Vector3
   }
   *point = on_plane;
   return true;
+}
+
+// Calls f(x, y) at `per_texel` evenly spaced points ((k + ½)/per_texel) of the segment of the ray
+// (x0, y0) + t(dx, dy), 0 < t ≤ length (image coordinates, (dx, dy) unit), inside every texel it
+// crosses, nearest first (Amanatides–Woo traversal): no texel along the line is skipped, however
+// thin.
+template <typename F>
+void forEachCrossedTexel(double x0, double y0, double dx, double dy, double length, int per_texel,
+                         F f) {
+  const double inf = std::numeric_limits<double>::infinity();
+  double fx = std::floor(x0);
+  double fy = std::floor(y0);
+  const double step_x = dx > 0.0 ? 1.0 : -1.0;
+  const double step_y = dy > 0.0 ? 1.0 : -1.0;
+  const double delta_x = dx != 0.0 ? 1.0 / std::abs(dx) : inf;
+  const double delta_y = dy != 0.0 ? 1.0 / std::abs(dy) : inf;
+  double next_x = dx != 0.0 ? (dx > 0.0 ? fx + 1.0 - x0 : x0 - fx) * delta_x : inf;
+  double next_y = dy != 0.0 ? (dy > 0.0 ? fy + 1.0 - y0 : y0 - fy) * delta_y : inf;
+  double enter = 0.0;
+  while (enter < length) {
+    const double exit = std::min({next_x, next_y, length});
+    for (int k = 0; k < per_texel; ++k) {
+      const double t = enter + (k + 0.5) / per_texel * (exit - enter);
+      f(x0 + t * dx, y0 + t * dy);
+    }
+    if (next_x < next_y) {
+      fx += step_x;
+      enter = next_x;
+      next_x += delta_x;
+    } else {
+      fy += step_y;
+      enter = next_y;
+      next_y += delta_y;
+    }
+  }
 }
 
 // Pixel p's view-space point and normal.

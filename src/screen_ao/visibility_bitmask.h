@@ -19,7 +19,7 @@ enum class SectorWeights { kUniform, kCosine };
 struct BitmaskSettings {
   double radius = 1.0;     // metres
   int slices = 8;          // φ_s = π(s + ½)/slices
-  int steps = 16;          // samples per side at (k + ½)/steps of the projected radius
+  int steps = 8;           // samples per side at (k + ½)/steps of the projected radius
   double thickness = 0.5;  // t, metres
   SectorWeights weights = SectorWeights::kUniform;
 };
