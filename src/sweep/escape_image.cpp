@@ -139,6 +139,29 @@ std::string specularChannelName(double roughness) {
   return name;
 }
 
+namespace {
+
+// Z, then A_R per G-buffer radius: (c_0 + first hits beyond R)/N (docs/sweep.md, "G-buffer").
+std::vector<ExrChannel> gbufferChannels(const EscapeImage& image) {
+  const std::size_t pixels = image.mask.size();
+  const std::size_t radii = image.settings.gbuffer_radii.size();
+  std::vector<ExrChannel> channels = {{"Z", image.depth}};
+  for (float r : image.settings.gbuffer_radii) {
+    channels.push_back({gbufferRadiusChannelName(r), std::vector<float>(pixels, 0.0f)});
+  }
+  for (std::size_t p = 0; p < pixels; ++p) {
+    if (image.mask[p] == 0) continue;
+    const double escaped = static_cast<double>(image.count(p, 0, 0)) + image.count(p, 1, 0);
+    for (std::size_t r = 0; r < radii; ++r) {
+      channels[1 + r].pixels[p] = static_cast<float>((escaped + image.radius_hits[p * radii + r]) /
+                                                     static_cast<double>(image.settings.spp));
+    }
+  }
+  return channels;
+}
+
+}  // namespace
+
 std::vector<ExrChannel> escapeChannels(const EscapeImage& image) {
   const int bounces = image.settings.bounces;
   const std::size_t pixels = image.mask.size();
@@ -165,11 +188,6 @@ std::vector<ExrChannel> escapeChannels(const EscapeImage& image) {
   for (const char* prefix : {"N", "V", "BN"}) {
     for (const char* axis : {"X", "Y", "Z"}) vectors.push_back(blank(std::string(prefix) + axis));
   }
-  ExrChannel depth = blank("Z");
-  std::vector<ExrChannel> at_radius;
-  for (float r : image.settings.gbuffer_radii)
-    at_radius.push_back(blank(gbufferRadiusChannelName(r)));
-  const std::size_t radii = at_radius.size();
   const std::size_t roughness = image.settings.specular_roughness.size();
   std::vector<ExrChannel> specular;
   std::vector<ExrChannel> specular_halves[2];
@@ -202,12 +220,6 @@ std::vector<ExrChannel> escapeChannels(const EscapeImage& image) {
     for (int v = 0; v < 3; ++v) {
       for (int c = 0; c < 3; ++c) vectors[3 * v + c].pixels[p] = (*sources[v])[3 * p + c];
     }
-    depth.pixels[p] = image.depth[p];
-    const double escaped = static_cast<double>(image.count(p, 0, 0)) + image.count(p, 1, 0);
-    for (std::size_t r = 0; r < radii; ++r) {
-      at_radius[r].pixels[p] =
-          static_cast<float>((escaped + image.radius_hits[p * radii + r]) / n_full);
-    }
     for (std::size_t r = 0; r < roughness; ++r) {
       const float* s = &image.specular[3 * (p * roughness + r)];
       specular[r].pixels[p] = s[0];
@@ -220,8 +232,7 @@ std::vector<ExrChannel> escapeChannels(const EscapeImage& image) {
   for (auto& c : g) channels.push_back(std::move(c));
   channels.push_back(std::move(mask));
   for (auto& c : vectors) channels.push_back(std::move(c));
-  channels.push_back(std::move(depth));
-  for (auto& c : at_radius) channels.push_back(std::move(c));
+  for (auto& c : gbufferChannels(image)) channels.push_back(std::move(c));
   for (auto& c : specular) channels.push_back(std::move(c));
   for (auto& half : halves) {
     for (auto& c : half) channels.push_back(std::move(c));
