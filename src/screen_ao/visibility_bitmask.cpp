@@ -28,17 +28,22 @@ class SectorMap {
     const double mass = t <= 0.0 ? below_ - arcIntegral(t, n_) : below_ + arcIntegral(t, n_);
     return std::clamp(mass / open_, 0.0, 1.0);
   }
-  // The inverse, by bisection for cosine sectors (24 halvings: 2e-7 rad).
+  // The inverse: Newton on C from the uniform guess, kept inside a shrinking bracket (bisection
+  // when a step leaves it), to 1e-10 in u.
   double angle(double u) const {
-    const double lo0 = n_ - 0.5 * kPi;
-    if (weights_ == SectorWeights::kUniform) return lo0 + kPi * u;
-    double lo = lo0;
+    double lo = n_ - 0.5 * kPi;
     double hi = n_ + 0.5 * kPi;
-    for (int k = 0; k < 24; ++k) {
-      const double mid = 0.5 * (lo + hi);
-      (coordinate(mid) < u ? lo : hi) = mid;
+    double t = lo + kPi * u;
+    if (weights_ == SectorWeights::kUniform) return t;
+    for (int k = 0; k < 32; ++k) {
+      const double f = coordinate(t) - u;
+      if (std::abs(f) < 1e-10) break;
+      (f < 0.0 ? lo : hi) = t;
+      const double slope = std::cos(t - n_) * std::abs(std::sin(t)) / open_;
+      const double next = slope > 0.0 ? t - f / slope : lo - 1.0;
+      t = next > lo && next < hi ? next : 0.5 * (lo + hi);
     }
-    return 0.5 * (lo + hi);
+    return t;
   }
   double openMass() const { return open_; }
 
