@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "encode/encode_command.h"
 #include "export/export_command.h"
 #include "fit/fit_command.h"
 #include "gtbake_version.h"
@@ -218,18 +219,30 @@ Subcommand addValidateGtsoCommand(CLI::App& app) {
           }};
 }
 
+Subcommand addEncodeCommand(CLI::App& app) {
+  auto options = std::make_shared<EncodeOptions>();
+  auto* parser =
+      app.add_subcommand("encode", "BC4/R16/R8 volumes (DDS, KTX2) in the chosen texture layouts");
+  parser->add_option("--gtso", options->gtso, "Directory from gtbake gtso")->required();
+  parser->add_option("--out", options->out, "Output directory")->required();
+  addThreadsOption(parser, options->threads);
+  return {parser, [options](const RunContext& context) {
+            options->progress = context.progress;
+            runEncode(*options);
+          }};
+}
+
 Subcommand addExportCommand(CLI::App& app) {
   auto options = std::make_shared<ExportOptions>();
-  auto* parser = app.add_subcommand("export", "BC4 tables, DDS/KTX2 and the C++ header");
+  auto* parser = app.add_subcommand("export", "The C++ header and HLSL/GLSL includes");
   parser->add_option("--fit", options->fit, "fit.json from gtbake fit")->required();
   parser->add_option("--gtso", options->gtso, "Directory from gtbake gtso")->required();
   parser->add_option("--out", options->out, "Output directory")->required();
+  parser->add_option("--encode", options->encode, "Directory from gtbake encode (default: --out)");
   parser->add_option("--validate-gtso", options->validate_gtso,
                      "validate_gtso.json whose u (fitted to path-traced S) the header ships");
-  addThreadsOption(parser, options->threads);
   return {parser, [options](const RunContext& context) {
             options->command_line = context.command_line;
-            options->progress = context.progress;
             runExport(*options);
           }};
 }
@@ -260,8 +273,8 @@ Subcommand addScreenAoCommand(CLI::App& app) {
 
 Subcommand addAllCommand(CLI::App& app) {
   auto options = std::make_shared<AllOptions>();
-  auto* parser =
-      app.add_subcommand("all", "scenes, sweep, fit, gtso, export and screen-ao with defaults");
+  auto* parser = app.add_subcommand(
+      "all", "scenes, sweep, fit, gtso, encode, validate-gtso, export and screen-ao with defaults");
   parser->add_option("--out", options->out, "Output directory")->capture_default_str();
   addThreadsOption(parser, options->threads);
   parser->add_option("--scenes", options->scenes,
@@ -288,6 +301,7 @@ std::vector<Subcommand> registerSubcommands(CLI::App& app) {
   subcommands.push_back(addValidateCommand(app));
   subcommands.push_back(addGtsoCommand(app));
   subcommands.push_back(addValidateGtsoCommand(app));
+  subcommands.push_back(addEncodeCommand(app));
   subcommands.push_back(addExportCommand(app));
   subcommands.push_back(addScreenAoCommand(app));
   subcommands.push_back(addAllCommand(app));

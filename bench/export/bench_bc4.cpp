@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "common/threads.h"
-#include "export/bc4_block.h"
-#include "export/bc4_encoder.h"
+#include "texture/bc4_block.h"
+#include "texture/bc4_encoder.h"
 
 #define STB_DXT_IMPLEMENTATION
 #include <stb_dxt.h>

@@ -1,5 +1,5 @@
-// bench_gtso: accuracy and time of the GTSO table bake (SPEC §3: every texel within 2.5e-4 of a
-// converged reference with >= 16x the samples; both tables in under 20 s on 2 cores).
+// bench_gtso: accuracy and time of the GTSO table bake (docs/gtso.md §5: every texel within 2.5e-4
+// of a converged reference with >= 16x the samples; both tables in under 20 s on 2 cores).
 //
 // Bakes S3 and S4 with the default integrator resolution and again with `factor` times the cells
 // per axis (factor^2 times the lobe samples; default 4 -> 16x), over ALL texels, and prints the
@@ -25,7 +25,7 @@ using namespace gtbake::gtso;
 
 namespace {
 
-constexpr double kBar = 2.5e-4;  // SPEC §3
+constexpr double kBar = 2.5e-4;  // docs/gtso.md §5
 
 struct Options {
   int cells = kDefaultLobeCells, factor = 4, threads = 2, size = 32, dims = 0;  // 0: both

@@ -1,5 +1,5 @@
 // bench_gtso_axes: the end-to-end error of the table axes on the selection seeds, the tool that
-// chose the axis constants of src/export/runtime/gtso_lookup.h (docs/gtso.md §3).
+// chose the axis constants of src/runtime/gtso_runtime.h (docs/gtso.md §3).
 //
 // Bakes the 3D or 4D table with the compiled-in axes, reads it back through the runtime lookup
 // (float32 and BC4, half-texel remap, trilinear, 4D fold) at the uniform and stress point sets of
@@ -20,6 +20,8 @@
 #include "gtso/gtso_tables.h"
 
 using namespace gtbake::gtso;
+using gtbake::TexelFormat;
+using gtbake::texelFormatName;
 
 namespace {
 
@@ -84,7 +86,7 @@ int main(int argc, char** argv) {
         std::printf(
             "%-7s %-7s seed %d: max %.4f rms %.5f  worst A %.5f beta %.4f r_p %.4f "
             "theta_o %.4f\n",
-            formatName(f), pointSetName(set), s, st.max, st.rms, st.worst.A, st.worst.beta,
+            texelFormatName(f), pointSetName(set), s, st.max, st.rms, st.worst.A, st.worst.beta,
             st.worst.r_p, st.worst.thetaO);
         if (f == TexelFormat::kFloat32) printBands(t, e, p);
       }

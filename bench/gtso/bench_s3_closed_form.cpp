@@ -1,4 +1,4 @@
-// bench_s3_closed_form: the closed-form S3 fit of `gtbake gtso` (gtso_lookup.h gtsoS3ClosedForm)
+// bench_s3_closed_form: the closed-form S3 fit of `gtbake gtso` (gtso_runtime.h gtsoS3ClosedForm)
 // on its own: fit time, training objective, and the error of the shipped float function on the
 // validation set (another seed of the training distribution) and on the test sets (gtso's 3D
 // end-to-end uniform and stress points), split at r_p = 0.1. Used to choose the form (docs/gtso.md

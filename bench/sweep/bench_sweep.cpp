@@ -1,6 +1,6 @@
 // bench_sweep: the sweep's tracing throughput beside a bare Embree loop over the same rays
-// (SPEC §3: sweep ≥ 0.9× bare), on 1 and 2 threads, and Embree's stream calls (rtcIntersect1M /
-// rtcOccluded1M) over the same rays for comparison.
+// (docs/sweep.md §6: sweep ≥ 0.9× bare), on 1 and 2 threads, and Embree's stream calls
+// (rtcIntersect1M / rtcOccluded1M) over the same rays for comparison.
 //
 // The ray set is recorded by replaying the sweep's walks with the same public pieces
 // (cameraRay, WalkSampler, offsetOrigin) in the sweep's order and grouping, and checked to give

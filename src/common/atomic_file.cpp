@@ -144,12 +144,6 @@ void writeFileAtomically(const fs::path& path, std::string_view bytes) {
   output.commit();
 }
 
-void writeAtomically(const fs::path& path, const std::function<void(const fs::path&)>& writer) {
-  AtomicOutput output(path);
-  writer(output.tempPath());
-  output.commit();
-}
-
 void ensureDirectory(const fs::path& dir) {
   std::error_code ec;
   if (fs::is_directory(dir, ec)) return;

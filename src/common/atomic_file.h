@@ -12,7 +12,6 @@
 #pragma once
 
 #include <filesystem>
-#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -45,10 +44,6 @@ void writeFileAtomically(const std::filesystem::path& path, std::string_view byt
 // `name` is the final name reported in errors. Throws gtbake::Error.
 void writeBytesChecked(const std::filesystem::path& path, std::string_view bytes,
                        const std::filesystem::path& name);
-
-// Calls `writer(tempPath)` and commits on success; for libraries that write by file name.
-void writeAtomically(const std::filesystem::path& path,
-                     const std::function<void(const std::filesystem::path&)>& writer);
 
 // Creates `dir` (and parents) or throws gtbake::Error with a one-line reason.
 void ensureDirectory(const std::filesystem::path& dir);

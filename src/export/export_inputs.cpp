@@ -8,7 +8,7 @@
 #include "common/error.h"
 #include "common/input_limits.h"
 #include "common/output_set.h"
-#include "export/runtime/gtso_lookup.h"
+#include "runtime/gtso_runtime.h"
 
 namespace gtbake {
 namespace {
@@ -135,6 +135,7 @@ GtsoInput readGtsoInput(const std::filesystem::path& dir) {
   GtsoInput in;
   const OutputManifest set = readOutputSet(dir, "gtso");
   in.json = parseJson(set, "gtso.json");
+  in.json_dir = dir;
   const std::string where = (dir / "gtso.json").string();
   checkAxisConstants(in.json, where);
   const nlohmann::json& tables = member(in.json, "tables", where);

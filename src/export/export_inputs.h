@@ -1,5 +1,6 @@
 // The inputs of `gtbake export`: fit.json from `gtbake fit` and the directory of `gtbake gtso`
-// (SPEC §1.3–§1.5), read and validated into plain structs. Every problem is one gtbake::Error line.
+// (docs/fit.md §1–§1.5), read and validated into plain structs. Every problem is one gtbake::Error
+// line.
 #pragma once
 
 #include <array>
@@ -11,7 +12,7 @@
 namespace gtbake {
 
 // A table axis as gtso.json lists it. The quantities and their maps are fixed by the runtime
-// lookup code (export/runtime/gtso_lookup.h) that the generated files carry; export rejects a
+// lookup code (runtime/gtso_runtime.h) that the generated files carry; export rejects a
 // gtso.json whose axes or axis constants differ from it.
 struct GtsoAxis {
   std::string name;      // "x", "y", "z", "w"
@@ -34,7 +35,8 @@ struct GtsoInput {
   double u_se = 0.0;  // its standard error
   // Closed-form S3 (gtso.json closed_form.coefficients): kGtsoS3ClosedFormCoeffs values.
   std::vector<double> s3_closed_form;
-  nlohmann::json json;  // gtso.json verbatim (provenance)
+  nlohmann::json json;             // gtso.json verbatim (provenance)
+  std::filesystem::path json_dir;  // the directory it was read from
   // Set by applyValidateGtsoU: u fitted to path-traced S (validate_gtso.json) replaces the table
   // fit; validate_gtso is that file verbatim (null: u is gtso.json's table fit).
   double u_low = 0.0, u_high = 0.0;  // its 5% profile interval

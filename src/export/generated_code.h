@@ -1,7 +1,7 @@
 // The generated C++ header (gtbake_tables.h) and shader includes (gtbake_tables.hlsl/.glsl).
 //
-// All three carry the runtime source templates of src/export/runtime/ verbatim (gtso_lookup.h for
-// C++, gtso_lookup.shader for HLSL/GLSL) after the provenance and the data: multi-bounce
+// All three carry the runtime source templates of src/runtime/ verbatim (gtso_runtime.h for
+// C++, gtso_runtime.shader for HLSL/GLSL) after the provenance and the data: multi-bounce
 // coefficients (paper Eq. 10, {slope, intercept}), the cone constant u, the table sizes and, in
 // C++, the BC4 blocks. docs/export.md "Header contents".
 #pragma once
@@ -9,9 +9,9 @@
 #include <array>
 #include <string>
 
-#include "export/bc4_encoder.h"
 #include "export/export_inputs.h"
-#include "export/runtime/gtso_lookup.h"
+#include "runtime/gtso_runtime.h"
+#include "texture/bc4_encoder.h"
 
 namespace gtbake {
 

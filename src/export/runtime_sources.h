@@ -1,5 +1,5 @@
-// The runtime source templates of src/export/runtime/ as text (generated at configure time):
-// gtso_lookup.h (the C++ lookup code the header ships) and gtso_lookup.shader (its HLSL/GLSL
+// The runtime source templates of src/runtime/ as text (generated at configure time):
+// gtso_runtime.h (the C++ lookup code the header ships) and gtso_runtime.shader (its HLSL/GLSL
 // port). See docs/export.md "Header contents".
 #pragma once
 

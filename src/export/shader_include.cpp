@@ -1,12 +1,12 @@
 // The HLSL and GLSL includes: provenance, the language macros, the constants (from the same C++
-// constants the C++ lookup uses) and src/export/runtime/gtso_lookup.shader verbatim.
+// constants the C++ lookup uses) and src/runtime/gtso_runtime.shader verbatim.
 #include <cstdio>
 #include <sstream>
 
-#include "export/bc4_layout.h"
+#include "encode/bc4_layout.h"
 #include "export/generated_code.h"
-#include "export/runtime/gtso_lookup.h"
 #include "export/runtime_sources.h"
+#include "runtime/gtso_runtime.h"
 
 namespace gtbake {
 namespace {
@@ -78,7 +78,7 @@ std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage langu
     << "), BC4_UNORM (or the _r16 / _r8 files), sampled with a linear, clamp-to-edge sampler.\n"
     << "// Their layouts (export.json): GTSO_3D_LAYOUT / GTSO_4D_LAYOUT below take the table axes\n"
     << "// (A, theta_o or beta, r_p) to texture (x, y, z).\n"
-    << "// The functions below the constants are src/export/runtime/gtso_lookup.shader verbatim.\n"
+    << "// The functions below the constants are src/runtime/gtso_runtime.shader verbatim.\n"
     << "#ifndef GTBAKE_TABLES_INCLUDED\n#define GTBAKE_TABLES_INCLUDED\n\n"
     << d.macros << "#define GTSO_3D_LAYOUT(c) (c)." << layoutSwizzle(in.layout_3d) << "\n"
     << "#define GTSO_4D_LAYOUT(c) (c)." << layoutSwizzle(in.layout_4d) << "\n\n"
@@ -96,7 +96,7 @@ std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage langu
     << ", " << lit(t3.dims[1]) << ", " << lit(t3.dims[2]) << ");\n"
     << d.constant << " " << d.float4 << " kGtso4DSize = " << d.float4 << "(" << lit(t4.dims[0])
     << ", " << lit(t4.dims[1]) << ", " << lit(t4.dims[2]) << ", " << lit(t4.dims[3]) << ");\n"
-    << "// Axis constants (gtso_lookup.h).\n"
+    << "// Axis constants (gtso_runtime.h).\n"
     << "#define kGtsoPiF " << lit(kGtsoPi) << "\n";
   for (const GtsoAxisConstant& k : kGtsoAxisConstants)
     if (k.shaderMacro) o << "#define " << k.shaderMacro << " " << lit(k.value) << "\n";

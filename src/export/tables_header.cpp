@@ -5,8 +5,8 @@
 
 #include "common/error.h"
 #include "export/generated_code.h"
-#include "export/runtime/gtso_lookup.h"
 #include "export/runtime_sources.h"
+#include "runtime/gtso_runtime.h"
 
 namespace gtbake {
 namespace {
@@ -207,7 +207,7 @@ inline float multiBounce(float A, float albedo) {
 }
 
 // The closed-form S3 (gtso.json closed_form): its coefficients and the physical-input entry
-// point over the template gtsoS3ClosedForm of gtso_lookup.h.
+// point over the template gtsoS3ClosedForm of gtso_runtime.h.
 void emitClosedForm(std::ostringstream& o, const GeneratedCodeInput& in) {
   o << "// Closed-form S3 without a sampler (gtsoS3ClosedForm above; gtso.json closed_form): "
     << kGtsoS3ClosedFormSets << " sets\n// of " << kGtsoS3ClosedFormBasis
@@ -323,7 +323,7 @@ std::string makeTablesHeader(const GeneratedCodeInput& in) {
     << "// (byte j of the block = bits 8j..8j+7: red_0, red_1, then 48 index bits, texel 0 "
        "lowest),\n"
     << "// blocks in texture memory order: z slices, rows of blocks, blocks left to right.\n"
-    << "// The lookup code below the provenance is src/export/runtime/gtso_lookup.h verbatim.\n"
+    << "// The lookup code below the provenance is src/runtime/gtso_runtime.h verbatim.\n"
     << "#pragma once\n\n"
     << kRuntimeLookupHeader << "\nnamespace gtbake {\n\n";
   emitConstants(o, in);

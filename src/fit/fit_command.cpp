@@ -1,5 +1,6 @@
-// `gtbake fit` and `gtbake validate` (SPEC §1.3, §2): analyse a sweep (fit_analysis.h), then write
-// fit.json and the HTML report and print a summary a person reads at a glance.
+// `gtbake fit` and `gtbake validate` (docs/fit.md §1, docs/index.md "Pipeline"): analyse a sweep
+// (fit_analysis.h), then write fit.json and the HTML report and print a summary a person reads at a
+// glance.
 #include "fit/fit_command.h"
 
 #include <cstdio>

@@ -1,4 +1,5 @@
-// `gtbake fit` and `gtbake validate`: Equation 10 from a sweep (SPEC §1.3, §2).
+// `gtbake fit` and `gtbake validate`: Equation 10 from a sweep (docs/fit.md §1, docs/index.md
+// "Pipeline").
 #pragma once
 
 #include <filesystem>

@@ -1,4 +1,4 @@
-// How well a set of Eq. 10 constants reproduces the path-traced G (SPEC §1.3).
+// How well a set of Eq. 10 constants reproduces the path-traced G (docs/fit.md §1).
 //
 // For constants k and every unmasked point i and albedo ρ_j the error is
 //   e_ij = G_ij − G(A_i, ρ_j; k),  G(A, ρ; k) = a(ρ)A³ − b(ρ)A² + c(ρ)A,

@@ -1,4 +1,4 @@
-// The six constants of Equation 10 (paper Section 5, SPEC §1.3) and the one evaluation of G.
+// The six constants of Equation 10 (paper Section 5, docs/fit.md §1) and the one evaluation of G.
 //
 //   G(A, ρ) = a(ρ)·A³ − b(ρ)·A² + c(ρ)·A,   a(ρ) = a1·ρ + a0, b(ρ) = b1·ρ + b0, c(ρ) = c1·ρ + c0.
 //
@@ -15,7 +15,8 @@ using Cubic = std::array<double, 3>;              // (a, b, c) at one albedo
 
 inline constexpr MultiBounceCoeffs kPaperCoeffs = {2.0404,  -0.3324, 4.7951,
                                                    -0.6417, 2.7552,  0.6903};
-// The paper's albedo range (SPEC §1.3), over which curves are compared and the band is searched.
+// The paper's albedo range (docs/fit.md §1), over which curves are compared and the band is
+// searched.
 inline constexpr double kRhoMin = 0.1;
 inline constexpr double kRhoMax = 0.9;
 

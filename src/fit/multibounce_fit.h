@@ -1,4 +1,4 @@
-// The multi-bounce fit of paper Section 5, Equation 10 (SPEC §1.3), in two Ceres stages.
+// The multi-bounce fit of paper Section 5, Equation 10 (docs/fit.md §1), in two Ceres stages.
 //
 // Stage 1, per albedo ρ: weighted least squares over every unmasked point i of every scene of
 //   G_i ≈ a·A_i³ − b·A_i² + c·A_i            (θ = (a, b, c), regressors x_i = (A_i³, −A_i², A_i)),

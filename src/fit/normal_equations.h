@@ -49,7 +49,7 @@ void accumulate(NormalEquations& sums, const double* w, const double* A,
 // [level] statistics of one set of points.
 using LevelStatistics = std::array<NormalEquations, kLevels>;
 
-// Point weighting of the fit (SPEC §1.3): every pixel equal (the paper's "combination of all
+// Point weighting of the fit (docs/fit.md §1): every pixel equal (the paper's "combination of all
 // points"), every scene equal whatever its pixel count, or flat in A (each of kFlatABins equal
 // bins of the full estimate's A carries the same total weight).
 enum class Weighting { kPixel, kScene, kFlatA };

@@ -41,7 +41,7 @@ std::string requireString(const json& object, const char* key, const std::string
   return it->get<std::string>();
 }
 
-// G(ρ) = Σ_{k=0..K} ρ^k P_k with P_0 = A (SPEC §1.1), evaluated by Horner's rule in double.
+// G(ρ) = Σ_{k=0..K} ρ^k P_k with P_0 = A (docs/sweep.md §1), evaluated by Horner's rule in double.
 double multiBounceG(const std::vector<const std::vector<float>*>& p, std::size_t pixel,
                     double rho) {
   double g = 0.0;

@@ -2,7 +2,7 @@
 //
 // A sweep directory holds sweep.json and one EXR per scene with channels A, P1..PK, G010..G090,
 // mask and the two half-sample estimates H0.A, H0.P1.., H1.A, H1.P1.. (even / odd samples; the
-// full estimate is their mean). SPEC §1.1: A = p_0 and G(ρ) = Σ_{k=0..K} ρ^k p_k.
+// full estimate is their mean). docs/sweep.md §1: A = p_0 and G(ρ) = Σ_{k=0..K} ρ^k p_k.
 // loadSweep() validates everything it reads and throws a one-line gtbake::Error on bad input.
 #pragma once
 

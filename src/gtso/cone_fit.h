@@ -3,11 +3,11 @@
 // Model, per sample of S3 (A, beta = theta_o, r_p):
 //   S_cone = Omega_i(alpha_v, alpha_s, beta) / (2 pi (1 - cos alpha_s)),
 //   cos(alpha_v) = sqrt(1 - A),  cos(alpha_s) = u^(w^2 / 2),
-// with w = alpha = r_p^2 (SPEC convention, GGX width) or w = r_p (alternative: the paper's r read
-// as perceptual roughness). Least squares over samples of S3 with r_p > 0 (gtbake gtso passes the
-// exactly integrated uniform random points of its error measurement, so the fit weights the
-// domain uniformly rather than by the warped texel density), by Ceres with u = 1 / (1 + exp(-z)).
-// Standard error: Ceres covariance of z, (J^T J)^-1, scaled by the residual variance
+// with w = alpha = r_p^2 (docs/gtso.md §1 convention, GGX width) or w = r_p (alternative: the
+// paper's r read as perceptual roughness). Least squares over samples of S3 with r_p > 0 (gtbake
+// gtso passes the exactly integrated uniform random points of its error measurement, so the fit
+// weights the domain uniformly rather than by the warped texel density), by Ceres with u = 1 / (1 +
+// exp(-z)). Standard error: Ceres covariance of z, (J^T J)^-1, scaled by the residual variance
 // sum(r^2) / (m - 1), mapped to u by du/dz = u (1 - u).
 #pragma once
 
@@ -17,7 +17,7 @@
 
 namespace gtbake::gtso {
 
-enum class RoughnessConvention { kAlpha, kPerceptual };  // w = r_p^2 (SPEC) or w = r_p
+enum class RoughnessConvention { kAlpha, kPerceptual };  // w = r_p^2 (docs/gtso.md §1) or w = r_p
 
 struct ConeErrors {
   double rmse = 0.0, max_abs = 0.0;

@@ -16,7 +16,7 @@
 //
 // S_cone(alpha_v, alpha_s, beta) = Omega_i(alpha_v, alpha_s, beta) / Omega_cap(alpha_s)  (Eq. 19),
 // with cos(alpha_v) = sqrt(1 - A) (Eq. 18) and cos(alpha_s) = u^(alpha^2 / 2), alpha = r_p^2 the
-// GGX width (SPEC §1.4; the paper's Eq. 26 writes 0.01^(0.5 r^2)).
+// GGX width (docs/gtso.md §1; the paper's Eq. 26 writes 0.01^(0.5 r^2)).
 #pragma once
 
 namespace gtbake::gtso {
@@ -32,8 +32,8 @@ double capIntersectionSolidAngle(double a1, double a2, double beta);
 double coneSpecularOcclusion(double alpha_v, double alpha_s, double beta);
 
 // The specular cone aperture alpha_s for the aperture constant u and exponent width w:
-// cos(alpha_s) = u^(w^2 / 2). The SPEC convention passes w = alpha = r_p^2; the alternative
-// convention studied in docs/gtso.md passes w = r_p.
+// cos(alpha_s) = u^(w^2 / 2). The convention of docs/gtso.md §1 passes w = alpha = r_p^2; the
+// alternative convention studied in docs/gtso.md passes w = r_p.
 double specularConeAperture(double u, double w);
 
 }  // namespace gtbake::gtso

@@ -1,4 +1,4 @@
-// The isotropic GGX microfacet BRDF of SPEC §1.4 (F = 1) and its visible-normal sampler.
+// The isotropic GGX microfacet BRDF of docs/gtso.md §1 (F = 1) and its visible-normal sampler.
 //
 // Conventions: shading frame with the normal n = +z. Roughness is the perceptual roughness r_p and
 // the GGX width is alpha = r_p^2 everywhere in gtbake; functions here take alpha (the width).

@@ -1,4 +1,4 @@
-// `gtbake gtso`: bakes S3 and S4 (SPEC §1.4) on the warped axes of export/runtime/gtso_lookup.h,
+// `gtbake gtso`: bakes S3 and S4 (docs/gtso.md §1) on the warped axes of runtime/gtso_runtime.h,
 // measures what the runtime reads (float32, BC4, R16, R8 through the shipped lookup code) against
 // direct integration at random and stress points over several seeds, fits the cone-aperture
 // constant u, and writes gtso3d.f32, gtso4d.f32, gtso.json and PNG previews. See docs/gtso.md.
@@ -21,12 +21,12 @@
 #include "common/output_set.h"
 #include "common/progress.h"
 #include "common/threads.h"
-#include "export/runtime/gtso_lookup.h"
 #include "gtso/cone_fit.h"
 #include "gtso/gtso_integrator.h"
 #include "gtso/gtso_tables.h"
 #include "gtso/s3_closed_form.h"
 #include "gtso/texel_check.h"
+#include "runtime/gtso_runtime.h"
 
 namespace gtbake {
 
@@ -34,10 +34,10 @@ namespace {
 
 using gtso::ErrorStats;
 using gtso::Table;
-using gtso::TexelFormat;
+
 using Json = nlohmann::json;
 
-constexpr int kPointsPerLobe = 16;     // (A, beta) points per random lobe of the error sets
+using gtso::kPointsPerLobe;
 constexpr int kStressLobeDivisor = 4;  // the stress set has a quarter of the uniform lobes
 // Seeds 1-3 chose the axis constants (bench_gtso_axes, docs/gtso.md §3); the report uses fresh
 // seeds from 10.
@@ -48,7 +48,7 @@ constexpr double kUludagU = 0.244;  // Uludag 2014, quoted in Appendix B
 constexpr int kPreviewScale = 8;    // PNG pixels per texel
 constexpr TexelFormat kFormats[] = {TexelFormat::kFloat32, TexelFormat::kBc4, TexelFormat::kR16,
                                     TexelFormat::kR8};
-// SPEC §3 / issue 12 bars for what the runtime reads: uniform max, stress max (3D, 4D).
+// The bars of docs/gtso.md §3a for what the runtime reads: uniform max, stress max (3D, 4D).
 constexpr double kUniformBar[2] = {0.03, 0.06};
 constexpr double kStressBar[2] = {0.05, 0.10};
 constexpr double kRecommendRatio = 1.5;  // a format's error vs float32's for the recommendation
@@ -130,12 +130,9 @@ struct EndToEnd {
 };
 
 // |runtime lookup - exact S| for every format at fresh uniform and stress points, several seeds.
-EndToEnd measureEndToEnd(const Table& s3, const Table& s4, const GtsoOptions& o, int cells,
-                         const std::string& exact) {
-  EndToEnd out;
-  const int stressLobes = std::max(1, o.error_lobes / kStressLobeDivisor);
-  Json j;
-  j["points"] = {
+// gtso.json end_to_end/points: the point sets and their distributions.
+Json endToEndPointsJson(const GtsoOptions& o, int stressLobes, const std::string& exact) {
+  return {
       {"uniform", o.error_lobes * kPointsPerLobe},
       {"stress", stressLobes * kPointsPerLobe},
       {"lobes_uniform", o.error_lobes},
@@ -152,6 +149,44 @@ EndToEnd measureEndToEnd(const Table& s3, const Table& s4, const GtsoOptions& o,
       {"stress_distribution",
        "half the lobes grazing (cos theta_o in [0, 0.1]); alpha_v uniform within 6 alpha + 0.02 "
        "rad of the mirror step alpha_v = beta (3D: theta_o); 4D beta <= pi/2"}};
+}
+
+// gtso.json end_to_end/<3d|4d>: every format's errors over the seeds and the recommendation.
+Json formatsJson(const std::vector<gtso::EncodedTable>& encoded,
+                 const std::vector<std::vector<ErrorStats>>& uniform,
+                 const std::vector<std::vector<ErrorStats>>& stress, int t) {
+  Json formats;
+  // Recommendation: the smallest format whose quantisation does not dominate: uniform max,
+  // uniform RMS and stress max each within 1.5x those of the float32 table.
+  const Json floatUniform = seedSummary(uniform[0], kFirstReportSeed);
+  const Json floatStress = seedSummary(stress[0], kFirstReportSeed);
+  std::size_t best = 0;
+  for (std::size_t f = 0; f < encoded.size(); ++f) {
+    const Json us = seedSummary(uniform[f], kFirstReportSeed);
+    const Json ss = seedSummary(stress[f], kFirstReportSeed);
+    formats[texelFormatName(encoded[f].format)] = {{"bytes", encoded[f].bytes.size()},
+                                                   {"texel_max_error", encoded[f].texel_max},
+                                                   {"texel_rms_error", encoded[f].texel_rms},
+                                                   {"uniform", us},
+                                                   {"stress", ss}};
+    auto within = [](const Json& a, const Json& b, const char* k) {
+      return a[k].get<double>() <= kRecommendRatio * b[k].get<double>();
+    };
+    const bool ok = within(us, floatUniform, "max") && within(us, floatUniform, "rms") &&
+                    within(ss, floatStress, "max");
+    if (ok && encoded[f].bytes.size() < encoded[best].bytes.size()) best = f;
+  }
+  return {{"formats", formats},
+          {"recommended", texelFormatName(encoded[best].format)},
+          {"bars", {{"uniform_max", kUniformBar[t]}, {"stress_max", kStressBar[t]}}}};
+}
+
+EndToEnd measureEndToEnd(const Table& s3, const Table& s4, const GtsoOptions& o, int cells,
+                         const std::string& exact) {
+  EndToEnd out;
+  const int stressLobes = std::max(1, o.error_lobes / kStressLobeDivisor);
+  Json j;
+  j["points"] = endToEndPointsJson(o, stressLobes, exact);
   Progress progress("gtso: end-to-end error", o.error_seeds, o.progress);
   std::vector<gtso::ErrorPointPair> uniformPoints, stressPoints;
   for (int s = 0; s < o.error_seeds; ++s) {
@@ -183,30 +218,7 @@ EndToEnd measureEndToEnd(const Table& s3, const Table& s4, const GtsoOptions& o,
         out.seeds.push_back(kFirstReportSeed + static_cast<std::uint64_t>(s));
       }
     }
-    Json formats;
-    // Recommendation: the smallest format whose quantisation does not dominate: uniform max,
-    // uniform RMS and stress max each within 1.5x those of the float32 table.
-    const Json floatUniform = seedSummary(uniform[0], kFirstReportSeed);
-    const Json floatStress = seedSummary(stress[0], kFirstReportSeed);
-    std::size_t best = 0;
-    for (std::size_t f = 0; f < encoded.size(); ++f) {
-      const Json us = seedSummary(uniform[f], kFirstReportSeed);
-      const Json ss = seedSummary(stress[f], kFirstReportSeed);
-      formats[gtso::formatName(encoded[f].format)] = {{"bytes", encoded[f].bytes.size()},
-                                                      {"texel_max_error", encoded[f].texel_max},
-                                                      {"texel_rms_error", encoded[f].texel_rms},
-                                                      {"uniform", us},
-                                                      {"stress", ss}};
-      auto within = [](const Json& a, const Json& b, const char* k) {
-        return a[k].get<double>() <= kRecommendRatio * b[k].get<double>();
-      };
-      const bool ok = within(us, floatUniform, "max") && within(us, floatUniform, "rms") &&
-                      within(ss, floatStress, "max");
-      if (ok && encoded[f].bytes.size() < encoded[best].bytes.size()) best = f;
-    }
-    j[key] = {{"formats", formats},
-              {"recommended", gtso::formatName(encoded[best].format)},
-              {"bars", {{"uniform_max", kUniformBar[t]}, {"stress_max", kStressBar[t]}}}};
+    j[key] = formatsJson(encoded, uniform, stress, t);
   }
   j["recommendation_rule"] =
       "smallest format whose uniform max, uniform RMS and stress max are each within 1.5x those of "
@@ -362,7 +374,7 @@ void writeSlice(OutputSet& output, const std::string& name, const std::vector<fl
   output.add(name, encodePng(w, w, 3, toViridis8(img, 0.f, 1.f)));
 }
 
-// Bounds on a bake's cost (issue 9: --samples and --size were unbounded). The time estimate
+// Bounds on a bake's cost (docs/limits.md "Bounded work and memory"). The time estimate
 // scales the measured default bake
 // (size 32, 96 cells: 9.1 s on 2 cores, docs/gtso.md) by size^4 and cells^2, and the memory
 // estimate is three float copies of the 4D table.
@@ -502,8 +514,8 @@ GtsoResult runGtso(const GtsoOptions& options) {
       const Json& fm = e2e.json[key]["formats"];
       std::printf("gtso: %s end to end (max over %d seeds / mean RMS):", key, options.error_seeds);
       for (TexelFormat f : kFormats) {
-        const Json& u = fm[gtso::formatName(f)]["uniform"];
-        std::printf(" %s %.4f/%.5f", gtso::formatName(f), u["max"].get<double>(),
+        const Json& u = fm[texelFormatName(f)]["uniform"];
+        std::printf(" %s %.4f/%.5f", texelFormatName(f), u["max"].get<double>(),
                     u["rms"].get<double>());
       }
       std::printf("; recommended %s\n", e2e.json[key]["recommended"].get<std::string>().c_str());

@@ -1,5 +1,5 @@
 // `gtbake gtso`: the 3D and 4D GTSO tables, their end-to-end error per texel format, and the
-// cone-aperture constant u (SPEC §1.4).
+// cone-aperture constant u (docs/gtso.md §1).
 #pragma once
 
 #include <filesystem>
@@ -18,7 +18,7 @@ struct GtsoOptions {
   int error_lobes = 1024;
   int error_seeds = 3;
   // > 0: also bake both tables with reference_factor x the cells per axis (reference_factor^2 x
-  // the lobe samples; 4 gives the SPEC's 16x) and record every texel's error against them in
+  // the lobe samples; 4 gives 16x) and record every texel's error against them in
   // gtso.json. Slow (about reference_factor^2 x the bake); bench_gtso measures the same.
   int reference_factor = 0;
   // The sampled texel check of every run (gtso/texel_check.h): this many random lines of the 3D

@@ -298,7 +298,7 @@ std::vector<std::vector<double>> specularOcclusion(
     return out;
   }
   // Mirror limit: the lobe is the delta at wr, so S = DeltaV(wr) = [angle(wr, b) <= alpha_v]
-  // (SPEC §1.4; the boundary belongs to the cone, with a tie tolerance for rounding in wr.b).
+  // (docs/gtso.md §1; the boundary belongs to the cone, with a tie tolerance for rounding in wr.b).
   // A cone of zero aperture (A = 0) holds no solid angle: 0, as for every r_p > 0.
   const Vec3 wo = viewDirection(cosThetaO);
   const Vec3 wr = {-wo.x, 0.0, wo.z};

@@ -1,4 +1,4 @@
-// The GTSO integral S of SPEC §1.4 (paper Eq. 20-21) for one GGX lobe against many cones.
+// The GTSO integral S of docs/gtso.md §1 (paper Eq. 20-21) for one GGX lobe against many cones.
 //
 //   S(b, alpha_v) = Int_H DeltaV(wi) fr(wo,wi) cos(theta_i) dwi / Int_H fr(wo,wi) cos(theta_i) dwi
 //   DeltaV(wi) = [wi.b >= cos(alpha_v)],  wo = (sin theta_o, 0, cos theta_o),  n = +z,
@@ -54,7 +54,7 @@ std::vector<std::vector<double>> specularOcclusion(
     double r_p, double cosThetaO, const std::vector<Vec3>& b,
     const std::vector<std::vector<double>>& cosAlphaV, int cells = kDefaultLobeCells);
 
-// The view direction of SPEC §1.4 and the 4D table's bent normal (beta from wr toward n).
+// The view direction of docs/gtso.md §1 and the 4D table's bent normal (beta from wr toward n).
 Vec3 viewDirection(double cosThetaO);
 Vec3 bentNormal(double thetaO, double beta);
 

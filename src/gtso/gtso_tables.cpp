@@ -9,10 +9,10 @@
 #include "common/math_constants.h"
 #include "common/progress.h"
 #include "common/rng.h"
-#include "export/bc4_encoder.h"
-#include "export/runtime/gtso_lookup.h"
-#include "export/texture_containers.h"
 #include "gtso/gtso_integrator.h"
+#include "runtime/gtso_runtime.h"
+#include "texture/bc4_encoder.h"
+#include "texture/texture_containers.h"
 
 namespace gtbake::gtso {
 
@@ -134,20 +134,6 @@ double evaluateS(int dims, const GtsoPoint& p, int cells) {
                            cells)[0];
 }
 
-const char* formatName(TexelFormat f) {
-  switch (f) {
-    case TexelFormat::kFloat32:
-      return "float32";
-    case TexelFormat::kBc4:
-      return "bc4";
-    case TexelFormat::kR16:
-      return "r16";
-    case TexelFormat::kR8:
-      return "r8";
-  }
-  return "?";
-}
-
 std::vector<float> toFloats(const Table& t) {
   return std::vector<float>(t.values.begin(), t.values.end());
 }
@@ -169,12 +155,8 @@ EncodedTable encodeTable(const Table& t, TexelFormat format) {
     e.bytes = encodeBc4Volume(encoder, f.data(), v[0], v[1], v[2], nullptr).bytes;
     decoded = decodeBc4Volume(e.bytes.data(), v[0], v[1], v[2]);
   } else {
-    const bool r16 = format == TexelFormat::kR16;
-    e.bytes = quantizeUnorm(f.data(), n, r16 ? VolumeFormat::kR16 : VolumeFormat::kR8);
-    for (std::size_t i = 0; i < n; ++i) {
-      decoded[i] = r16 ? static_cast<float>(e.bytes[2 * i] | e.bytes[2 * i + 1] << 8) / 65535.0f
-                       : static_cast<float>(e.bytes[i]) / 255.0f;
-    }
+    e.bytes = quantizeUnorm(f.data(), n, format);
+    decoded = dequantizeUnorm(e.bytes, format);
   }
   for (std::size_t i = 0; i < n; ++i) {
     const double d = std::abs(decoded[i] - t.values[i]);
@@ -186,9 +168,8 @@ EncodedTable encodeTable(const Table& t, TexelFormat format) {
 }
 
 float runtimeLookup(const Table& t, const EncodedTable& e, const GtsoPoint& p) {
-  static_assert(static_cast<int>(GtsoTexelFormat::kR8) == static_cast<int>(TexelFormat::kR8));
   const std::array<int, 3> v = t.volume();
-  const GtsoVolume vol{static_cast<GtsoTexelFormat>(e.format), e.bytes.data(), v[0], v[1], v[2]};
+  const GtsoVolume vol{e.format, e.bytes.data(), v[0], v[1], v[2]};
   const std::array<int, 4> n = sizes(t.dims, t.size);
   const float A = static_cast<float>(p.A), cb = static_cast<float>(std::cos(p.beta));
   const float rp = static_cast<float>(p.r_p);
@@ -286,7 +267,7 @@ void checkPerLobe(int perLobe) {
 }  // namespace
 
 ErrorPoints makeErrorPoints(int dims, PointSet set, int lobes, int perLobe, std::uint64_t seed,
-                            int cells) {
+                            int cells, Progress* progress) {
   checkPerLobe(perLobe);
   const CounterRng rng = pointStream(dims, set, seed);
   ErrorPoints out;
@@ -296,6 +277,7 @@ ErrorPoints makeErrorPoints(int dims, PointSet set, int lobes, int perLobe, std:
     const auto [rp, cosO] = drawLobe(set, rng, l);
     LobePoints lp = drawLobePoints(dims, set, rng, l, perLobe, rp, cosO);
     integrateLobe(rp, cosO, cells, l, perLobe, {{&lp, &out}});
+    if (progress) progress->add(1);
   });
   return out;
 }

@@ -1,16 +1,18 @@
-// The 3D and 4D GTSO tables: baking on the warped axes of export/runtime/gtso_lookup.h, the
+// The 3D and 4D GTSO tables: baking on the warped axes of runtime/gtso_runtime.h, the
 // texel formats an engine reads (float32, BC4_UNORM, R16_UNORM, R8_UNORM), and the end-to-end
 // error of what the runtime reads against direct integration at random and stress points.
 //
-// Axes and texel order (SPEC §1.4): x = A (step-warped), y = beta (3D: theta_o), z = r_p,
+// Axes and texel order (docs/gtso.md §1): x = A (step-warped), y = beta (3D: theta_o), z = r_p,
 // w = theta_o (4D), x fastest; the 4D table is folded into a volume of depth N_z * N_w. The axis
-// maps themselves live in gtso_lookup.h (one definition for bake, lookup and generated code).
+// maps themselves live in gtso_runtime.h (one definition for bake, lookup and generated code).
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "texture/texel_format.h"
 
 namespace gtbake {
 class Progress;
@@ -24,7 +26,7 @@ struct GtsoPoint {
 };
 
 // One table axis as gtso.json names it: its quantity, the forward map a shader evaluates and its
-// ALU cost (the code is gtso_lookup.h and its shader ports).
+// ALU cost (the code is gtso_runtime.h and its shader ports).
 struct AxisDefinition {
   const char* quantity;
   const char* forward;
@@ -54,8 +56,6 @@ void validateTableSize(int size);  // throws gtbake::Error with a one-line reaso
 double evaluateS(int dims, const GtsoPoint& p, int cells);
 
 // ---- texel formats ----
-enum class TexelFormat { kFloat32, kBc4, kR16, kR8 };
-const char* formatName(TexelFormat f);  // "float32", "bc4", "r16", "r8"
 
 // A table as one texture format: raw texel bytes in texture memory order (BC4: blocks).
 struct EncodedTable {
@@ -65,7 +65,7 @@ struct EncodedTable {
 };
 // R16/R8: round(clamp(v, 0, 1) * (2^bits - 1)); BC4: the exact encoder of src/export.
 EncodedTable encodeTable(const Table& t, TexelFormat format);
-// The runtime lookup (gtso_lookup.h) on an encoded table at physical parameters.
+// The runtime lookup (gtso_runtime.h) on an encoded table at physical parameters.
 float runtimeLookup(const Table& t, const EncodedTable& e, const GtsoPoint& p);
 
 // ---- end-to-end error ----
@@ -84,12 +84,14 @@ const char* pointSetName(PointSet s);
 // alpha_v uniform in [s - h, s + h] intersected with [0, pi/2], h = 6 alpha + 0.02 rad (3 widths
 // of ~2 alpha plus a floor), s = beta (3D: theta_o); 4D stress beta in [0, pi/2] (cos beta
 // uniform).
+inline constexpr int kPointsPerLobe = 16;  // points per random lobe of every end-to-end set
 struct ErrorPoints {
   std::vector<GtsoPoint> points;
   std::vector<double> exact;
 };
+// `progress` (optional) advances by one per lobe.
 ErrorPoints makeErrorPoints(int dims, PointSet set, int lobes, int perLobe, std::uint64_t seed,
-                            int cells);
+                            int cells, Progress* progress = nullptr);
 // The 3D and 4D sets of one seed drawn on the same random lobes (the 4D stream's lobes; the 3D
 // points from the 3D stream), each lobe integrated once for both: the end-to-end measurement of
 // `gtbake gtso` at about the cost of the 4D set alone.

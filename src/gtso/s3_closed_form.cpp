@@ -34,7 +34,7 @@ constexpr int kValidationLobes = 512;
 constexpr int kConesPerLobe = 32;
 constexpr int kTrainCellsDivisor = 2;
 constexpr double kMinReciprocalCondition = 1e-14;  // J^T J: smallest / largest eigenvalue
-constexpr double kTargetMax = 0.02;                // issue 12, r_p >= 0.1
+constexpr double kTargetMax = 0.02;                // docs/gtso.md §7, r_p >= 0.1
 constexpr double kTargetRms = 0.005;
 
 // One lobe's residuals: S_form(A_j; k) - S_j for its points. The lobe parameters (median, slopes)

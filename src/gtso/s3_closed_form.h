@@ -1,5 +1,5 @@
-// The closed-form approximation of S3 for engines short of samplers (issue 12): the form is
-// gtsoS3ClosedForm in export/runtime/gtso_lookup.h (a log-logistic step in the odds of A whose
+// The closed-form approximation of S3 for engines short of samplers (docs/gtso.md §7): the form is
+// gtsoS3ClosedForm in runtime/gtso_runtime.h (a log-logistic step in the odds of A whose
 // median and slopes are polynomials in cos theta_o and r_p); this file makes its point sets,
 // fits its kGtsoS3ClosedFormCoeffs coefficients with Ceres and measures it.
 //
@@ -21,8 +21,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "export/runtime/gtso_lookup.h"
 #include "gtso/gtso_tables.h"
+#include "runtime/gtso_runtime.h"
 
 namespace gtbake::gtso {
 

@@ -3,7 +3,7 @@
 //
 // A line is one integrator lobe (r_p texel, theta_o texel): 3D the N texels of A at that
 // (theta_o, r_p), 4D the N x N texels of (A, beta). Each sampled line is re-integrated with
-// `factor` x the lobe cells per side (factor^2 x the rectangles; 4 gives the SPEC's 16x) through
+// `factor` x the lobe cells per side (factor^2 x the rectangles; 4 gives 16x) through
 // the same bakeTable code, and every texel of the line is compared with the table. The full
 // reference (`--reference-factor`) is the same comparison over all N^2 lines.
 #pragma once

@@ -2,13 +2,11 @@
 
 #include <chrono>
 #include <cstdio>
-#include <memory>
 
 #include "common/atomic_file.h"
 #include "common/threads.h"
-#include "export/bc4_layout.h"
+#include "encode/encode_command.h"
 #include "export/export_command.h"
-#include "export/export_inputs.h"
 #include "fit/fit_command.h"
 #include "gtso/gtso_command.h"
 #include "scene/scenes_command.h"
@@ -26,6 +24,42 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 void banner(const char* stage, bool enabled) {
   if (enabled) std::fprintf(stderr, "\n== gtbake all: %s ==\n", stage);
+}
+
+// The seconds of the stages whose results carry no time of their own.
+struct StageTimes {
+  double scenes, fit, exporter, total;
+};
+
+void printSummary(const AllOptions& options, const SweepResult& swept, const FitResult& fitted,
+                  const GtsoResult& baked, const EncodeResult& encoded,
+                  const ValidateGtsoResult& validated, const ScreenAoResult& screened,
+                  const StageTimes& times) {
+  std::printf("\ngtbake all: summary (%s)\n", options.out.c_str());
+  std::printf("  Equation 10      refit ± SE scenes (SE Monte Carlo)   paper     refit - paper\n");
+  for (size_t i = 0; i < 6; ++i) {
+    std::printf("  %-4s %16.4f ± %.4f (%.5f) %12.4f %+12.4f\n", kCoeffNames[i], fitted.linear[i],
+                fitted.scene_se[i], fitted.linear_se[i], kPaperCoeffs[i],
+                fitted.linear[i] - kPaperCoeffs[i]);
+  }
+  std::printf("  curve band       max SE of G %.4f; paper: %s\n", fitted.band_max,
+              fitted.verdict.c_str());
+  std::printf(
+      "  cone aperture u  %.3g, 5%% interval [%.3g, %.3g] vs path-traced S (paper: 0.01;"
+      " table fit %.3g; docs/validate_gtso.md)\n",
+      validated.u, validated.u_low, validated.u_high, baked.u);
+  std::printf("  BC4 3D table     RMSE %.2e  max %.2e\n", encoded.bc4_rmse_3d, encoded.bc4_max_3d);
+  std::printf("  BC4 4D table     RMSE %.2e  max %.2e\n", encoded.bc4_rmse_4d, encoded.bc4_max_4d);
+  std::printf(
+      "  screen-space AO  gtao-reference RMSE %.4f vs ray-traced A at its radius"
+      " (screen_ao/screen_ao.json)\n",
+      screened.reference_rmse);
+  std::printf(
+      "  time             scenes %.1f s, sweep %.1f s (%.1f Mrays/s), fit %.1f s, gtso %.1f s,"
+      " encode %.1f s, validate-gtso %.1f s, export %.1f s, screen-ao %.1f s; total %.1f s\n",
+      times.scenes, swept.seconds, swept.seconds > 0 ? swept.rays / swept.seconds * 1e-6 : 0.0,
+      times.fit, baked.seconds, encoded.seconds, validated.seconds, times.exporter,
+      screened.seconds, times.total);
 }
 
 }  // namespace
@@ -72,17 +106,18 @@ void runAll(const AllOptions& options) {
   gtso.progress = options.progress;
   const GtsoResult baked = runGtso(gtso);
 
+  banner("encode", options.progress);
+  EncodeOptions encode;
+  encode.gtso = gtso.out;
+  encode.out = options.out;  // <out>/gtso{3d,4d}*.dds/.ktx2, encode.json
+  encode.threads = limit.threads();
+  encode.progress = options.progress;
+  const EncodeResult encoded = runEncode(encode);
+
   banner("validate-gtso", options.progress);
   ValidateGtsoOptions validate_gtso;
   validate_gtso.sweep = sweep.out;
-  validate_gtso.luts = options.out;  // <out>/gtso; BC4 encoded here, export rewrites the DDS
-  validate_gtso.encode_bc4 = true;
-  // The BC4 layouts export ships, chosen once here for validate-gtso and export (bc4_layout.h).
-  t = std::chrono::steady_clock::now();
-  const auto layouts = std::make_shared<const GtsoLayouts>(
-      chooseLayouts(readGtsoInput(gtso.out), kLayoutLobes, nullptr, nullptr, options.progress));
-  const double layout_seconds = secondsSince(t);
-  validate_gtso.layouts = layouts;
+  validate_gtso.luts = options.out;  // <out>/gtso and encode's volumes
   validate_gtso.progress = options.progress;
   const ValidateGtsoResult validated = runValidateGtso(validate_gtso);
 
@@ -90,14 +125,12 @@ void runAll(const AllOptions& options) {
   ExportOptions exporter;
   exporter.fit = fit.out;
   exporter.gtso = gtso.out;
+  exporter.encode = encode.out;
   exporter.validate_gtso = validated.json;
   exporter.out = options.out;
   exporter.command_line = options.command_line;
-  exporter.threads = limit.threads();
-  exporter.progress = options.progress;
-  exporter.layouts = layouts;
   t = std::chrono::steady_clock::now();
-  const ExportResult exported = runExport(exporter);
+  runExport(exporter);
   const double export_seconds = secondsSince(t);
 
   banner("screen-ao", options.progress);
@@ -108,33 +141,8 @@ void runAll(const AllOptions& options) {
   screen_ao.progress = options.progress;
   const ScreenAoResult screened = runScreenAo(screen_ao);
 
-  std::printf("\ngtbake all: summary (%s)\n", options.out.c_str());
-  std::printf("  Equation 10      refit ± SE scenes (SE Monte Carlo)   paper     refit - paper\n");
-  for (size_t i = 0; i < 6; ++i) {
-    std::printf("  %-4s %16.4f ± %.4f (%.5f) %12.4f %+12.4f\n", kCoeffNames[i], fitted.linear[i],
-                fitted.scene_se[i], fitted.linear_se[i], kPaperCoeffs[i],
-                fitted.linear[i] - kPaperCoeffs[i]);
-  }
-  std::printf("  curve band       max SE of G %.4f; paper: %s\n", fitted.band_max,
-              fitted.verdict.c_str());
-  std::printf(
-      "  cone aperture u  %.3g, 5%% interval [%.3g, %.3g] vs path-traced S (paper: 0.01;"
-      " table fit %.3g; docs/validate_gtso.md)\n",
-      validated.u, validated.u_low, validated.u_high, baked.u);
-  std::printf("  BC4 3D table     RMSE %.2e  max %.2e\n", exported.bc4_rmse_3d,
-              exported.bc4_max_3d);
-  std::printf("  BC4 4D table     RMSE %.2e  max %.2e\n", exported.bc4_rmse_4d,
-              exported.bc4_max_4d);
-  std::printf(
-      "  screen-space AO  gtao-reference RMSE %.4f vs ray-traced A at its radius"
-      " (screen_ao/screen_ao.json)\n",
-      screened.reference_rmse);
-  std::printf(
-      "  time             scenes %.1f s, sweep %.1f s (%.1f Mrays/s), fit %.1f s, gtso %.1f s,"
-      " BC4 layouts %.1f s, validate-gtso %.1f s, export %.1f s, screen-ao %.1f s; total %.1f s\n",
-      scenes_seconds, swept.seconds, swept.seconds > 0 ? swept.rays / swept.seconds * 1e-6 : 0.0,
-      fit_seconds, baked.seconds, layout_seconds, validated.seconds, export_seconds,
-      screened.seconds, secondsSince(start));
+  StageTimes times{scenes_seconds, fit_seconds, export_seconds, secondsSince(start)};
+  printSummary(options, swept, fitted, baked, encoded, validated, screened, times);
 }
 
 }  // namespace gtbake

@@ -1,4 +1,5 @@
-// `gtbake all`: scenes → sweep → fit → gtso → export with defaults (SPEC §2).
+// `gtbake all`: scenes → sweep → fit → gtso → encode → validate-gtso → export with defaults
+// (docs/index.md "Pipeline").
 #pragma once
 
 #include <cstdint>

@@ -20,6 +20,7 @@
 #include "common/checked_math.h"
 #include "common/error.h"
 #include "common/input_limits.h"
+#include "common/math_constants.h"
 #include "scene/gltf_reader.h"
 
 namespace gtbake {
@@ -144,7 +145,7 @@ class Reader {
     const std::string what = "camera " + std::to_string(instance.camera) + " (node " +
                              std::to_string(instance.node) + ")";
     const tinygltf::Camera& camera = model_.cameras[static_cast<std::size_t>(instance.camera)];
-    if (!(camera.perspective.yfov > 0.0 && camera.perspective.yfov < 3.14159)) {
+    if (!(camera.perspective.yfov > 0.0 && camera.perspective.yfov < kPi)) {
       throw Error(what + " has an invalid yfov");
     }
     Eigen::Matrix3d basis = instance.world.topLeftCorner<3, 3>();

@@ -75,7 +75,7 @@ tinygltf::Model buildModel(const Scene& scene, const std::string& bin_name) {
 
   tinygltf::Material material;
   material.name = "lambert_white";
-  material.doubleSided = true;  // SPEC §1.1: every surface is two-sided
+  material.doubleSided = true;  // docs/sweep.md §1: every surface is two-sided
   material.pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};
   material.pbrMetallicRoughness.metallicFactor = 0.0;
   material.pbrMetallicRoughness.roughnessFactor = 1.0;

@@ -1,4 +1,5 @@
-// The procedural scenes: the seven scene types of SPEC §1.2 and small closed-form test scenes.
+// The procedural scenes: the seven scene types of docs/scenes.md "The seven scene types" and small
+// closed-form test scenes.
 //
 // Conventions: metres, +Y up, ground y = 0, every ground reaching kGroundExtent in x and z (see
 // docs/scenes.md for why that removes the bias of a finite world), curved surfaces tessellated

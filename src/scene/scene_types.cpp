@@ -1,5 +1,5 @@
-// The seven scene types of SPEC §1.2. Dimensions, cameras and the reasons behind them are in
-// docs/scenes.md; every size here is in metres.
+// The seven scene types of docs/scenes.md "The seven scene types". Dimensions, cameras and the
+// reasons behind them are in docs/scenes.md; every size here is in metres.
 #include <Eigen/Geometry>
 #include <cmath>
 

@@ -1,4 +1,5 @@
-// `gtbake scenes`: builds the seven scene types and writes them as glTF (SPEC §1.2, §2).
+// `gtbake scenes`: builds the seven scene types and writes them as glTF (docs/scenes.md "The seven
+// scene types", docs/index.md "Pipeline").
 #include "scene/scenes_command.h"
 
 #include <Eigen/Core>

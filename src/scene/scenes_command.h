@@ -1,4 +1,5 @@
-// `gtbake scenes`: write the seven procedural scene types of SPEC §1.2 as glTF 2.0.
+// `gtbake scenes`: write the seven procedural scene types of docs/scenes.md "The seven scene types"
+// as glTF 2.0.
 #pragma once
 
 #include <cstdint>

@@ -1,7 +1,7 @@
-// The cosine-weighted direction of one walk step (SPEC §1.1): density pdf(ω) = (n·ω)/π about the
-// oriented normal n, from a point (u0, u1) of the unit square. Scalar float kernels, inline so the
-// walk loops (escape_walk.cpp) can vectorize them over many walks; the one-ray path uses the same
-// functions, so both traversals compute every direction bit for bit alike.
+// The cosine-weighted direction of one walk step (docs/sweep.md §1): density pdf(ω) = (n·ω)/π about
+// the oriented normal n, from a point (u0, u1) of the unit square. Scalar float kernels, inline so
+// the walk loops (escape_walk.cpp) can vectorize them over many walks; the one-ray path uses the
+// same functions, so both traversals compute every direction bit for bit alike.
 //
 // Map. The concentric disk map (Shirley & Chiu 1997), area preserving, so a uniform (u0, u1), or a
 // uniform point of any grid cell, stays uniform on the unit disk; then Malley's method lifts the

@@ -1,4 +1,4 @@
-// Embree 3 ray queries over one Scene: the visibility oracle V(x, ω) of SPEC §1.1.
+// Embree 3 ray queries over one Scene: the visibility oracle V(x, ω) of docs/sweep.md §1.
 //
 // The Scene's triangles go into one Embree triangle geometry whose vertex and index buffers are
 // shared with this object (no copy inside Embree). The BVH is built with
@@ -9,8 +9,8 @@
 // one-thread TBB arena so the BVH, and with it every tie between equally near triangles, is the
 // same for any --threads value.
 //
-// Surfaces are two-sided (SPEC §1.1): a hit reports the geometric normal flipped to the side the
-// ray came from, and every secondary ray leaves from the hit point pushed off that side by
+// Surfaces are two-sided (docs/sweep.md §1): a hit reports the geometric normal flipped to the side
+// the ray came from, and every secondary ray leaves from the hit point pushed off that side by
 // kRayOffsetRelative × m (see there), with tnear = 0.
 #pragma once
 
@@ -125,8 +125,8 @@ class EmbreeTracer {
 // An Embree ray over [0, tfar] with no hit yet.
 RTCRayHit makeRayHit(const Ray& ray, float tfar);
 
-// The primary ray of pixel (i, j) of a width×height image (SPEC §1.1, scene.h conventions): through
-// the image-plane point ((i + 0.5)/width, (j + 0.5)/height), j = 0 the top row, aspect
+// The primary ray of pixel (i, j) of a width×height image (docs/sweep.md §1, scene.h conventions):
+// through the image-plane point ((i + 0.5)/width, (j + 0.5)/height), j = 0 the top row, aspect
 // width/height.
 Ray cameraRay(const PerspectiveCamera& camera, int i, int j, int width, int height);
 

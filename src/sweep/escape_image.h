@@ -1,6 +1,7 @@
 // One scene's sweep image: per pixel, at the surface point seen through the pixel centre, the
 // escape counts of countEscapes, the bent normal from their first bounce, the true specular
-// occlusion of traceSpecular, and the EXR channels derived from them (SPEC §1.1, §2).
+// occlusion of traceSpecular, and the EXR channels derived from them (docs/sweep.md §1,
+// docs/index.md "Pipeline").
 #pragma once
 
 #include <cstddef>

@@ -1,4 +1,4 @@
-// Escape probabilities p_k of cosine random walks: the estimator behind A and G (SPEC §1.1,
+// Escape probabilities p_k of cosine random walks: the estimator behind A and G (docs/sweep.md §1,
 // paper Section 5, Eq. 10's data).
 //
 // Integral. With every surface Lambertian of albedo ρ and a white sky of radiance 1,

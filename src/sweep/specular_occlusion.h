@@ -1,8 +1,8 @@
-// True specular occlusion S at a surface point (SPEC §1.1, paper Eq. 14; docs/sweep.md §2):
+// True specular occlusion S at a surface point (docs/sweep.md §1, paper Eq. 14; docs/sweep.md §2):
 //
 //   S(x, ωo, r_p) = ∫_H V(x, ωi) fr(ωo, ωi) (n·ωi) dωi / ∫_H fr(ωo, ωi) (n·ωi) dωi,
 //
-// fr the GGX BRDF of SPEC §1.4 (α = r_p², height-correlated Smith G2, F = 1), ωo the unit
+// fr the GGX BRDF of docs/gtso.md §1 (α = r_p², height-correlated Smith G2, F = 1), ωo the unit
 // direction from x to the camera, V the binary sky visibility within the sky radius R (the V of A).
 //
 // Estimator. Visible normals wm ~ D_ωo(wm) = G1(ωo) max(0, ωo·wm) D(wm) / (n·ωo) (Heitz 2018),

@@ -1,6 +1,7 @@
-// `gtbake sweep` (SPEC §2) in named steps: validate, load every scene, describe the sweep (its
-// identity key), plan the tiles, trace the tiles not yet checkpointed, then write either the
-// sweep's outputs (EXR, PNG previews, sweep.json, summary table) or, for a shard, its manifest.
+// `gtbake sweep` (docs/index.md "Pipeline") in named steps: validate, load every scene, describe
+// the sweep (its identity key), plan the tiles, trace the tiles not yet checkpointed, then write
+// either the sweep's outputs (EXR, PNG previews, sweep.json, summary table) or, for a shard, its
+// manifest.
 #include "sweep/sweep_command.h"
 
 #include <tbb/parallel_for.h>

@@ -1,4 +1,5 @@
-// `gtbake sweep`: path-traced A and G over a set of glTF scenes (SPEC §1.1, §2).
+// `gtbake sweep`: path-traced A and G over a set of glTF scenes (docs/sweep.md §1, docs/index.md
+// "Pipeline").
 #pragma once
 
 #include <cstdint>

@@ -188,10 +188,4 @@ UFits fitConeU(const std::vector<SpecularSample>& samples, bool perceptual) {
   return fits;
 }
 
-double coneRmse(const std::vector<SpecularSample>& samples, double u, bool perceptual,
-                double rp_min) {
-  Objective objective(samples, perceptual);
-  return rmseAt(Subset{&objective, rp_min}, u);
-}
-
 }  // namespace gtbake

@@ -3,9 +3,9 @@
 // S_cone(u) against the path-traced S over every unmasked pixel and roughness r_p > 0, by Ceres
 // in z = log10 u (the objective is flat over decades of u, so the search runs on a log scale).
 //
-// Conventions: cos αs = u^(w²/2) with w = α = r_p² (SPEC §1.4) or w = r_p (the paper's r read as
-// perceptual roughness). Uncertainty: the profile interval, the u range whose RMSE is within 5% of
-// the optimum (bisection on each side in log10 u; "open" when the range end is reached first).
+// Conventions: cos αs = u^(w²/2) with w = α = r_p² (docs/gtso.md §1) or w = r_p (the paper's r read
+// as perceptual roughness). Uncertainty: the profile interval, the u range whose RMSE is within 5%
+// of the optimum (bisection on each side in log10 u; "open" when the range end is reached first).
 #pragma once
 
 #include <vector>
@@ -35,9 +35,5 @@ struct UFits {
 
 // Throws gtbake::Error if there is nothing to fit or Ceres fails.
 UFits fitConeU(const std::vector<SpecularSample>& samples, bool perceptual);
-
-// RMSE of S_cone(u) over the samples with r_p > 0 and r_p ≥ rp_min (deterministic reduction).
-double coneRmse(const std::vector<SpecularSample>& samples, double u, bool perceptual,
-                double rp_min);
 
 }  // namespace gtbake

@@ -6,14 +6,14 @@
 #include <cmath>
 
 #include "common/error.h"
-#include "export/runtime/gtso_lookup.h"
+#include "common/math_constants.h"
 #include "gtso/cone_intersection.h"
+#include "runtime/gtso_runtime.h"
 
 namespace gtbake {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegreesPerRadian = 57.295779513082320876;
 constexpr double kPaperU = 0.01;    // paper Eq. 26
 constexpr double kUludagU = 0.244;  // Uludag 2014, as quoted in the paper's Appendix B

@@ -58,7 +58,7 @@ const char* methodDescription(Method m);  // one line for the page
 // The u values the cone methods use.
 struct ConeConstants {
   double table_fit = 0.0;          // gtso.json cone.u (fitted against S₃)
-  double fitted = 0.0;             // fitted here, SPEC convention u^(α²/2)
+  double fitted = 0.0;             // fitted here, docs/gtso.md §1 convention u^(α²/2)
   double fitted_perceptual = 0.0;  // fitted here, perceptual reading u^(r_p²/2)
   double user = 0.0;               // --u (0: not scored)
 };

@@ -1,6 +1,6 @@
 // The per-pixel inputs of validate-gtso from a `gtbake sweep` directory: every unmasked pixel's
 // A, normal n, view direction ωo, bent normal b and path-traced S (with its half-sample
-// estimates) at each roughness of the sweep (SPEC §1.1; docs/sweep.md §4).
+// estimates) at each roughness of the sweep (docs/sweep.md §1; docs/sweep.md §4).
 #pragma once
 
 #include <cstdint>

@@ -226,7 +226,7 @@ void writePage(const SpecularSweep& sweep, const Tables& t, const std::vector<Me
       << "</td><td>" << intervalText(f) << "</td><td>" << fmt("%.4f", f.rmse) << "</td><td>"
       << fmt("%.4f", f.rmse_paper) << "</td><td>" << fmt("%.4f", f.rmse_uludag) << "</td></tr>\n";
   };
-  fitRow("u^(alpha^2/2), alpha = r_p^2 (SPEC), all r_p", spec.all);
+  fitRow("u^(alpha^2/2), alpha = r_p^2 (docs/gtso.md §1), all r_p", spec.all);
   fitRow("u^(alpha^2/2), r_p &ge; 0.3", spec.rp_ge_0_3);
   fitRow("u^(r_p^2/2) (perceptual), all r_p", perceptual.all);
   fitRow("u^(r_p^2/2), r_p &ge; 0.3", perceptual.rp_ge_0_3);
@@ -292,93 +292,110 @@ void printSummary(const SpecularSweep& sweep, std::size_t pixels, const Tables& 
   std::printf("  wrote %s\n", json.c_str());
 }
 
-}  // namespace
+// What validate-gtso computes before it formats anything: the samples, every method's values,
+// the u fits and the tabulated errors.
+struct Analysis {
+  SpecularSweep sweep;
+  TablesLookupInfo tables;
+  std::vector<SpecularSample> samples;
+  UFits spec, perceptual;
+  std::vector<std::vector<float>> values;
+  std::vector<Method> methods;
+  Tables t;
+  std::vector<std::vector<Method>> ranking;
+};
 
-ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
-  if (options.sweep.empty()) throw Error("validate-gtso: --sweep DIR is required");
-  if (options.luts.empty()) throw Error("validate-gtso: --luts DIR is required");
-  if (options.u != 0.0 && !(options.u > 0.0 && options.u < 1.0)) {
-    throw Error("validate-gtso: --u must lie in (0, 1), got " + fmt("%g", options.u));
-  }
-  const auto start = std::chrono::steady_clock::now();
-  const fs::path out = options.out.empty() ? options.luts : options.out;
-  // Read everything before writing anything.
-  const SpecularSweep sweep = readSpecularSweep(options.sweep);
-  const TablesLookups tables =
-      makeTablesLookups(options.luts, options.encode_bc4, options.progress, options.layouts.get());
-  const std::vector<SpecularSample> samples = gatherSamples(sweep);
-
-  const UFits spec = fitConeU(samples, false);
-  const UFits perceptual = fitConeU(samples, true);
+Analysis analyse(const ValidateGtsoOptions& options) {
+  Analysis a;
+  a.sweep = readSpecularSweep(options.sweep);
+  const TablesLookups tables = makeTablesLookups(options.luts);
+  a.tables = tables.info;
+  a.samples = gatherSamples(a.sweep);
+  a.spec = fitConeU(a.samples, false);
+  a.perceptual = fitConeU(a.samples, true);
   ConeConstants cones;
   cones.table_fit = tables.info.u_table_fit;
-  cones.fitted = spec.all.u;
-  cones.fitted_perceptual = perceptual.all.u;
+  cones.fitted = a.spec.all.u;
+  cones.fitted_perceptual = a.perceptual.all.u;
   cones.user = options.u;
-  const std::vector<std::vector<float>> values = evaluateMethods(samples, tables, cones);
-  const std::vector<Method> methods = scoredMethods(options.u > 0.0);
-  const Tables t = tabulate(samples, values, sweep.scenes.size(), sweep.roughness.size());
-  const std::vector<std::vector<Method>> ranking = rank(t, methods, sweep.roughness.size());
+  a.values = evaluateMethods(a.samples, tables, cones);
+  a.methods = scoredMethods(options.u > 0.0);
+  a.t = tabulate(a.samples, a.values, a.sweep.scenes.size(), a.sweep.roughness.size());
+  a.ranking = rank(a.t, a.methods, a.sweep.roughness.size());
+  return a;
+}
 
-  Json json;
+// validate_gtso.json: inputs, conventions and the u fits.
+void addSettingsJson(const ValidateGtsoOptions& options, const fs::path& out, const Analysis& a,
+                     Json& json) {
+  const SpecularSweep& sweep = a.sweep;
   json["gtbake_version"] = GTBAKE_VERSION;
   json["sweep"] = {{"dir", relativePath(options.sweep, out)},
                    {"spp", sweep.spp},
                    {"specular_spp", sweep.specular_spp},
                    {"roughness", sweep.roughness},
                    {"scenes", sweep.scenes.size()},
-                   {"pixels", samples.size() / sweep.roughness.size()}};
-  json["tables"] = {
-      {"dir", relativePath(options.luts, out)}, {"bc4_source", tables.info.bc4_source},
-      {"r16_source", tables.info.r16_source},   {"r8_source", tables.info.r8_source},
-      {"layout_3d", tables.info.layout_3d},     {"layout_4d", tables.info.layout_4d},
-      {"u_table_fit", tables.info.u_table_fit}};
+                   {"pixels", a.samples.size() / sweep.roughness.size()}};
+  json["tables"] = {{"dir", relativePath(options.luts, out)}, {"bc4_source", a.tables.bc4_source},
+                    {"r16_source", a.tables.r16_source},      {"r8_source", a.tables.r8_source},
+                    {"layout_3d", a.tables.layout_3d},        {"layout_4d", a.tables.layout_4d},
+                    {"u_table_fit", a.tables.u_table_fit}};
   json["roughness_convention"] = "perceptual roughness r_p; GGX alpha = r_p^2";
   json["lagarde_roughness"] =
       "r = alpha = r_p^2: Filament computeSpecularAO(shading_NoV, ao, pixel.roughness) with "
       "pixel.roughness = perceptualRoughnessToRoughness(perceptualRoughness); HDRP "
       "GetSpecularOcclusionFromAmbientOcclusion(NdotV, ao, PerceptualSmoothnessToRoughness(...))";
-  json["u"] = spec.all.u;
-  json["u_interval"] = {spec.all.low, spec.all.high};
+  json["u"] = a.spec.all.u;
+  json["u_interval"] = {a.spec.all.low, a.spec.all.high};
   json["u_fit"] = {{"objective",
                     "least squares of S_cone(u) - path-traced S over every unmasked pixel and "
                     "roughness r_p > 0 (Ceres, log10 u); interval: RMSE within 5% of the optimum"},
                    {"alpha",
                     {{"convention", "cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2"},
-                     {"all", fitJson(spec.all)},
-                     {"r_p_ge_0.3", fitJson(spec.rp_ge_0_3)}}},
+                     {"all", fitJson(a.spec.all)},
+                     {"r_p_ge_0.3", fitJson(a.spec.rp_ge_0_3)}}},
                    {"perceptual",
                     {{"convention", "cos(alpha_s) = u^(r_p^2/2)"},
-                     {"all", fitJson(perceptual.all)},
-                     {"r_p_ge_0.3", fitJson(perceptual.rp_ge_0_3)}}}};
+                     {"all", fitJson(a.perceptual.all)},
+                     {"r_p_ge_0.3", fitJson(a.perceptual.rp_ge_0_3)}}}};
+}
+
+// validate_gtso.json: every method overall and per roughness, the noise and the rankings.
+void addMethodsJson(const Analysis& a, Json& json) {
+  const Tables& t = a.t;
   Json method_list = Json::object();
-  for (Method m : methods) method_list[methodName(m)] = methodDescription(m);
+  for (Method m : a.methods) method_list[methodName(m)] = methodDescription(m);
   json["methods"] = method_list;
   Json overall = Json::object();
-  for (Method m : methods) overall[methodName(m)] = statsJson(t.overall[static_cast<int>(m)]);
+  for (Method m : a.methods) overall[methodName(m)] = statsJson(t.overall[static_cast<int>(m)]);
   json["overall"] = overall;
   Json by_roughness = Json::object();
   Json noise = Json::object();
   Json ranking_json = Json::object();
   Json best = Json::object();
-  for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
-    const std::string key = specularChannelName(sweep.roughness[j]);
+  for (std::size_t j = 0; j < a.sweep.roughness.size(); ++j) {
+    const std::string key = specularChannelName(a.sweep.roughness[j]);
     Json row = Json::object();
-    for (Method m : methods)
+    for (Method m : a.methods)
       row[methodName(m)] = statsJson(t.per_roughness[static_cast<int>(m)][j]);
     by_roughness[key] = row;
     const ErrorStats& e = t.per_roughness[static_cast<int>(Method::kNone)][j];
     noise[key] = {{"mean_variance", e.count ? e.noise / e.count : 0.0},
                   {"rms_standard_error", e.count ? std::sqrt(e.noise / e.count) : 0.0}};
     Json order = Json::array();
-    for (Method m : ranking[j]) order.push_back(methodName(m));
+    for (Method m : a.ranking[j]) order.push_back(methodName(m));
     ranking_json[key] = order;
-    best[key] = methodName(ranking[j][0]);
+    best[key] = methodName(a.ranking[j][0]);
   }
   json["per_roughness"] = by_roughness;
   json["truth_noise"] = noise;
   json["ranking"] = ranking_json;
   json["best"] = best;
+}
+
+// validate_gtso.json: the out-of-plane bins, each format against float, and every scene.
+void addBreakdownJson(const Analysis& a, Json& json) {
+  const Tables& t = a.t;
   Json plane = Json::array();
   for (int b = 0; b < kPlaneBinCount; ++b) {
     plane.push_back({{"min_deg", kPlaneBins[b]},
@@ -399,16 +416,34 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   }
   json["format_vs_float"] = vs_float;
   Json scenes = Json::object();
-  for (std::size_t sc = 0; sc < sweep.scenes.size(); ++sc) {
+  for (std::size_t sc = 0; sc < a.sweep.scenes.size(); ++sc) {
     Json scene = Json::object();
-    for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
+    for (std::size_t j = 0; j < a.sweep.roughness.size(); ++j) {
       Json row = Json::object();
-      for (Method m : methods) row[methodName(m)] = statsJson(t.cell[static_cast<int>(m)][sc][j]);
-      scene[specularChannelName(sweep.roughness[j])] = row;
+      for (Method m : a.methods) row[methodName(m)] = statsJson(t.cell[static_cast<int>(m)][sc][j]);
+      scene[specularChannelName(a.sweep.roughness[j])] = row;
     }
-    scenes[sweep.scenes[sc].name] = scene;
+    scenes[a.sweep.scenes[sc].name] = scene;
   }
   json["scenes"] = scenes;
+}
+
+}  // namespace
+
+ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
+  if (options.sweep.empty()) throw Error("validate-gtso: --sweep DIR is required");
+  if (options.luts.empty()) throw Error("validate-gtso: --luts DIR is required");
+  if (options.u != 0.0 && !(options.u > 0.0 && options.u < 1.0)) {
+    throw Error("validate-gtso: --u must lie in (0, 1), got " + fmt("%g", options.u));
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const fs::path out = options.out.empty() ? options.luts : options.out;
+  // Read and compute everything before writing anything.
+  const Analysis a = analyse(options);
+  Json json;
+  addSettingsJson(options, out, a, json);
+  addMethodsJson(a, json);
+  addBreakdownJson(a, json);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   json["timings"] = {{"seconds", seconds}};
@@ -417,18 +452,18 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   // run leaves the previous page with the previous JSON.
   const fs::path json_path = out / "validate_gtso.json";
   OutputSet output(out, "validate_gtso");  // export requires and verifies it
-  writeSceneImages(sweep, samples, values, output);
-  writePage(sweep, t, methods, ranking, spec, perceptual, output);
+  writeSceneImages(a.sweep, a.samples, a.values, output);
+  writePage(a.sweep, a.t, a.methods, a.ranking, a.spec, a.perceptual, output);
   output.add(json_path.filename().string(), json.dump(2) + "\n");
   output.commit();
-  printSummary(sweep, samples.size() / sweep.roughness.size(), t, methods, ranking, spec,
-               perceptual, json_path);
+  printSummary(a.sweep, a.samples.size() / a.sweep.roughness.size(), a.t, a.methods, a.ranking,
+               a.spec, a.perceptual, json_path);
 
   ValidateGtsoResult result;
   result.json = json_path;
-  result.u = spec.all.u;
-  result.u_low = spec.all.low;
-  result.u_high = spec.all.high;
+  result.u = a.spec.all.u;
+  result.u_low = a.spec.all.low;
+  result.u_high = a.spec.all.high;
   result.seconds = seconds;
   return result;
 }

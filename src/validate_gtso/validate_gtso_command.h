@@ -1,32 +1,23 @@
-// `gtbake validate-gtso` (SPEC §1.4, §2; docs/validate_gtso.md): scores the shipped GTSO tables,
-// the cone-to-cone model and the baselines an engine would otherwise use against the sweep's
-// path-traced specular occlusion, and fits the cone-aperture constant u there.
+// `gtbake validate-gtso` (docs/gtso.md §1, docs/index.md "Pipeline"; docs/validate_gtso.md): scores
+// the shipped GTSO tables, the cone-to-cone model and the baselines an engine would otherwise use
+// against the sweep's path-traced specular occlusion, and fits the cone-aperture constant u there.
 #pragma once
 
 #include <filesystem>
-#include <memory>
 
 namespace gtbake {
 
-struct GtsoLayouts;  // export/bc4_layout.h
-
 struct ValidateGtsoOptions {
   std::filesystem::path sweep;  // a `gtbake sweep` directory traced with specular channels
-  std::filesystem::path luts;   // holds gtso/ (gtso.json, *.f32) and the shipped gtso*.dds
+  std::filesystem::path luts;   // holds gtso/ (gtso.json, *.f32) and encode's gtso*.dds
   std::filesystem::path out;    // validate_gtso.json, report/validate_gtso*; default: luts
   double u = 0.0;               // --u: also score the cone model with this u (0: not given)
-  // Encode the BC4 blocks from the float tables with the export's encoder instead of reading
-  // the DDS files (what `gtbake all` does: it runs before export rewrites them).
-  bool encode_bc4 = false;
-  // With encode_bc4: the layouts export will ship (`gtbake all` chooses them once for both);
-  // null: chosen here (export/bc4_layout.h).
-  std::shared_ptr<const GtsoLayouts> layouts;
   bool progress = true;
 };
 
 struct ValidateGtsoResult {
   std::filesystem::path json;
-  double u = 0.0;  // fitted, SPEC convention
+  double u = 0.0;  // fitted, cos αs = u^(α²/2) with α = r_p² (docs/gtso.md §1)
   double u_low = 0.0;
   double u_high = 0.0;
   double seconds = 0.0;

@@ -53,10 +53,11 @@ const Tolerance kTolerances[] = {
      "tightest, SE/c0 = 1.9e-4), so no conclusion drawn from them can change"},
     {"fit.json:.*/(linear_se|se|se_iid)/.*", 5e-5,
      "standard errors (measured 8.5e-6) may move by 0.005% of themselves, not by 100%"},
-    {"fit.json:/eiv_bias/.*", 2e-4,
-     "EIV bias estimates are differences of two fits, so they move ~50x more relative to "
-     "themselves than the fits do; 2e-4 still pins each to 0.02% of its value"},
-    {"(fit|sweep).json:.*", 1e-4,
+    {"fit.json:/eiv_bias/.*", 1e-3,
+     "EIV bias estimates are differences of two fits, so they move far more relative to "
+     "themselves than the fits do (measured 2.1e-4 on a0 between two EPYC machines: 2.6e-8 "
+     "absolute, 1e-4 of its Monte Carlo SE); 1e-3 still pins each to 0.1% of its value"},
+    {"(fit|sweep|validate_gtso).json:.*", 1e-4,
      "every other sweep-derived number (errors, per-albedo fits, leave-one-out refits, mean A) "
      "to 0.01%: a few Embree tie flips among ~164 M rays move them far less"},
     {"gtbake_tables.(h|hlsl|glsl):", 1e-5,

@@ -1,4 +1,4 @@
-// Texture layouts (export/bc4_layout.h, runtime/gtso_lookup.h GtsoLayout): the runtime lookup of
+// Texture layouts (encode/bc4_layout.h, runtime/gtso_runtime.h GtsoLayout): the runtime lookup of
 // a permuted volume equals the table-order lookup at random inputs within float rounding, for
 // every layout of both tables and every texel format; and swapping texture x and y (which the 4D
 // candidates omit) leaves the exact BC4 encoding's decoded texels unchanged.
@@ -7,10 +7,10 @@
 #include <cmath>
 #include <random>
 
-#include "export/bc4_encoder.h"
-#include "export/bc4_layout.h"
-#include "export/runtime/gtso_lookup.h"
-#include "export/texture_containers.h"
+#include "encode/bc4_layout.h"
+#include "runtime/gtso_runtime.h"
+#include "texture/bc4_encoder.h"
+#include "texture/texture_containers.h"
 
 namespace gtbake {
 namespace {
@@ -50,11 +50,11 @@ TEST(Bc4Layout, PermutedLookupEqualsTableOrderLookup) {
     for (const GtsoLayout& l : allLayouts()) {
       const std::vector<float> p = permuteToLayout(t, l);
       const std::array<int, 3> v = layoutVolume(t, l);
-      const auto r16 = quantizeUnorm(p.data(), p.size(), VolumeFormat::kR16);
+      const auto r16 = quantizeUnorm(p.data(), p.size(), TexelFormat::kR16);
       std::vector<std::uint16_t> r16t(p.size());
       for (std::size_t i = 0; i < p.size(); ++i)
         r16t[i] = static_cast<std::uint16_t>(r16[2 * i] | r16[2 * i + 1] << 8);
-      const auto q = quantizeUnorm(t.values.data(), t.values.size(), VolumeFormat::kR16);
+      const auto q = quantizeUnorm(t.values.data(), t.values.size(), TexelFormat::kR16);
       std::vector<std::uint16_t> qt(t.values.size());
       for (std::size_t i = 0; i < qt.size(); ++i)
         qt[i] = static_cast<std::uint16_t>(q[2 * i] | q[2 * i + 1] << 8);

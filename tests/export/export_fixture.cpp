@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/output_set.h"
-#include "export/runtime/gtso_lookup.h"
+#include "runtime/gtso_runtime.h"
 
 namespace gtbake::test {
 

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "encode/encode_command.h"
 #include "export/export_command.h"
 #include "export_fixture.h"
 
@@ -13,15 +14,19 @@ int main(int argc, char** argv) {
   }
   const std::filesystem::path dir = argv[1];
   gtbake::test::writeFixture(dir);
+  gtbake::EncodeOptions encode;
+  encode.gtso = dir / "gtso";
+  encode.out = dir / "out";
+  encode.progress = false;
+  encode.force_layout_3d = gtbake::test::kFixtureLayout3D;
+  encode.force_layout_4d = gtbake::test::kFixtureLayout4D;
+  encode.layout_lobes = 16;
+  gtbake::runEncode(encode);
   gtbake::ExportOptions options;
   options.fit = dir / "fit.json";
   options.gtso = dir / "gtso";
   options.out = dir / "out";
   options.command_line = "export_fixture_gen (test fixture)";
-  options.progress = false;
-  options.force_layout_3d = gtbake::test::kFixtureLayout3D;
-  options.force_layout_4d = gtbake::test::kFixtureLayout4D;
-  options.layout_lobes = 16;
   gtbake::runExport(options);
   return 0;
 }

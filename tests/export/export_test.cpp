@@ -16,14 +16,15 @@
 
 #include "common/error.h"
 #include "common/output_set.h"
-#include "export/bc4_block.h"
-#include "export/bc4_encoder.h"
-#include "export/bc4_layout.h"
+#include "encode/bc4_layout.h"
+#include "encode/encode_command.h"
 #include "export/export_command.h"
 #include "export/export_inputs.h"
 #include "export/generated_code.h"
-#include "export/texture_containers.h"
 #include "export_fixture.h"
+#include "texture/bc4_block.h"
+#include "texture/bc4_encoder.h"
+#include "texture/texture_containers.h"
 
 namespace gtbake {
 namespace {
@@ -57,27 +58,35 @@ class ExportTest : public ::testing::Test {
     options_.gtso = dir_ / "gtso";
     options_.out = dir_ / "out";
     options_.command_line = "gtbake export (test)";
-    options_.progress = false;
+    encode_.gtso = options_.gtso;
+    encode_.out = options_.out;
+    encode_.progress = false;
     // Byte-level checks against the table order; the layout choice has its own tests below.
-    options_.force_layout_3d = {0, 1, 2};
-    options_.force_layout_4d = {0, 1, 2};
-    options_.layout_lobes = 16;
+    encode_.force_layout_3d = {0, 1, 2};
+    encode_.force_layout_4d = {0, 1, 2};
+    encode_.layout_lobes = 16;
+  }
+  // gtso -> encode -> export, as `gtbake all` runs them.
+  ExportResult exportAll() {
+    runEncode(encode_);
+    return runExport(options_);
   }
   void TearDown() override { fs::remove_all(dir_); }
 
   void expectErrorAndNoOutput(const std::string& fragment) {
     try {
-      runExport(options_);
+      exportAll();
       FAIL() << "expected gtbake::Error containing \"" << fragment << "\"";
     } catch (const Error& e) {
       const std::string what = e.what();
       EXPECT_NE(what.find(fragment), std::string::npos) << what;
       EXPECT_EQ(what.find('\n'), std::string::npos) << "one line: " << what;
     }
-    EXPECT_FALSE(fs::exists(options_.out) && !fs::is_empty(options_.out));
+    EXPECT_FALSE(fs::exists(options_.out / "gtbake_tables.h"));
   }
 
   fs::path dir_;
+  EncodeOptions encode_;
   ExportOptions options_;
 };
 
@@ -100,7 +109,7 @@ void checkPayloadErrors(const std::string& payload, const std::vector<float>& ta
 }
 
 TEST_F(ExportTest, DdsFieldsAndPayload) {
-  const ExportResult r = runExport(options_);
+  const ExportResult r = exportAll();
   const std::string s = slurp(options_.out / "gtso4d.dds");
   const int w = 8, h = 8, d = 12;
   ASSERT_EQ(s.size(), 4 + 124 + 20 + std::size_t(w / 4 * h / 4 * d * 8));
@@ -134,14 +143,14 @@ TEST_F(ExportTest, DdsFieldsAndPayload) {
   checkPayloadErrors(s3.substr(148), test::fixtureTable3D(), 8, 8, 6, r.bc4_rmse_3d, r.bc4_max_3d);
 }
 
-// Unforced, export chooses each table's layout with the encoder, records every candidate and the
-// choice in export.json by the stated rule, writes every format of the table in that layout and
+// Unforced, encode chooses each table's layout with the encoder, records every candidate and the
+// choice in encode.json by the stated rule, writes every format of the table in that layout and
 // generates code that reads it.
 TEST_F(ExportTest, ChosenLayoutIsWrittenRecordedAndRead) {
-  options_.force_layout_3d.clear();
-  options_.force_layout_4d.clear();
-  runExport(options_);
-  const nlohmann::json j = nlohmann::json::parse(slurp(options_.out / "export.json"));
+  encode_.force_layout_3d.clear();
+  encode_.force_layout_4d.clear();
+  exportAll();
+  const nlohmann::json j = nlohmann::json::parse(slurp(options_.out / "encode.json"));
   const GtsoInput in = readGtsoInput(options_.gtso);
   const std::string header = slurp(options_.out / "gtbake_tables.h");
   const std::string glsl = slurp(options_.out / "gtbake_tables.glsl");
@@ -170,7 +179,7 @@ TEST_F(ExportTest, ChosenLayoutIsWrittenRecordedAndRead) {
     const Bc4Volume bc4 = encodeBc4Volume(Bc4Encoder(), texels.data(), v[0], v[1], v[2], nullptr);
     EXPECT_EQ(slurp(options_.out / (base + ".dds")).substr(148),
               std::string(bc4.bytes.begin(), bc4.bytes.end()));
-    const auto r16 = quantizeUnorm(texels.data(), texels.size(), VolumeFormat::kR16);
+    const auto r16 = quantizeUnorm(texels.data(), texels.size(), TexelFormat::kR16);
     EXPECT_EQ(slurp(options_.out / (base + "_r16.dds")).substr(148),
               std::string(r16.begin(), r16.end()));
     const std::string name = std::string("kGtso") + (key[0] == '3' ? "3" : "4") + "DLayout";
@@ -187,7 +196,7 @@ TEST_F(ExportTest, ChosenLayoutIsWrittenRecordedAndRead) {
 // R16_UNORM / R8_UNORM beside BC4: DX10 format, row pitch, KTX2 vkFormat, type size and DFD, and
 // the payload = round(clamp(v) * (2^bits - 1)) of the float table, little-endian.
 TEST_F(ExportTest, UnormVolumesFieldsAndPayload) {
-  runExport(options_);
+  exportAll();
   const std::vector<float> t4 = test::fixtureTable4D();
   const int w = 8, h = 8, d = 12;
   for (const auto& [suffix, bytes, dxgi, vk] :
@@ -216,7 +225,7 @@ TEST_F(ExportTest, UnormVolumesFieldsAndPayload) {
 }
 
 TEST_F(ExportTest, Ktx2FieldsAndPayload) {
-  const ExportResult r = runExport(options_);
+  const ExportResult r = exportAll();
   const std::string s = slurp(options_.out / "gtso3d.ktx2");
   const unsigned char id[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
   EXPECT_EQ(s.substr(0, 12), std::string(reinterpret_cast<const char*>(id), 12));
@@ -269,11 +278,11 @@ TEST_F(ExportTest, Ktx2FieldsAndPayload) {
 }
 
 TEST_F(ExportTest, DeterministicAcrossThreadCounts) {
-  options_.threads = 1;
-  runExport(options_);
+  encode_.threads = 1;
+  exportAll();
   const std::string one = slurp(options_.out / "gtbake_tables.h");
-  options_.threads = 2;
-  runExport(options_);
+  encode_.threads = 2;
+  exportAll();
   EXPECT_EQ(one, slurp(options_.out / "gtbake_tables.h"));
 }
 
@@ -332,7 +341,7 @@ TEST(FloatLiteral, RoundTripsExactly) {
 }
 
 TEST_F(ExportTest, HeaderConstantsReadBackExactly) {
-  runExport(options_);
+  exportAll();
   const std::string h = slurp(options_.out / "gtbake_tables.h");
   std::smatch m;
   ASSERT_TRUE(std::regex_search(h, m, std::regex("kConeApertureU = ([^f;]+)f;")));
@@ -343,7 +352,7 @@ TEST_F(ExportTest, HeaderConstantsReadBackExactly) {
 }
 
 TEST_F(ExportTest, HeaderCompilesAlone) {
-  runExport(options_);
+  exportAll();
   std::ofstream(dir_ / "consumer.cpp")
       << "#include \"gtbake_tables.h\"\n"
       << "float f() { return gtbake::gtso3DLookup(0.5f, 1.0f, 0.5f); }\n";
@@ -360,7 +369,7 @@ TEST_F(ExportTest, ShaderIncludesCompile) {
       std::string(GTBAKE_GLSLANG).find("NOTFOUND") != std::string::npos) {
     GTEST_SKIP() << "glslangValidator not installed (apt-get install glslang-tools)";
   }
-  runExport(options_);
+  exportAll();
   const std::string glsl =
       "#version 450\nlayout(local_size_x = 1) in;\n"
       "layout(binding = 0) uniform sampler3D t3;\n"

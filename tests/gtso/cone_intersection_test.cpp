@@ -3,13 +3,12 @@
 
 #include <cmath>
 
+#include "common/math_constants.h"
 #include "common/rng.h"
 #include "gtso/cone_intersection.h"
 
 namespace gtbake::gtso {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 double monteCarlo(double a1, double a2, double beta, int n) {
   const CounterRng rng(11, 0);

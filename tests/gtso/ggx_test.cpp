@@ -3,13 +3,12 @@
 
 #include <cmath>
 
+#include "common/math_constants.h"
 #include "common/rng.h"
 #include "gtso/ggx.h"
 
 namespace gtbake::gtso {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Midpoint rule over the sphere in (cos theta, phi): dw = dcos dphi.
 template <typename F>

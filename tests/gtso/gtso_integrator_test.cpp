@@ -3,13 +3,13 @@
 
 #include <cmath>
 
+#include "common/math_constants.h"
 #include "common/rng.h"
 #include "gtso/gtso_integrator.h"
 
 namespace gtbake::gtso {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kCells = 48;  // coarser than the default: these are invariants, not accuracy
 
 std::vector<double> aAxis(int n) {
@@ -54,7 +54,7 @@ TEST(GtsoIntegrator, MirrorLimitIsDeltaVOfReflection) {
   const double thetaO = 0.5;
   const Vec3 n = {0.0, 0.0, 1.0};
   // wr makes 0.5 rad with n: inside cones wider than 0.5, outside narrower, and on the edge
-  // inside (SPEC §1.4: DeltaV = 1 where angle <= alpha_v).
+  // inside (docs/gtso.md §1: DeltaV = 1 where angle <= alpha_v).
   const auto s = specularOcclusion(0.0, std::cos(thetaO), {n},
                                    {std::cos(0.6), std::cos(0.4), std::cos(thetaO)}, kCells);
   EXPECT_EQ(s[0], 1.0);

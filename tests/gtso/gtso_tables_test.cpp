@@ -13,10 +13,10 @@
 #include "common/error.h"
 #include "common/rng.h"
 #include "common/threads.h"
-#include "export/runtime/gtso_lookup.h"
 #include "gtso/cone_fit.h"
 #include "gtso/gtso_command.h"
 #include "gtso/gtso_tables.h"
+#include "runtime/gtso_runtime.h"
 
 namespace gtbake::gtso {
 namespace {

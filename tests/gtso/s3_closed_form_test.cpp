@@ -12,9 +12,9 @@
 
 #include "common/rng.h"
 #include "common/threads.h"
-#include "export/runtime/gtso_lookup.h"
 #include "gtso/gtso_integrator.h"
 #include "gtso/s3_closed_form.h"
+#include "runtime/gtso_runtime.h"
 
 namespace gtbake::gtso {
 namespace {

@@ -1,5 +1,5 @@
-// The smaller items of issue 9 through the real binary: one line on stderr, a non-zero exit,
-// nothing written; and the library-level ones (.glb scene directories, holed ground).
+// The reliability rules of docs/limits.md through the real binary: one line on stderr, a non-zero
+// exit, nothing written; and the library-level ones (.glb scene directories, holed ground).
 #include <gtest/gtest.h>
 
 #include <cstring>

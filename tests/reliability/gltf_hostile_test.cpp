@@ -1,5 +1,6 @@
-// Hostile glTF inputs (issue 9): each case once crashed, hung, read out of bounds or silently
-// produced wrong geometry; each must now be a one-line gtbake::Error (or the right result).
+// Hostile glTF inputs (docs/limits.md): each case once crashed, hung, read out of bounds or
+// silently produced wrong geometry; each must now be a one-line gtbake::Error (or the right
+// result).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>

@@ -1,6 +1,6 @@
-// Output sets end to end (issue 9): sweep, fit, gtso and export commit whole sets; readers verify
-// them against their manifests and check EXR provenance against sweep.json; hostile EXR headers
-// and sweep.json/gtso.json entries are refused before any large allocation.
+// Output sets end to end (docs/limits.md "Output sets"): sweep, fit, gtso and export commit whole
+// sets; readers verify them against their manifests and check EXR provenance against sweep.json;
+// hostile EXR headers and sweep.json/gtso.json entries are refused before any large allocation.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -12,6 +12,7 @@
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/output_set.h"
+#include "encode/encode_command.h"
 #include "export/export_command.h"
 #include "fit/fit_command.h"
 #include "fit/sweep_data.h"
@@ -270,20 +271,30 @@ struct ExportFixture {
     e.fit = fit;
     e.gtso = gtso;
     e.out = out;
+    return e;
+  }
+  // The volumes export reads (`gtbake encode` into the same directory).
+  void encode(const fs::path& out) const {
+    EncodeOptions e;
+    e.gtso = gtso;
+    e.out = out;
     e.progress = false;
     e.threads = 1;
-    return e;
+    e.layout_lobes = 16;
+    runEncode(e);
   }
 };
 
 TEST(ExportSet, FailedExportLeavesNoNewFileBesideOldOnes) {
   const ExportFixture f;
   const fs::path out = f.root.path() / "export";
+  f.encode(out);
+  // 2 tables x {BC4, R16, R8} x {DDS, KTX2} + encode.json (layouts)
+  EXPECT_EQ(readOutputSet(out, "encode").files.size(), 13u);
   runExport(f.options(out));
   const OutputManifest m = readOutputSet(out, "export");
-  // 2 tables x {BC4, R16, R8} x {DDS, KTX2} + header + 2 includes + export.json (layouts)
-  EXPECT_EQ(m.files.size(), 16u);
-  const std::string dds = readBytes(out / "gtso3d.dds");
+  EXPECT_EQ(m.files.size(), 3u);  // header + 2 includes
+  const std::string header = readBytes(out / "gtbake_tables.h");
   // Change the inputs, then fail half-way through writing: nothing of the new set appears.
   json g = json::parse(readBytes(f.gtso / "gtso.json"));
   g["cone"]["u"] = 0.5;
@@ -293,7 +304,7 @@ TEST(ExportSet, FailedExportLeavesNoNewFileBesideOldOnes) {
     const ScopedEnv fail("GTBAKE_TEST_FAIL_WRITE", "gtbake_tables.glsl");
     EXPECT_ERROR(runExport(f.options(out)), "No space left");
   }
-  EXPECT_EQ(readBytes(out / "gtso3d.dds"), dds);
+  EXPECT_EQ(readBytes(out / "gtbake_tables.h"), header);
   verifyOutputSet(readOutputSet(out, "export"));
 }
 

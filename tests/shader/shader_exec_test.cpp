@@ -2,7 +2,7 @@
 // SPIR-V with glslangValidator and run as Vulkan compute shaders on Mesa's CPU device (lavapipe),
 // evaluating the 3D and 4D lookups, the cone model, multi-bounce and the closed-form S3 at 4,096
 // random points; the results are compared with the C++ lookup code the header ships
-// (export/runtime/gtso_lookup.h) on the same texels. Tables: the export test fixture, exported by
+// (runtime/gtso_runtime.h) on the same texels. Tables: the export test fixture, exported by
 // this test into a temporary directory; textures uploaded as BC4_UNORM (when the device samples 3D
 // BC4) and R16_UNORM.
 //
@@ -37,9 +37,10 @@
 #include <vector>
 
 #include "common/atomic_file.h"
+#include "encode/encode_command.h"
 #include "export/export_command.h"
-#include "export/runtime/gtso_lookup.h"
 #include "export_fixture.h"
+#include "runtime/gtso_runtime.h"
 
 namespace {
 
@@ -85,14 +86,18 @@ Exported exportFixture() {
   e.dir = fs::temp_directory_path() / ("gtbake_shader_test_" + std::to_string(::getpid()));
   fs::remove_all(e.dir);
   gtbake::test::writeFixture(e.dir);
+  gtbake::EncodeOptions c;
+  c.gtso = e.dir / "gtso";
+  c.out = e.dir / "out";
+  c.progress = false;
+  c.force_layout_3d = gtbake::test::kFixtureLayout3D;  // permuted volumes (export_fixture.h)
+  c.force_layout_4d = gtbake::test::kFixtureLayout4D;
+  c.layout_lobes = 16;
+  gtbake::runEncode(c);
   gtbake::ExportOptions o;
   o.fit = e.dir / "fit.json";
   o.gtso = e.dir / "gtso";
   o.out = e.dir / "out";
-  o.progress = false;
-  o.force_layout_3d = gtbake::test::kFixtureLayout3D;  // permuted volumes (export_fixture.h)
-  o.force_layout_4d = gtbake::test::kFixtureLayout4D;
-  o.layout_lobes = 16;
   gtbake::runExport(o);
   e.glsl = gtbake::readFile(e.dir / "out" / "gtbake_tables.glsl");
   e.hlsl = gtbake::readFile(e.dir / "out" / "gtbake_tables.hlsl");

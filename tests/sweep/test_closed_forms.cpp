@@ -1,5 +1,5 @@
-// A, p_k and G against closed forms (SPEC §1.1; docs/sweep.md "Tests"). Each estimate must lie
-// within 3 standard errors of its closed form, the standard error taken from the multinomial
+// A, p_k and G against closed forms (docs/sweep.md §1; docs/sweep.md "Tests"). Each estimate must
+// lie within 3 standard errors of its closed form, the standard error taken from the multinomial
 // variance p(1 − p)/N of N independent walks (an upper bound: stratifying the first bounce only
 // lowers the variance). Where the mesh only approximates the curved surface, the closed form is
 // widened by the tessellation's effect, which each test derives exactly from the mesh.
@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "closed_form_scenes.h"
+#include "common/math_constants.h"
 #include "gtso/ggx.h"
 #include "scene/procedural_scenes.h"
 #include "sweep/escape_image.h"
@@ -20,8 +21,6 @@
 
 namespace gtbake {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 double binomialSe(double p, double n) {
   return std::sqrt(std::max(p * (1.0 - p), 0.0) / n);

@@ -1,5 +1,5 @@
-// runSweep end to end: glTF in, EXR/PNG/JSON out (SPEC §2). Determinism across thread counts,
-// the channel layout, a closed form seen through the camera's pixels, and bad input.
+// runSweep end to end: glTF in, EXR/PNG/JSON out (docs/index.md "Pipeline"). Determinism across
+// thread counts, the channel layout, a closed form seen through the camera's pixels, and bad input.
 #include <gtest/gtest.h>
 #include <unistd.h>
 

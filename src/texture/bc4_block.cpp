@@ -1,4 +1,4 @@
-#include "export/bc4_block.h"
+#include "texture/bc4_block.h"
 
 namespace gtbake {
 
@@ -32,6 +32,16 @@ Bc4Block packBc4Block(int red0, int red1, const std::array<std::uint8_t, 16>& in
   block[1] = static_cast<std::uint8_t>(red1);
   for (int i = 0; i < 6; ++i) block[2 + i] = static_cast<std::uint8_t>(bits >> (8 * i));
   return block;
+}
+
+std::vector<std::uint64_t> bc4BlockWords(const std::vector<std::uint8_t>& bytes) {
+  std::vector<std::uint64_t> words(bytes.size() / kBc4BlockBytes, 0);
+  for (std::size_t b = 0; b < words.size(); ++b) {
+    for (int i = 0; i < kBc4BlockBytes; ++i) {
+      words[b] |= static_cast<std::uint64_t>(bytes[kBc4BlockBytes * b + i]) << (8 * i);
+    }
+  }
+  return words;
 }
 
 std::array<float, 16> decodeBc4Block(const std::uint8_t* block) {

@@ -1,4 +1,4 @@
-#include "export/bc4_encoder.h"
+#include "texture/bc4_encoder.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <tuple>
 
 #include "common/error.h"
 
@@ -330,49 +331,99 @@ Bc4Encoding Bc4Encoder::encodeBlock(const float* texels) const {
   return {packBc4Block(red0, red1, indices), s.best};
 }
 
+namespace {
+
+// The 16 texels of block b (z slice, row, column of blocks) of a width x height volume.
+void blockTexels(const float* data, int width, int height, std::size_t b, float* texels) {
+  const int bx = width / 4, by = height / 4;
+  const std::size_t z = b / (static_cast<std::size_t>(bx) * by);
+  const int row = static_cast<int>(b / bx % by);
+  const int col = static_cast<int>(b % bx);
+  for (int j = 0; j < 4; ++j) {
+    for (int i = 0; i < 4; ++i) {
+      texels[4 * j + i] =
+          data[(z * height + 4 * row + j) * static_cast<std::size_t>(width) + 4 * col + i];
+    }
+  }
+}
+
+// rmse and max_abs of a volume from its per-block squared-error sums and maxima, blocks in order.
+void sumBlockErrors(const std::vector<double>& block_sse, const std::vector<double>& block_max,
+                    Bc4Volume* volume) {
+  double sse = 0.0;
+  for (std::size_t b = 0; b < block_sse.size(); ++b) {
+    sse += block_sse[b];
+    volume->max_abs = std::max(volume->max_abs, block_max[b]);
+  }
+  volume->rmse = std::sqrt(sse / static_cast<double>(block_sse.size() * kBc4BlockTexels));
+}
+
+// Σ (decoded − texel)² and max |decoded − texel| of one block, row-major.
+std::pair<double, double> blockError(const std::uint8_t* block, const float* texels) {
+  const std::array<float, 16> decoded = decodeBc4Block(block);
+  double sse = 0.0;
+  double worst = 0.0;
+  for (int t = 0; t < kBc4BlockTexels; ++t) {
+    const double d = static_cast<double>(decoded[t]) - texels[t];
+    sse += d * d;
+    worst = std::max(worst, std::fabs(d));
+  }
+  return {sse, worst};
+}
+
+}  // namespace
+
 Bc4Volume encodeBc4Volume(const Bc4Encoder& encoder, const float* data, int width, int height,
                           int depth, Progress* progress) {
   const auto start = std::chrono::steady_clock::now();
-  const int bx = width / 4;
-  const int by = height / 4;
-  const std::size_t blocks = static_cast<std::size_t>(bx) * by * depth;
+  const std::size_t blocks = static_cast<std::size_t>(width / 4) * (height / 4) * depth;
   Bc4Volume volume;
   volume.bytes.resize(blocks * kBc4BlockBytes);
   std::vector<double> block_sse(blocks);
   std::vector<double> block_max(blocks);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks), [&](const auto& range) {
     for (std::size_t b = range.begin(); b != range.end(); ++b) {
-      const std::size_t z = b / (static_cast<std::size_t>(bx) * by);
-      const int row = static_cast<int>(b / bx % by);
-      const int col = static_cast<int>(b % bx);
       float texels[kBc4BlockTexels];
-      for (int j = 0; j < 4; ++j) {
-        for (int i = 0; i < 4; ++i) {
-          texels[4 * j + i] =
-              data[(z * height + 4 * row + j) * static_cast<std::size_t>(width) + 4 * col + i];
-        }
-      }
+      blockTexels(data, width, height, b, texels);
       const Bc4Encoding enc = encoder.encodeBlock(texels);
       std::copy(enc.block.begin(), enc.block.end(), &volume.bytes[b * kBc4BlockBytes]);
-      const std::array<float, 16> decoded = decodeBc4Block(enc.block.data());
-      double sse = 0.0;
-      double worst = 0.0;
-      for (int t = 0; t < kBc4BlockTexels; ++t) {
-        const double d = static_cast<double>(decoded[t]) - texels[t];
-        sse += d * d;
-        worst = std::max(worst, std::fabs(d));
-      }
-      block_sse[b] = sse;
-      block_max[b] = worst;
+      std::tie(block_sse[b], block_max[b]) = blockError(enc.block.data(), texels);
     }
     if (progress) progress->add(range.size());
   });
-  double sse = 0.0;
+  sumBlockErrors(block_sse, block_max, &volume);
+  volume.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return volume;
+}
+
+Bc4Volume swapBc4VolumeXY(const Bc4Volume& src, const float* data, int width, int height,
+                          int depth) {
+  const auto start = std::chrono::steady_clock::now();
+  const int bx = width / 4, by = height / 4;
+  const std::size_t blocks = static_cast<std::size_t>(bx) * by * depth;
+  Bc4Volume volume;
+  volume.bytes.resize(blocks * kBc4BlockBytes);
+  std::vector<double> block_sse(blocks);
+  std::vector<double> block_max(blocks);
   for (std::size_t b = 0; b < blocks; ++b) {
-    sse += block_sse[b];
-    volume.max_abs = std::max(volume.max_abs, block_max[b]);
+    const std::size_t z = b / (static_cast<std::size_t>(bx) * by);
+    const int row = static_cast<int>(b / bx % by), col = static_cast<int>(b % bx);
+    // The source volume is height x width: this block is its block (row = col, col = row).
+    const std::size_t s = (z * bx + col) * by + row;
+    const std::uint8_t* in = &src.bytes[s * kBc4BlockBytes];
+    std::uint64_t bits = 0;
+    for (int i = 0; i < 6; ++i) bits |= static_cast<std::uint64_t>(in[2 + i]) << (8 * i);
+    std::array<std::uint8_t, 16> indices{};
+    for (int j = 0; j < 4; ++j) {
+      for (int i = 0; i < 4; ++i) indices[4 * j + i] = (bits >> (3 * (4 * i + j))) & 7u;
+    }
+    const Bc4Block block = packBc4Block(in[0], in[1], indices);
+    std::copy(block.begin(), block.end(), &volume.bytes[b * kBc4BlockBytes]);
+    float texels[kBc4BlockTexels];
+    blockTexels(data, width, height, b, texels);
+    std::tie(block_sse[b], block_max[b]) = blockError(block.data(), texels);
   }
-  volume.rmse = std::sqrt(sse / static_cast<double>(blocks * kBc4BlockTexels));
+  sumBlockErrors(block_sse, block_max, &volume);
   volume.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return volume;
 }

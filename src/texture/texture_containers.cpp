@@ -1,9 +1,11 @@
-#include "export/texture_containers.h"
+#include "texture/texture_containers.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "common/error.h"
+#include "common/input_limits.h"
+#include "texture/bc4_block.h"
 
 namespace gtbake {
 namespace {
@@ -33,7 +35,6 @@ constexpr std::uint32_t kKhrDfModelRgbsda = 1;
 constexpr std::uint32_t kKhrDfPrimariesBt709 = 1;
 constexpr std::uint32_t kKhrDfTransferLinear = 1;
 constexpr std::uint32_t kKhrDfVersion = 2;        // KDFS 1.3 basic descriptor block
-constexpr std::uint32_t kBc4BlockBytes = 8;       // bytesPlane0 and the level alignment
 constexpr std::uint32_t kDfdBlockSize = 24 + 16;  // basic block header + one sample
 
 void put32(std::string& s, std::uint32_t v) {
@@ -50,20 +51,27 @@ void set32(std::string& s, std::size_t at, std::uint32_t v) {
 }
 
 // Bytes per texel of an uncompressed format (0 for BC4).
-std::uint32_t texelBytes(VolumeFormat f) {
-  return f == VolumeFormat::kR16 ? 2 : (f == VolumeFormat::kR8 ? 1 : 0);
+std::uint32_t texelBytes(TexelFormat f) {
+  return f == TexelFormat::kR16 ? 2 : (f == TexelFormat::kR8 ? 1 : 0);
+}
+
+// Payload bytes of a width x height x depth volume (BC4: 4x4 blocks).
+std::size_t payloadBytes(TexelFormat f, int width, int height, int depth) {
+  return f == TexelFormat::kBc4
+             ? static_cast<std::size_t>(width / 4) * (height / 4) * depth * kBc4BlockBytes
+             : static_cast<std::size_t>(width) * height * depth * texelBytes(f);
 }
 
 std::size_t checkedSize(const VolumeImage& image) {
-  const bool bc4 = image.format == VolumeFormat::kBc4;
+  const bool bc4 = image.format == TexelFormat::kBc4;
+  if (image.format == TexelFormat::kFloat32) {
+    throw Error("texture container: float32 volumes are not written as DDS/KTX2");
+  }
   if (image.width <= 0 || image.height <= 0 || image.depth <= 0 || image.blocks == nullptr ||
       (bc4 && (image.width % 4 != 0 || image.height % 4 != 0))) {
     throw Error("texture container: volume size must be positive (multiples of 4 in x, y for BC4)");
   }
-  const std::size_t bytes = bc4 ? static_cast<std::size_t>(image.width / 4) * (image.height / 4) *
-                                      image.depth * kBc4BlockBytes
-                                : static_cast<std::size_t>(image.width) * image.height *
-                                      image.depth * texelBytes(image.format);
+  const std::size_t bytes = payloadBytes(image.format, image.width, image.height, image.depth);
   if (image.blocks->size() != bytes) {
     throw Error("texture container: volume data has " + std::to_string(image.blocks->size()) +
                 " bytes, expected " + std::to_string(bytes));
@@ -71,11 +79,71 @@ std::size_t checkedSize(const VolumeImage& image) {
   return bytes;
 }
 
+std::uint32_t get32(const std::string& s, std::size_t at) {
+  std::uint32_t v = 0;
+  for (int i = 0; i < 4; ++i)
+    v |= static_cast<std::uint32_t>(static_cast<unsigned char>(s[at + i])) << (8 * i);
+  return v;
+}
+std::uint64_t get64(const std::string& s, std::size_t at) {
+  return get32(s, at) | static_cast<std::uint64_t>(get32(s, at + 4)) << 32;
+}
+
+constexpr std::uint32_t kMaxVolumeExtent = 16384;     // texels per axis a reader accepts
+constexpr std::size_t kDdsDataOffset = 4 + 124 + 20;  // magic, DDS_HEADER, DDS_HEADER_DXT10
+constexpr std::size_t kKtx2LevelIndex = 80;           // after the header and the index
+
+// The format with DXGI code `dxgi` (DDS) or Vulkan code `vk` (KTX2); throws for any other.
+TexelFormat formatOfCode(std::uint32_t code, const std::uint32_t (&codes)[3],
+                         const std::string& where) {
+  const TexelFormat formats[3] = {TexelFormat::kBc4, TexelFormat::kR16, TexelFormat::kR8};
+  for (int i = 0; i < 3; ++i) {
+    if (code == codes[i]) return formats[i];
+  }
+  throw Error(where + ": format code " + std::to_string(code) + " is not BC4, R16 or R8 UNORM");
+}
+
+// The volume at [at, at + length) of `bytes` after checking the extent and that length is the
+// payload that extent implies.
+VolumeData checkedVolume(TexelFormat f, std::uint32_t w, std::uint32_t h, std::uint32_t d,
+                         const std::string& bytes, std::uint64_t at, std::uint64_t length,
+                         const std::string& where) {
+  if (w == 0 || h == 0 || d == 0 || w > kMaxVolumeExtent || h > kMaxVolumeExtent ||
+      d > kMaxVolumeExtent) {
+    throw Error(where + ": volume extent " + std::to_string(w) + "x" + std::to_string(h) + "x" +
+                std::to_string(d) + " outside [1, " + std::to_string(kMaxVolumeExtent) + "]");
+  }
+  if (f == TexelFormat::kBc4 && (w % 4 != 0 || h % 4 != 0)) {
+    throw Error(where + ": BC4 width and height must be multiples of 4");
+  }
+  const std::size_t expected =
+      payloadBytes(f, static_cast<int>(w), static_cast<int>(h), static_cast<int>(d));
+  if (length != expected || at > bytes.size() || bytes.size() - at < length) {
+    throw Error(where + ": payload of " + std::to_string(length) + " bytes at offset " +
+                std::to_string(at) + " does not hold the " + std::to_string(expected) +
+                " bytes of the volume in a file of " + std::to_string(bytes.size()));
+  }
+  VolumeData v;
+  v.format = f;
+  v.width = static_cast<int>(w);
+  v.height = static_cast<int>(h);
+  v.depth = static_cast<int>(d);
+  v.bytes.assign(bytes.begin() + static_cast<std::ptrdiff_t>(at),
+                 bytes.begin() + static_cast<std::ptrdiff_t>(at + length));
+  return v;
+}
+
+void expect(bool ok, const std::string& where, const char* field) {
+  if (!ok) throw Error(where + ": unexpected " + field + " (not a volume gtbake writes)");
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> quantizeUnorm(const float* values, std::size_t count,
-                                        VolumeFormat format) {
-  if (format == VolumeFormat::kBc4) throw Error("quantizeUnorm: BC4 is not an unorm format");
+                                        TexelFormat format) {
+  if (format != TexelFormat::kR16 && format != TexelFormat::kR8) {
+    throw Error("quantizeUnorm: only R16 and R8 are unorm formats");
+  }
   const std::uint32_t tb = texelBytes(format);
   const double scale = tb == 2 ? 65535.0 : 255.0;
   std::vector<std::uint8_t> out(count * tb);
@@ -88,9 +156,30 @@ std::vector<std::uint8_t> quantizeUnorm(const float* values, std::size_t count,
   return out;
 }
 
+std::vector<std::uint16_t> r16Words(const std::vector<std::uint8_t>& texels) {
+  std::vector<std::uint16_t> out(texels.size() / 2);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i] = static_cast<std::uint16_t>(texels[2 * i] | texels[2 * i + 1] << 8);
+  }
+  return out;
+}
+
+std::vector<float> dequantizeUnorm(const std::vector<std::uint8_t>& texels, TexelFormat format) {
+  if (format == TexelFormat::kR16) {
+    const std::vector<std::uint16_t> words = r16Words(texels);
+    std::vector<float> out(words.size());
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<float>(words[i]) / 65535.0f;
+    return out;
+  }
+  if (format != TexelFormat::kR8) throw Error("dequantizeUnorm: only R16 and R8 are unorm formats");
+  std::vector<float> out(texels.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<float>(texels[i]) / 255.0f;
+  return out;
+}
+
 std::string makeDds(const VolumeImage& image) {
   const std::size_t bytes = checkedSize(image);
-  const bool bc4 = image.format == VolumeFormat::kBc4;
+  const bool bc4 = image.format == TexelFormat::kBc4;
   // dwPitchOrLinearSize: BC4 the bytes of one slice of the top level (DirectXTex), else the
   // bytes of one row.
   const std::uint32_t pitch =
@@ -117,7 +206,7 @@ std::string makeDds(const VolumeImage& image) {
   put32(s, 0);  // dwCaps4
   put32(s, 0);  // dwReserved2
   put32(s, bc4 ? kDxgiFormatBc4Unorm
-               : (image.format == VolumeFormat::kR16 ? kDxgiFormatR16Unorm : kDxgiFormatR8Unorm));
+               : (image.format == TexelFormat::kR16 ? kDxgiFormatR16Unorm : kDxgiFormatR8Unorm));
   put32(s, kD3d10ResourceDimensionTexture3d);
   put32(s, 0);  // miscFlag
   put32(s, 1);  // arraySize
@@ -128,11 +217,11 @@ std::string makeDds(const VolumeImage& image) {
 
 std::string makeKtx2(const VolumeImage& image, const std::string& writer) {
   const std::size_t bytes = checkedSize(image);
-  const bool bc4 = image.format == VolumeFormat::kBc4;
+  const bool bc4 = image.format == TexelFormat::kBc4;
   const std::uint32_t tb = texelBytes(image.format);
   std::string s(reinterpret_cast<const char*>(kKtx2Identifier), sizeof(kKtx2Identifier));
   put32(s, bc4 ? kVkFormatBc4UnormBlock
-               : (image.format == VolumeFormat::kR16 ? kVkFormatR16Unorm : kVkFormatR8Unorm));
+               : (image.format == TexelFormat::kR16 ? kVkFormatR16Unorm : kVkFormatR8Unorm));
   put32(s, bc4 ? 1 : tb);  // typeSize: block-compressed formats use 1, else the component size
   put32(s, image.width);
   put32(s, image.height);
@@ -185,6 +274,45 @@ std::string makeKtx2(const VolumeImage& image, const std::string& writer) {
   set64(s, level_at + 8, bytes);
   set64(s, level_at + 16, bytes);
   return s;
+}
+
+VolumeData parseDds(const std::string& bytes, const std::string& where) {
+  expect(bytes.size() >= kDdsDataOffset, where, "size (shorter than the DDS headers)");
+  expect(get32(bytes, 0) == kDdsMagic && get32(bytes, 4) == 124, where, "DDS magic or header size");
+  expect(get32(bytes, 76) == 32 && (get32(bytes, 80) & kDdpfFourCc) != 0 &&
+             get32(bytes, 84) == kFourCcDx10,
+         where, "pixel format (DX10 FourCC)");
+  expect((get32(bytes, 112) & kDdsCaps2Volume) != 0 && get32(bytes, 28) <= 1, where,
+         "caps (one mip level of a volume)");
+  expect(get32(bytes, 132) == kD3d10ResourceDimensionTexture3d && get32(bytes, 140) == 1, where,
+         "DX10 dimension or array size");
+  const TexelFormat f = formatOfCode(
+      get32(bytes, 128), {kDxgiFormatBc4Unorm, kDxgiFormatR16Unorm, kDxgiFormatR8Unorm}, where);
+  return checkedVolume(f, get32(bytes, 16), get32(bytes, 12), get32(bytes, 24), bytes,
+                       kDdsDataOffset, bytes.size() - kDdsDataOffset, where);
+}
+
+VolumeData parseKtx2(const std::string& bytes, const std::string& where) {
+  expect(
+      bytes.size() >= kKtx2LevelIndex + 24 &&
+          bytes.compare(0, sizeof(kKtx2Identifier), reinterpret_cast<const char*>(kKtx2Identifier),
+                        sizeof(kKtx2Identifier)) == 0,
+      where, "KTX2 identifier");
+  expect(get32(bytes, 32) == 0 && get32(bytes, 36) == 1 && get32(bytes, 40) == 1 &&
+             get32(bytes, 44) == 0,
+         where, "layer, face or level count or supercompression");
+  const TexelFormat f = formatOfCode(
+      get32(bytes, 12), {kVkFormatBc4UnormBlock, kVkFormatR16Unorm, kVkFormatR8Unorm}, where);
+  const std::uint64_t length = get64(bytes, kKtx2LevelIndex + 8);
+  expect(get64(bytes, kKtx2LevelIndex + 16) == length, where, "uncompressed level length");
+  return checkedVolume(f, get32(bytes, 20), get32(bytes, 24), get32(bytes, 28), bytes,
+                       get64(bytes, kKtx2LevelIndex), length, where);
+}
+
+VolumeData readVolumeFile(const std::filesystem::path& path) {
+  const std::string bytes = readRegularFile(path);
+  if (path.extension() == ".ktx2") return parseKtx2(bytes, path.string());
+  return parseDds(bytes, path.string());
 }
 
 }  // namespace gtbake

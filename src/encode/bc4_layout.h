@@ -1,7 +1,7 @@
 // The texture layout of each GTSO volume, chosen by `gtbake export` with the real BC4 encoder
 // (docs/export.md §2a).
 //
-// A layout (runtime/gtso_lookup.h GtsoLayout) assigns the table axes (A, theta_o or beta, r_p) to
+// A layout (runtime/gtso_runtime.h GtsoLayout) assigns the table axes (A, theta_o or beta, r_p) to
 // texture x, y, z; the BC4 blocks are 4x4 over (x, y) and the 4D theta_o axis always folds into
 // the depth. Each candidate is encoded with the exact encoder and scored end to end as the runtime
 // reads it: BC4 decode, half-texel remap, trilinear filter and 4D fold through the shipped lookup
@@ -17,9 +17,9 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "export/bc4_encoder.h"
 #include "export/export_inputs.h"
-#include "export/runtime/gtso_lookup.h"
+#include "runtime/gtso_runtime.h"
+#include "texture/bc4_encoder.h"
 
 namespace gtbake {
 
@@ -34,6 +34,9 @@ struct LayoutOptions {
   std::uint64_t report_seed = kLayoutReportSeed;  // fresh points every candidate is reported on
   int cells = 0;                       // integrator cells of the exact S; 0 = gtso.json's (or 96)
   const GtsoLayout* forced = nullptr;  // tests: skip the choice, use this layout
+  // Progress bars (exact S at the points per lobe, then the candidates' blocks) under this
+  // label; nullptr: silent.
+  const char* progress_label = nullptr;
 };
 
 struct LayoutCandidate {
@@ -68,7 +71,7 @@ std::vector<float> permuteToLayout(const GtsoTable& t, const GtsoLayout& layout)
 std::string layoutSwizzle(const GtsoLayout& layout);
 
 LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const GtsoInput& gtso,
-                          const LayoutOptions& options, Progress* progress);
+                          const LayoutOptions& options);
 
 // Both tables' choices: what export writes, and what `gtbake all` hands to validate-gtso (which
 // runs before export) so both read the same blocks without choosing twice.

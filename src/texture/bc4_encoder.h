@@ -1,4 +1,4 @@
-// Exact-optimum BC4_UNORM encoder (SPEC §1.5).
+// Exact-optimum BC4_UNORM encoder (docs/export.md §2).
 //
 // Contract. For a 4×4 block of targets v_t (clamped to [0, 1], NaN rejected), the encoder returns
 // the endpoint pair (red_0, red_1) ∈ [0, 255]² and indices minimising
@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "common/progress.h"
-#include "export/bc4_block.h"
+#include "texture/bc4_block.h"
 
 namespace gtbake {
 
@@ -68,6 +68,15 @@ struct Bc4Volume {
 // over slices with TBB; the bytes and the errors do not depend on the thread count.
 Bc4Volume encodeBc4Volume(const Bc4Encoder& encoder, const float* data, int width, int height,
                           int depth, Progress* progress);
+
+// The encoding of the same volume with texture x and y swapped, without running the encoder: each
+// block of `src` (a height x width x depth encoding) transposed, endpoints kept and the 4x4
+// indices transposed; `data` (width x height x depth, x fastest) is the swapped volume, against
+// which rmse and max_abs are summed as encodeBc4Volume sums them. The exact encoder's error is a
+// sum over the same 16 squared terms, so its optimum is the transposed block up to the summation
+// order of ties; tests/export/bc4_encoder_test.cpp checks byte equality with encodeBc4Volume.
+Bc4Volume swapBc4VolumeXY(const Bc4Volume& src, const float* data, int width, int height,
+                          int depth);
 
 // Decodes a volume written by encodeBc4Volume back to floats (x fastest).
 std::vector<float> decodeBc4Volume(const std::uint8_t* bytes, int width, int height, int depth);

@@ -1,11 +1,11 @@
-// GTSO runtime lookup (SPEC §1.4-1.5): the axis warps of the 3D and 4D tables and the texture
+// GTSO runtime lookup (docs/gtso.md §1-1.5): the axis warps of the 3D and 4D tables and the texture
 // reads a shader performs (BC4 decode, half-texel remap, trilinear filter, 4D fold), for float32,
 // BC4_UNORM, R16_UNORM and R8_UNORM texels; the cone-to-cone model and the multi-bounce fit.
 //
 // This file is the single C++ definition of the table axes: `gtbake gtso` bakes texel i of each
 // axis at the inverse map of i/(N-1), the lookups here apply the forward map, and `gtbake export`
 // copies this file verbatim into the generated gtbake_tables.h (so the shipped header carries
-// exactly this tested code). gtso_lookup.glsl / .hlsl are the shader ports, executed against
+// exactly this tested code). gtso_runtime.shader is the HLSL/GLSL port, executed against
 // this file by tests/shader. Self-contained C++17 (<cmath>, <cstdint>), namespace gtbake.
 //
 // Inputs: A (ambient occlusion, cos(alpha_v) = sqrt(1 - A), paper Eq. 18), cosBeta (cosine of the

@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 namespace gtbake {
 
@@ -29,6 +30,9 @@ Bc4Palette bc4Palette(int red0, int red1);
 
 // Packs endpoints and 16 indices (row-major) into the 8-byte layout above.
 Bc4Block packBc4Block(int red0, int red1, const std::array<std::uint8_t, 16>& indices);
+
+// The blocks of a BC4 payload as little-endian 64-bit words (GtsoVolume's BC4 texels).
+std::vector<std::uint64_t> bc4BlockWords(const std::vector<std::uint8_t>& bytes);
 
 // Decodes one block into 16 floats, row-major.
 std::array<float, 16> decodeBc4Block(const std::uint8_t* block);

@@ -1,5 +1,5 @@
 // GTSO lookups, cone model and multi-bounce for HLSL and GLSL: the shader port of
-// gtso_lookup.h (same axis maps, same half-texel remap and 4D fold; the texture unit does the
+// gtso_runtime.h (same axis maps, same half-texel remap and 4D fold; the texture unit does the
 // decode and the trilinear filter). `gtbake export` prepends the language macros and the
 // constants below and writes the result as gtbake_tables.hlsl / .glsl; tests/shader compiles both
 // to SPIR-V and executes them against the C++ header.
@@ -8,10 +8,10 @@
 // one volume texture), GTSO_SAMPLE(coord) (its filtered value at coord), and the constants
 // kGtsoPiF, kGtsoSigmaScaleF, kGtsoSigmaFloorF, kGtsoSpanFloorF, kGtsoThetaLobeScaleF,
 // kGtsoThetaLobeFloorF, kGtsoThetaLinearF, kGtsoBetaLinearF (the axis constants of
-// gtso_lookup.h, written by export from the same C++ constants), kGtso3DSize (float3),
+// gtso_runtime.h, written by export from the same C++ constants), kGtso3DSize (float3),
 // kGtso4DSize (float4 as x, y, z, w), kConeApertureU and kMultiBounceA/B/C ({slope, intercept}
 // as float2, .x = slope). GTSO_3D_LAYOUT(c) / GTSO_4D_LAYOUT(c): the swizzle taking the table
-// axes (A, theta_o or beta, r_p) to texture (x, y, z) in the layout export chose (gtso_lookup.h
+// axes (A, theta_o or beta, r_p) to texture (x, y, z) in the layout export chose (gtso_runtime.h
 // GtsoLayout; e.g. (c).yzx puts theta_o and r_p in the BC4 block plane and A in depth).
 
 // asinh(x) for x >= 0 (HLSL has no asinh).
@@ -22,7 +22,7 @@ float gtsoAlphaV(float A) {
   return GTSO_ATAN2(sqrt(a), sqrt(1.0 - a));
 }
 
-// The span of each side of the step (gtsoSpanAbove / gtsoSpanBelow of gtso_lookup.h).
+// The span of each side of the step (gtsoSpanAbove / gtsoSpanBelow of gtso_runtime.h).
 float gtsoSpanAbove(float s) {
   float d = max(0.5 * kGtsoPiF - s, 0.0);
   return sqrt(d * d + kGtsoSpanFloorF * kGtsoSpanFloorF);
@@ -157,7 +157,7 @@ float gtsoConeModel(float A, float cosBeta, float rp) {
                1.0);
 }
 
-// ---- closed-form S3, no sampler (gtso_lookup.h gtsoS3ClosedForm; docs/gtso.md) ----
+// ---- closed-form S3, no sampler (gtso_runtime.h gtsoS3ClosedForm; docs/gtso.md) ----
 // Needs kGtsoS3ClosedForm (float[90]: 9 sets of 10 polynomial coefficients, fitted by
 // `gtbake gtso`) and kGtsoS3ClosedFormAlphaFloorF. S = (1 - w) L(z) + w L(p_t d) in the log-odds
 // u = log(A / (1 - A)) / 2 around the lobe's median u_m; exactly 0 at A = 0 and 1 at A = 1.
