@@ -2,6 +2,7 @@
 // a valid output set so the reader's own checks (not just the manifest's hash) are exercised:
 //   0 sweep.json (loadSweep, with a valid EXR beside it)   1 gtso.json (readGtsoInput)
 //   2 fit.json (readFitInput)                              3 a manifest (readOutputSet)
+//   4 sweep.json with G-buffer channels and cameras (screen-ao's readSweepImages)
 #include <nlohmann/json.hpp>
 
 #include "common/atomic_file.h"
@@ -11,6 +12,7 @@
 #include "export/export_inputs.h"
 #include "fit/sweep_data.h"
 #include "fuzz_target.h"
+#include "screen_ao/gbuffer.h"
 
 namespace gtbake::fuzz {
 
@@ -46,6 +48,19 @@ void writeFixtures(const std::string& dir) {
                                    {"gtbake.seed", "1"},
                                    {"gtbake.scene", std::string(scene) + ".gltf"}}));
   }
+  // The G-buffer sweep: a plane facing the camera at depth 2 (Z, N, BN, A_R1 beside A and mask).
+  ensureDirectory(dir + "/gbuffer");
+  std::vector<ExrChannel> gbuffer = {{"A", a},
+                                     {"mask", mask},
+                                     {"A_R1", a},
+                                     {"Z", std::vector<float>(n, 2.0f)},
+                                     {"NX", std::vector<float>(n, 0.0f)},
+                                     {"NY", std::vector<float>(n, 0.0f)},
+                                     {"NZ", std::vector<float>(n, 1.0f)},
+                                     {"BNX", std::vector<float>(n, 0.0f)},
+                                     {"BNY", std::vector<float>(n, 0.0f)},
+                                     {"BNZ", std::vector<float>(n, 1.0f)}};
+  writeFileAtomically(dir + "/gbuffer/a.exr", encodeExr(kSide, kSide, gbuffer));
   writeFileAtomically(dir + "/gtso/t3.f32", std::string(4 * 4 * 4 * 4, '\0'));
   writeFileAtomically(dir + "/gtso/t4.f32", std::string(4 * 4 * 4 * 4 * 4, '\0'));
 }
@@ -62,6 +77,23 @@ nlohmann::json sweepJson() {
                              {"height", kSide},
                              {"unmasked_pixels", kSide * kSide}});
   }
+  return doc;
+}
+
+nlohmann::json gbufferJson() {
+  nlohmann::json doc;
+  doc["gtbake_version"] = "0";
+  doc["scenes"].push_back({{"name", "a"},
+                           {"file", "a.exr"},
+                           {"width", kSide},
+                           {"height", kSide},
+                           {"camera",
+                            {{"model", "perspective"},
+                             {"position", {0.0, 0.0, 0.0}},
+                             {"right", {1.0, 0.0, 0.0}},
+                             {"up", {0.0, 1.0, 0.0}},
+                             {"backward", {0.0, 0.0, 1.0}},
+                             {"yfov", 0.8}}}});
   return doc;
 }
 
@@ -97,7 +129,8 @@ std::vector<std::string> seeds() {
       R"({"command":"x","gtbake_version":"0","settings":{},"files":[{"name":"a","size":1,)"
       R"("sha256":"ca978112ca1bbdcafac231b39a23dc4da786eff8147c4e72b9807785afee48bb"}]})";
   return {std::string(1, '\0') + sweepJson().dump(), std::string(1, '\1') + gtsoJson().dump(),
-          std::string(1, '\2') + fitJson().dump(), std::string(1, '\3') + manifest};
+          std::string(1, '\2') + fitJson().dump(), std::string(1, '\3') + manifest,
+          std::string(1, '\4') + gbufferJson().dump()};
 }
 
 }  // namespace gtbake::fuzz
@@ -109,7 +142,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz::writeFixtures(dir);
   const std::string_view doc(reinterpret_cast<const char*>(data) + 1, size - 1);
   try {
-    switch (data[0] % 4) {
+    switch (data[0] % 5) {
       case 0:
         writeFileAtomically(dir + "/sweep/sweep.json", doc);
         sealOutputSet(dir + "/sweep", "sweep", {"sweep.json", "a.exr", "b.exr"});
@@ -124,6 +157,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         writeFileAtomically(dir + "/fit/fit.json", doc);
         sealOutputSet(dir + "/fit", "fit", {"fit.json"});
         readFitInput(dir + "/fit/fit.json");
+        break;
+      case 4:
+        writeFileAtomically(dir + "/gbuffer/sweep.json", doc);
+        sealOutputSet(dir + "/gbuffer", "sweep", {"sweep.json", "a.exr"});
+        readSweepImages(dir + "/gbuffer");
         break;
       default:
         writeFileAtomically(dir + "/set/x.manifest.json", doc);

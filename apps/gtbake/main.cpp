@@ -25,6 +25,7 @@
 #include "option_values.h"
 #include "pipeline/all_command.h"
 #include "scene/scenes_command.h"
+#include "screen_ao/screen_ao_command.h"
 #include "sweep/merge_command.h"
 #include "sweep/specular_occlusion.h"
 #include "sweep/sweep_command.h"
@@ -106,13 +107,18 @@ Subcommand addSweepCommand(CLI::App& app) {
       ->capture_default_str();
   parser->add_option("--specular-spp", options->specular_spp, "VNDF samples per roughness (even)")
       ->capture_default_str();
+  auto gbuffer_radii = std::make_shared<std::string>(gbufferRadiusList(options->gbuffer_radii));
+  parser
+      ->add_option("--gbuffer-radius", *gbuffer_radii,
+                   "Radii (m) of the A_R channels (A with the sky beyond R), or none")
+      ->capture_default_str();
   auto shard = std::make_shared<std::string>();
   parser->add_option("--shard", *shard,
                      "Trace only shard I of N (0 <= I < N) into --out, for gtbake merge");
   parser->add_flag("--resume", options->resume,
                    "Continue an interrupted sweep from the tiles saved in --out");
-  return {parser,
-          [options, resolution, seed, specular_roughness, shard](const RunContext& context) {
+  return {parser, [options, resolution, seed, specular_roughness, gbuffer_radii,
+                   shard](const RunContext& context) {
             std::tie(options->width, options->height) = parseResolution(*resolution);
             options->seed = parseSeed(*seed, "--seed");
             if (options->bounces == 0) {
@@ -121,6 +127,7 @@ Subcommand addSweepCommand(CLI::App& app) {
                   "P1); use 1 to 16");
             }
             options->specular_roughness = parseSpecularRoughness(*specular_roughness);
+            options->gbuffer_radii = parseGbufferRadii(*gbuffer_radii);
             if (!shard->empty()) std::tie(options->shard, options->shards) = parseShard(*shard);
             options->command_line = context.command_line;
             options->progress = context.progress;
@@ -246,10 +253,34 @@ Subcommand addExportCommand(CLI::App& app) {
           }};
 }
 
+Subcommand addScreenAoCommand(CLI::App& app) {
+  auto options = std::make_shared<ScreenAoOptions>();
+  auto estimators = std::make_shared<std::string>("all");
+  auto settings = std::make_shared<std::vector<std::string>>();
+  auto* parser = app.add_subcommand(
+      "screen-ao", "Screen-space A and bent normals from a sweep's G-buffer vs ray-traced truth");
+  parser->add_option("--sweep", options->sweep, "Directory written by gtbake sweep")->required();
+  parser->add_option("--out", options->out, "Output directory")->required();
+  parser
+      ->add_option("--estimators", *estimators,
+                   "gtao-reference,gtao-runtime,hbao,bitmask-uniform,bitmask-cosine or all")
+      ->capture_default_str();
+  parser->add_option("--setting", *settings,
+                     "ESTIMATOR.KEY=VALUE, repeatable (e.g. gtao-runtime.directions=8, "
+                     "all.radius=0.5; docs/screen_ao.md)");
+  addThreadsOption(parser, options->threads);
+  return {parser, [options, estimators, settings](const RunContext& context) {
+            options->estimators = parseEstimatorList(*estimators);
+            for (const std::string& s : *settings) applySetting(&options->settings, s);
+            options->progress = context.progress;
+            runScreenAo(*options);
+          }};
+}
+
 Subcommand addAllCommand(CLI::App& app) {
   auto options = std::make_shared<AllOptions>();
   auto* parser = app.add_subcommand(
-      "all", "scenes, sweep, fit, gtso, encode, validate-gtso and export with defaults");
+      "all", "scenes, sweep, fit, gtso, encode, validate-gtso, export and screen-ao with defaults");
   parser->add_option("--out", options->out, "Output directory")->capture_default_str();
   addThreadsOption(parser, options->threads);
   parser->add_option("--scenes", options->scenes,
@@ -278,6 +309,7 @@ std::vector<Subcommand> registerSubcommands(CLI::App& app) {
   subcommands.push_back(addValidateGtsoCommand(app));
   subcommands.push_back(addEncodeCommand(app));
   subcommands.push_back(addExportCommand(app));
+  subcommands.push_back(addScreenAoCommand(app));
   subcommands.push_back(addAllCommand(app));
   return subcommands;
 }

@@ -72,6 +72,26 @@ std::pair<int, int> parseShard(const std::string& text) {
   return {index, count};
 }
 
+std::vector<double> parseGbufferRadii(const std::string& text) {
+  if (text == "none") return {};
+  std::vector<double> values;
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t end = text.find(',', begin);
+    const std::string item = text.substr(begin, end == std::string::npos ? end : end - begin);
+    char* stop = nullptr;
+    const double v = std::strtod(item.c_str(), &stop);
+    if (item.empty() || stop != item.c_str() + item.size() || !std::isfinite(v) || !(v > 0.0)) {
+      throw Error("--gbuffer-radius must be 'none' or comma-separated positive metres, got '" +
+                  text + "'");
+    }
+    values.push_back(v);
+    if (end == std::string::npos) break;
+    begin = end + 1;
+  }
+  return values;
+}
+
 std::vector<double> parseSpecularRoughness(const std::string& text) {
   if (text == "none") return {};
   std::vector<double> values;

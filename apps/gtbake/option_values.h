@@ -26,6 +26,9 @@ std::uint64_t parseSeed(const std::string& text, const std::string& option);
 // --shard "I/N" with 0 ≤ I < N ≤ kMaxShards → (I, N); a one-line gtbake::Error otherwise.
 std::pair<int, int> parseShard(const std::string& text);
 
+// --gbuffer-radius: "none" (empty) or comma-separated positive finite metres. Throws gtbake::Error.
+std::vector<double> parseGbufferRadii(const std::string& text);
+
 // --specular-roughness: "none" (empty) or comma-separated r_p values. Throws gtbake::Error.
 std::vector<double> parseSpecularRoughness(const std::string& text);
 

@@ -10,6 +10,7 @@
 #include "fit/fit_command.h"
 #include "gtso/gtso_command.h"
 #include "scene/scenes_command.h"
+#include "screen_ao/screen_ao_command.h"
 #include "sweep/sweep_command.h"
 #include "validate_gtso/validate_gtso_command.h"
 
@@ -39,7 +40,8 @@ struct StageTimes {
 
 void printSummary(const AllOptions& options, const SweepResult& swept, const FitResult& fitted,
                   const GtsoResult& baked, const EncodeResult& encoded,
-                  const ValidateGtsoResult& validated, const StageTimes& times) {
+                  const ValidateGtsoResult& validated, const ScreenAoResult& screened,
+                  const StageTimes& times) {
   std::printf("\ngtbake all: summary (%s)\n", options.out.c_str());
   std::printf("  Equation 10      refit ± SE scenes (SE Monte Carlo)   paper     refit - paper\n");
   for (size_t i = 0; i < 6; ++i) {
@@ -56,10 +58,15 @@ void printSummary(const AllOptions& options, const SweepResult& swept, const Fit
   std::printf("  BC4 3D table     RMSE %.2e  max %.2e\n", encoded.bc4_rmse_3d, encoded.bc4_max_3d);
   std::printf("  BC4 4D table     RMSE %.2e  max %.2e\n", encoded.bc4_rmse_4d, encoded.bc4_max_4d);
   std::printf(
+      "  screen-space AO  gtao-reference RMSE %.4f vs ray-traced A at its radius"
+      " (screen_ao/screen_ao.json)\n",
+      screened.reference_rmse);
+  std::printf(
       "  time             scenes %.1f s, sweep %.1f s (%.1f Mrays/s), fit %.1f s, gtso %.1f s,"
-      " encode %.1f s, validate-gtso %.1f s, export %.1f s; total %.1f s\n",
+      " encode %.1f s, validate-gtso %.1f s, export %.1f s, screen-ao %.1f s; total %.1f s\n",
       times.scenes, swept.seconds, swept.seconds > 0 ? swept.rays / swept.seconds * 1e-6 : 0.0,
-      times.fit, baked.seconds, encoded.seconds, validated.seconds, times.exporter, times.total);
+      times.fit, baked.seconds, encoded.seconds, validated.seconds, times.exporter,
+      screened.seconds, times.total);
 }
 
 }  // namespace
@@ -139,8 +146,16 @@ void runAll(const AllOptions& options) {
   runExport(exporter);
   const double export_seconds = secondsSince(t);
 
+  banner("screen-ao", options.progress);
+  ScreenAoOptions screen_ao;
+  screen_ao.sweep = sweep.out;
+  screen_ao.out = options.out / "screen_ao";
+  screen_ao.threads = limit.threads();
+  screen_ao.progress = options.progress;
+  const ScreenAoResult screened = runScreenAo(screen_ao);
+
   StageTimes times{scenes_seconds, fit_seconds, export_seconds, secondsSince(start)};
-  printSummary(options, swept, fitted, baked, encoded, validated, times);
+  printSummary(options, swept, fitted, baked, encoded, validated, screened, times);
 }
 
 }  // namespace gtbake

@@ -158,6 +158,7 @@ SurfaceHit EmbreeTracer::surfaceHit(const RTCRayHit& rh) const {
   hitFrame(o, d, rh.ray.tfar, g, triangle_scale_[rh.hit.primID], p, n, &hit.scale);
   hit.position = Eigen::Vector3f(p[0], p[1], p[2]);
   hit.normal = Eigen::Vector3f(n[0], n[1], n[2]);
+  hit.t = rh.ray.tfar;
   return hit;
 }
 

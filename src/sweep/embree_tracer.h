@@ -40,6 +40,7 @@ struct SurfaceHit {
   Eigen::Vector3f position;  // o + t·d of the ray that found it
   Eigen::Vector3f normal;    // unit geometric normal facing the incoming ray
   float scale = 0.0f;        // m of kRayOffsetRelative (0: use |x|∞ alone)
+  float t = 0.0f;            // distance along the (unit) ray that found it
 };
 
 struct Ray {

@@ -35,6 +35,8 @@ EscapeImage makeEscapeImage(int width, int height, const WalkSettings& settings)
   image.normal.assign(3 * pixels, 0.0f);
   image.view.assign(3 * pixels, 0.0f);
   image.bent.assign(3 * pixels, 0.0f);
+  image.depth.assign(pixels, 0.0f);
+  image.radius_hits.assign(pixels * settings.gbuffer_radii.size(), 0);
   image.specular.assign(3 * pixels * settings.specular_roughness.size(), 0.0f);
   return image;
 }
@@ -52,8 +54,13 @@ std::uint64_t tracePixel(const EmbreeTracer& tracer, const PerspectiveCamera& ca
       pixelStream(settings.scene_key, static_cast<std::uint64_t>(j) * width + i);
   const std::size_t per_pixel = 2 * static_cast<std::size_t>(settings.bounces + 1);
   double bent[3] = {0.0, 0.0, 0.0};
-  std::uint64_t rays = 1 + countEscapes(tracer, hit, settings, stream,
-                                        &image->counts[p * per_pixel], &scratch->walks, bent);
+  const std::size_t radii = settings.gbuffer_radii.size();
+  std::uint64_t rays =
+      1 + countEscapes(tracer, hit, settings, stream, &image->counts[p * per_pixel],
+                       &scratch->walks, bent, radii > 0 ? &image->radius_hits[p * radii] : nullptr);
+  const Eigen::Vector3d forward = -camera.basis.col(2);
+  image->depth[p] =
+      static_cast<float>((hit.position.cast<double>() - camera.position).dot(forward));
   const float wo[3] = {-camera_ray.direction.x(), -camera_ray.direction.y(),
                        -camera_ray.direction.z()};
   const double length = std::sqrt(bent[0] * bent[0] + bent[1] * bent[1] + bent[2] * bent[2]);
@@ -118,11 +125,42 @@ std::string albedoChannelName(double albedo) {
   return name;
 }
 
+std::string gbufferRadiusChannelName(double radius) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%g", radius);
+  std::string name = std::string("A_R") + text;
+  std::replace(name.begin(), name.end(), '.', 'p');
+  return name;
+}
+
 std::string specularChannelName(double roughness) {
   char name[8];
   std::snprintf(name, sizeof(name), "S%03d", static_cast<int>(std::lround(roughness * 100.0)));
   return name;
 }
+
+namespace {
+
+// Z, then A_R per G-buffer radius: (c_0 + first hits beyond R)/N (docs/sweep.md, "G-buffer").
+std::vector<ExrChannel> gbufferChannels(const EscapeImage& image) {
+  const std::size_t pixels = image.mask.size();
+  const std::size_t radii = image.settings.gbuffer_radii.size();
+  std::vector<ExrChannel> channels = {{"Z", image.depth}};
+  for (float r : image.settings.gbuffer_radii) {
+    channels.push_back({gbufferRadiusChannelName(r), std::vector<float>(pixels, 0.0f)});
+  }
+  for (std::size_t p = 0; p < pixels; ++p) {
+    if (image.mask[p] == 0) continue;
+    const double escaped = static_cast<double>(image.count(p, 0, 0)) + image.count(p, 1, 0);
+    for (std::size_t r = 0; r < radii; ++r) {
+      channels[1 + r].pixels[p] = static_cast<float>((escaped + image.radius_hits[p * radii + r]) /
+                                                     static_cast<double>(image.settings.spp));
+    }
+  }
+  return channels;
+}
+
+}  // namespace
 
 std::vector<ExrChannel> escapeChannels(const EscapeImage& image) {
   const int bounces = image.settings.bounces;
@@ -194,6 +232,7 @@ std::vector<ExrChannel> escapeChannels(const EscapeImage& image) {
   for (auto& c : g) channels.push_back(std::move(c));
   channels.push_back(std::move(mask));
   for (auto& c : vectors) channels.push_back(std::move(c));
+  for (auto& c : gbufferChannels(image)) channels.push_back(std::move(c));
   for (auto& c : specular) channels.push_back(std::move(c));
   for (auto& half : halves) {
     for (auto& c : half) channels.push_back(std::move(c));

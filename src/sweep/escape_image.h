@@ -42,6 +42,11 @@ struct EscapeImage {
   std::vector<float> normal;
   std::vector<float> view;
   std::vector<float> bent;
+  // Per pixel: linear view depth Z (metres along the camera's forward axis −basis.col(2) from the
+  // camera to the hit) and, per G-buffer radius r (settings.gbuffer_radii), the walks whose first
+  // segment hit beyond it, at p·radii + r.
+  std::vector<float> depth;
+  std::vector<std::uint32_t> radius_hits;
   // Per pixel and roughness j (R = settings.specular_roughness.size()): Ŝ, H0, H1 at
   // 3(pR + j) + {0, 1, 2}.
   std::vector<float> specular;
@@ -88,12 +93,16 @@ inline EscapeImage traceEscapeImage(const EmbreeTracer& tracer, const Perspectiv
                           progress_label, progress);
 }
 
-// EXR channels: A, P1..PK, G010 … G090, mask, NX NY NZ, VX VY VZ, BNX BNY BNZ, S010 …, then
+// EXR channels: A, P1..PK, G010 … G090, mask, NX NY NZ, VX VY VZ, BNX BNY BNZ, Z, A_R… (one per
+// G-buffer radius, gbufferRadiusChannelName), S010 …, then
 // H0.A, H0.P1..PK, H1.A, H1.P1..PK, H0.S010 …, H1.S010 … (masked = 0).
 std::vector<ExrChannel> escapeChannels(const EscapeImage& image);
 
 // G(ρ) channel name, e.g. 0.5 -> "G050".
 std::string albedoChannelName(double albedo);
+// A_R channel name of a G-buffer radius: "A_R" and the radius in metres as %g with '.' written
+// 'p' (EXR reads '.' as a layer separator), e.g. 1 -> "A_R1", 0.25 -> "A_R0p25".
+std::string gbufferRadiusChannelName(double radius);
 // S(r_p) channel name, e.g. 0.25 -> "S025".
 std::string specularChannelName(double roughness);
 

@@ -55,6 +55,12 @@ inline void addDirection(double* sum, float x, float y, float z) {
   sum[2] += z;
 }
 
+// Counts a first segment that hit at distance t against every G-buffer radius, if kept.
+inline void addRadiusHit(std::uint32_t* radius_hits, const std::vector<float>& radii, float t) {
+  if (radius_hits == nullptr) return;
+  for (std::size_t r = 0; r < radii.size(); ++r) radius_hits[r] += t > radii[r] ? 1u : 0u;
+}
+
 void resizeScratch(WalkScratch* w, int spp, const WalkSampler& sampler) {
   const std::size_t n = static_cast<std::size_t>(spp);
   if (w->walk.size() < n) {
@@ -192,7 +198,7 @@ void setRay(RTCRayHit* rh, float ox, float oy, float oz, float dx, float dy, flo
 std::uint64_t countEscapesSingle(const EmbreeTracer& tracer, const SurfaceHit& start,
                                  const WalkSettings& settings, const WalkSampler& sampler,
                                  std::uint64_t stream, std::uint32_t* counts, WalkScratch* w,
-                                 double* first_escape_sum) {
+                                 double* first_escape_sum, std::uint32_t* radius_hits) {
   const int bounces = settings.bounces;
   const int spp = settings.spp;
   resizeScratch(w, spp, sampler);
@@ -228,6 +234,7 @@ std::uint64_t countEscapesSingle(const EmbreeTracer& tracer, const SurfaceHit& s
           addDirection(first_escape_sum, ray.direction.x(), ray.direction.y(), ray.direction.z());
         break;
       }
+      if (k == 0 && k < bounces) addRadiusHit(radius_hits, settings.gbuffer_radii, at.t);
     }
   }
   return rays;
@@ -240,7 +247,7 @@ std::uint64_t countEscapesSingle(const EmbreeTracer& tracer, const SurfaceHit& s
 std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& start,
                                  const WalkSettings& settings, const WalkSampler& sampler,
                                  std::uint64_t stream, std::uint32_t* counts, WalkScratch* w,
-                                 double* first_escape_sum) {
+                                 double* first_escape_sum, std::uint32_t* radius_hits) {
   const int bounces = settings.bounces;
   resizeScratch(w, settings.spp, sampler);
   const PhiloxLanes philox(settings.seed, stream);
@@ -296,6 +303,7 @@ std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& s
         if (k == 0) addDirection(first_escape_sum, dx[i], dy[i], dz[i]);
         continue;
       }
+      if (k == 0) addRadiusHit(radius_hits, settings.gbuffer_radii, rh.ray.tfar);
       w->walk[alive] = w->walk[i];
       w->words[2][alive] = w->words[2][i];
       w->words[3][alive] = w->words[3][i];
@@ -321,12 +329,13 @@ std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& s
 
 std::uint64_t countEscapes(const EmbreeTracer& tracer, const SurfaceHit& start,
                            const WalkSettings& settings, std::uint64_t stream,
-                           std::uint32_t* counts, WalkScratch* scratch, double* first_escape_sum) {
+                           std::uint32_t* counts, WalkScratch* scratch, double* first_escape_sum,
+                           std::uint32_t* radius_hits) {
   const WalkSampler sampler(settings, stream);
   return settings.streams ? countEscapesStream(tracer, start, settings, sampler, stream, counts,
-                                               scratch, first_escape_sum)
+                                               scratch, first_escape_sum, radius_hits)
                           : countEscapesSingle(tracer, start, settings, sampler, stream, counts,
-                                               scratch, first_escape_sum);
+                                               scratch, first_escape_sum, radius_hits);
 }
 
 }  // namespace gtbake

@@ -66,6 +66,10 @@ struct WalkSettings {
   // VNDF samples per value (even: two half-sample estimates). Empty: not traced.
   std::vector<double> specular_roughness;
   int specular_spp = 0;
+  // A at these radii R (metres, ascending; empty: none) from the same walks: A_R counts a walk
+  // whose first segment escapes or first hits at a distance t > R (docs/sweep.md, "G-buffer").
+  // Needs bounces ≥ 1 (the first segment's hit distance is only known from an intersect query).
+  std::vector<float> gbuffer_radii;
 };
 
 // The scene part of the random streams: 32-bit FNV-1a of the scene's name (its glTF file stem).
@@ -129,10 +133,13 @@ struct WalkScratch {
 // If first_escape_sum is given, adds to it (x, y, z, in double, in sample order) the first-bounce
 // directions of the walks that escape at once: (π/N) times that sum estimates
 // ∫ V (n·ω) ω dω, whose direction is the bent normal (cosine sampling cancels the (n·ω)/π).
-// Returns the number of rays traced. Depends only on (start, settings, stream).
+// If radius_hits is given, adds to radius_hits[r] the walks whose first segment hits something
+// farther than settings.gbuffer_radii[r] (so c_0 + radius_hits[r] walks see no occluder within
+// that radius). Returns the number of rays traced. Depends only on (start, settings, stream).
 std::uint64_t countEscapes(const EmbreeTracer& tracer, const SurfaceHit& start,
                            const WalkSettings& settings, std::uint64_t stream,
                            std::uint32_t* counts, WalkScratch* scratch,
-                           double* first_escape_sum = nullptr);
+                           double* first_escape_sum = nullptr,
+                           std::uint32_t* radius_hits = nullptr);
 
 }  // namespace gtbake

@@ -37,6 +37,7 @@ void writeShardManifest(const fs::path& dir, const ShardManifest& manifest, cons
                       {"type", id.view_type[s]},
                       {"sha256", id.scene_sha256[s]},
                       {"triangles", id.scene_triangles[s]},
+                      {"camera", id.scene_cameras[s]},
                       {"gltf", manifest.runs[s].gltf.string()},
                       {"build_seconds", manifest.runs[s].build_seconds},
                       {"trace_seconds", manifest.runs[s].trace_seconds}});
@@ -92,6 +93,7 @@ ShardManifest readShardManifest(const fs::path& dir) {
       id.view_type.push_back(s.at("type").get<std::string>());
       id.scene_sha256.push_back(s.at("sha256").get<std::string>());
       id.scene_triangles.push_back(s.at("triangles").get<std::uint64_t>());
+      id.scene_cameras.push_back(s.at("camera"));
       m.runs.push_back({fs::path(s.at("gltf").get<std::string>()),
                         s.at("build_seconds").get<double>(), s.at("trace_seconds").get<double>()});
     }

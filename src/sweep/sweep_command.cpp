@@ -13,6 +13,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <memory>
@@ -28,6 +29,7 @@
 #include "scene/auto_camera.h"
 #include "scene/gltf_reader.h"
 #include "scene/scene.h"
+#include "sweep/camera_json.h"
 #include "sweep/escape_image.h"
 #include "sweep/shard_manifest.h"
 #include "sweep/sweep_output.h"
@@ -64,6 +66,20 @@ void validateOptions(const SweepOptions& o) {
   }
   if (!(o.radius > 0.0)) throw Error("--radius must be a positive distance in metres");
   validateSpecularOptions(o.specular_roughness, o.specular_spp);
+  for (std::size_t r = 0; r < o.gbuffer_radii.size(); ++r) {
+    if (!(o.gbuffer_radii[r] > 0.0) || !std::isfinite(o.gbuffer_radii[r]) ||
+        (r > 0 && (!(o.gbuffer_radii[r] > o.gbuffer_radii[r - 1]) ||
+                   gbufferRadiusChannelName(o.gbuffer_radii[r]) ==
+                       gbufferRadiusChannelName(o.gbuffer_radii[r - 1])))) {
+      throw Error(
+          "--gbuffer-radius must be ascending positive finite metres with distinct channel names "
+          "(%g), got " +
+          gbufferRadiusList(o.gbuffer_radii));
+    }
+  }
+  if (!o.gbuffer_radii.empty() && o.bounces < 1) {
+    throw Error("--gbuffer-radius needs --bounces >= 1 (or --gbuffer-radius none)");
+  }
   if (o.shards < 0 || o.shards > kMaxShards ||
       (o.shards > 0 && (o.shard < 0 || o.shard >= o.shards))) {
     throw Error("--shard must be I/N with 0 <= I < N <= " + std::to_string(kMaxShards) + ", got " +
@@ -183,6 +199,7 @@ WalkSettings walkSettings(const SweepOptions& o) {
   settings.stratify_first_bounce = o.stratify_first_bounce;
   settings.specular_roughness = o.specular_roughness;
   settings.specular_spp = o.specular_roughness.empty() ? 0 : o.specular_spp;
+  for (double r : o.gbuffer_radii) settings.gbuffer_radii.push_back(static_cast<float>(r));
   return settings;
 }
 
@@ -203,6 +220,7 @@ SweepIdentity describeSweep(const SweepOptions& o, const SweepInputs& in) {
   settings["stratified_first_bounce"] = o.stratify_first_bounce;
   settings["specular_roughness"] = o.specular_roughness;
   settings["specular_spp"] = o.specular_roughness.empty() ? 0 : o.specular_spp;
+  settings["gbuffer_radii"] = o.gbuffer_radii;
   id.attributes = {
       {"gtbake.version", GTBAKE_VERSION},
       {"gtbake.spp", std::to_string(o.spp)},
@@ -211,7 +229,8 @@ SweepIdentity describeSweep(const SweepOptions& o, const SweepInputs& in) {
       {"gtbake.radius", std::isinf(o.radius) ? "inf" : formatNumber(o.radius)},
       {"gtbake.stratified_first_bounce", o.stratify_first_bounce ? "1" : "0"},
       {"gtbake.specular_roughness", specularRoughnessList(o.specular_roughness)},
-      {"gtbake.specular_spp", std::to_string(o.specular_roughness.empty() ? 0 : o.specular_spp)}};
+      {"gtbake.specular_spp", std::to_string(o.specular_roughness.empty() ? 0 : o.specular_spp)},
+      {"gtbake.gbuffer_radii", gbufferRadiusList(o.gbuffer_radii)}};
   std::vector<std::string> sha256;
   for (const fs::path& file : in.files) sha256.push_back(sceneSha256(file));
   for (const SweepView& v : in.views) {
@@ -221,6 +240,7 @@ SweepIdentity describeSweep(const SweepOptions& o, const SweepInputs& in) {
     id.view_type.push_back(scene.type.empty() ? scene.name : scene.type);
     id.scene_sha256.push_back(sha256[v.scene]);
     id.scene_triangles.push_back(scene.triangles.size());
+    id.scene_cameras.push_back(cameraJson(v.camera));
   }
   id.width = o.width;
   id.height = o.height;
@@ -425,6 +445,13 @@ SweepResult finishShard(const SweepOptions& o, const SweepIdentity& id, const Ti
 }
 
 }  // namespace
+
+std::string gbufferRadiusList(const std::vector<double>& radii) {
+  if (radii.empty()) return "none";
+  std::string list;
+  for (double r : radii) list += (list.empty() ? "" : ",") + formatNumber(r);
+  return list;
+}
 
 SweepResult runSweep(const SweepOptions& options) {
   const auto start = std::chrono::steady_clock::now();

@@ -45,6 +45,9 @@ struct SweepOptions {
   // empty: none) with this many VNDF samples per value and pixel (even; docs/sweep.md §2).
   std::vector<double> specular_roughness = {0.10, 0.25, 0.40, 0.60, 0.80};
   int specular_spp = 64;
+  // A_R channels (A with the sky beyond R, from the same walks; docs/sweep.md, "G-buffer") at these
+  // radii in metres, ascending (empty: none). The default is screen-ao's default radius.
+  std::vector<double> gbuffer_radii = {1.0};
   // Shard `shard` of `shards` (0-based; shards = 0: not sharded). A shard traces only its tiles
   // (tile_plan.h) and writes them with <out>/shard.json for `gtbake merge` (docs/cluster.md).
   int shard = 0;
@@ -85,5 +88,8 @@ class SweepInterrupted : public Error {
 inline constexpr int kMaxShards = 1 << 16;  // far more than tiles a useful sweep has per shard
 
 SweepResult runSweep(const SweepOptions& options);
+
+// The --gbuffer-radius list as the EXR attribute and sweep.json write it ("none" when empty).
+std::string gbufferRadiusList(const std::vector<double>& radii);
 
 }  // namespace gtbake

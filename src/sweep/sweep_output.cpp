@@ -80,6 +80,7 @@ void sealIdentity(SweepIdentity* identity) {
   j["view_type"] = identity->view_type;
   j["scene_sha256"] = identity->scene_sha256;
   j["scene_triangles"] = identity->scene_triangles;
+  j["scene_cameras"] = identity->scene_cameras;
   j["width"] = identity->width;
   j["height"] = identity->height;
   j["camera"] = identity->camera;
@@ -158,6 +159,7 @@ SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity
     entry["width"] = plan.width;
     entry["height"] = plan.height;
     entry["triangles"] = identity.scene_triangles[s];
+    entry["camera"] = identity.scene_cameras[s];
     entry["unmasked_pixels"] = image.unmasked;
     entry["mean_A"] = mean_a;
     entry["seconds"] = seconds;

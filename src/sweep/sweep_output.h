@@ -27,8 +27,9 @@ struct SweepIdentity {
   std::vector<std::string> scenes;
   std::vector<std::string> view_scene;
   std::vector<std::string> view_type;
-  std::vector<std::string> scene_sha256;       // of each glTF and its buffers
-  std::vector<std::uint64_t> scene_triangles;  // triangle count of each scene
+  std::vector<std::string> scene_sha256;              // of each glTF and its buffers
+  std::vector<std::uint64_t> scene_triangles;         // triangle count of each scene
+  std::vector<nlohmann::ordered_json> scene_cameras;  // cameraJson of each view's camera
   int width = 0;
   int height = 0;
   std::string camera;  // --camera ("" = each glTF's first)

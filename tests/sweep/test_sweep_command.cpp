@@ -15,6 +15,7 @@
 #include "scene/procedural_scenes.h"
 #include "support/test_scenes.h"
 #include "scene/scene.h"
+#include "sweep/camera_json.h"
 #include "sweep/embree_tracer.h"
 #include "sweep/sweep_command.h"
 
@@ -96,7 +97,7 @@ TEST_F(SweepCommand, ChannelsJsonAndHalves) {
   const ExrImage image = readExr(o.out / "spheres.exr");
   std::vector<std::string> names;
   for (const auto& [name, pixels] : image.channels) names.push_back(name);
-  std::vector<std::string> expected = {"A", "BNX", "BNY", "BNZ"};
+  std::vector<std::string> expected = {"A", "A_R1", "BNX", "BNY", "BNZ"};
   for (const char* g : {"G010", "G020", "G030", "G040", "G050", "G070", "G090"}) {
     expected.push_back(g);
   }
@@ -106,7 +107,7 @@ TEST_F(SweepCommand, ChannelsJsonAndHalves) {
     }
   }
   for (const char* c : {"NX", "NY", "NZ", "P1", "P2", "S010", "S025", "S040", "S060", "S080", "VX",
-                        "VY", "VZ", "mask"}) {
+                        "VY", "VZ", "Z", "mask"}) {
     expected.push_back(c);
   }
   EXPECT_EQ(names, expected);
@@ -115,6 +116,7 @@ TEST_F(SweepCommand, ChannelsJsonAndHalves) {
   EXPECT_EQ(image.attributes.at("gtbake.radius"), "inf");
   EXPECT_EQ(image.attributes.at("gtbake.specular_roughness"), "0.1,0.25,0.4,0.6,0.8");
   EXPECT_EQ(image.attributes.at("gtbake.specular_spp"), "64");
+  EXPECT_EQ(image.attributes.at("gtbake.gbuffer_radii"), "1");
 
   const auto& a = image.channel("A", "");
   const auto& p1 = image.channel("P1", "");
@@ -150,6 +152,13 @@ TEST_F(SweepCommand, ChannelsJsonAndHalves) {
   ASSERT_EQ(json["scenes"].size(), 1u);
   EXPECT_EQ(json["scenes"][0]["name"], "spheres");
   EXPECT_EQ(json["scenes"][0]["file"], "spheres.exr");
+  // The camera the sweep traced with, serialised whole (docs/sweep.md, "G-buffer").
+  const PerspectiveCamera traced = makeSphereOnPlaneScene(1.0).camera;
+  const PerspectiveCamera read = cameraFromJson(json["scenes"][0]["camera"], "sweep.json");
+  EXPECT_EQ(read.position, traced.position);
+  EXPECT_EQ(read.basis, traced.basis);
+  EXPECT_EQ(read.yfov, traced.yfov);
+  EXPECT_EQ(json["settings"]["gbuffer_radii"], nlohmann::json::array({1.0}));
   EXPECT_EQ(json["scenes"][0]["unmasked_pixels"], geometry);
   EXPECT_EQ(json["scenes"][0]["rays"], result.rays);
   EXPECT_TRUE(json["totals"]["rays_per_second"].is_number());
@@ -172,6 +181,7 @@ TEST_F(SweepCommand, SphericalCavityThroughThePixels) {
   o.height = 64;
   o.spp = 256;
   o.bounces = 0;
+  o.gbuffer_radii = {};  // A_R needs the first segment's hit distance (bounces >= 1)
   runSweep(o);
   const ExrImage image = readExr(o.out / "cavity.exr");
   const auto& a = image.channel("A", "");

@@ -1,0 +1,150 @@
+#include "screen_ao/ao_filters.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace gtbake {
+
+namespace {
+
+constexpr int kBlurRadius = 2;      // 5×5
+constexpr double kBlurSigma = 1.5;  // pixels
+constexpr double kDepthRejection = 0.05;
+
+std::uint8_t unorm8(double x) {
+  return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0));
+}
+
+template <typename F>
+void forEachPixel(const GBuffer& g, F f) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, g.height), [&](const tbb::blocked_range<int>& r) {
+    for (int j = r.begin(); j != r.end(); ++j) {
+      for (int i = 0; i < g.width; ++i) {
+        const std::size_t p = static_cast<std::size_t>(j) * g.width + i;
+        if (g.mask[p] != 0) f(i, j, p);
+      }
+    }
+  });
+}
+
+bool inside(const GBuffer& g, int i, int j) {
+  return i >= 0 && j >= 0 && i < g.width && j < g.height &&
+         g.mask[static_cast<std::size_t>(j) * g.width + i] != 0;
+}
+
+double depthAt(const GBuffer& g, int i, int j) {
+  return g.depth[static_cast<std::size_t>(j) * g.width + i];
+}
+
+// Product of the edge weights from (i, j) to (i + dx, j + dy): horizontal leg, then vertical.
+double pathWeight(const GBuffer& g, int i, int j, int dx, int dy) {
+  double w = 1.0;
+  const int sx = dx < 0 ? -1 : 1;
+  const int sy = dy < 0 ? -1 : 1;
+  int x = i;
+  for (int k = 0; k < std::abs(dx); ++k, x += sx) {
+    if (!inside(g, x + sx, j)) return 0.0;
+    w *= depthEdgeWeight(depthAt(g, x, j), depthAt(g, x + sx, j));
+  }
+  int y = j;
+  for (int k = 0; k < std::abs(dy); ++k, y += sy) {
+    if (!inside(g, x, y + sy)) return 0.0;
+    w *= depthEdgeWeight(depthAt(g, x, y), depthAt(g, x, y + sy));
+  }
+  return w;
+}
+
+Eigen::Vector3d decodeBent(const std::array<std::uint8_t, 4>& c) {
+  return Eigen::Vector3d(c[0], c[1], c[2]) / 255.0 * 2.0 - Eigen::Vector3d::Ones();
+}
+
+}  // namespace
+
+double depthEdgeWeight(double z1, double z2) {
+  return std::clamp(1.0 - std::abs(z1 - z2) / (std::max(z1, z2) * 0.05), 0.0, 1.0);
+}
+
+Rgba8Image bilateralBlur(const GBuffer& g, const Rgba8Image& in) {
+  Rgba8Image out(in.size(), {0, 0, 0, 0});
+  forEachPixel(g, [&](int i, int j, std::size_t p) {
+    double sum[4] = {0.0, 0.0, 0.0, 0.0};
+    double total = 0.0;
+    for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) {
+      for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) {
+        const double w = std::exp(-(dx * dx + dy * dy) / (2.0 * kBlurSigma * kBlurSigma)) *
+                         pathWeight(g, i, j, dx, dy);
+        if (!(w > 0.0)) continue;
+        const auto& c = in[static_cast<std::size_t>(j + dy) * g.width + (i + dx)];
+        for (int k = 0; k < 4; ++k) sum[k] += w * c[k] / 255.0;
+        total += w;
+      }
+    }
+    for (int k = 0; k < 4; ++k) out[p][k] = unorm8(sum[k] / total);
+  });
+  return out;
+}
+
+Rgba8Image temporalFilter(const GBuffer& g, const Rgba8Image& current, const Rgba8Image& history,
+                          double blend) {
+  if (history.empty() || blend == 0.0) return current;
+  Rgba8Image out(current.size(), {0, 0, 0, 0});
+  forEachPixel(g, [&](int i, int j, std::size_t p) {
+    // Screen + depth -> world -> previous frame (the same static camera) -> previous pixel.
+    const Eigen::Vector3d view = g.viewPoint(i, j, g.depth[p]);
+    const Eigen::Vector3d world = g.camera.position + g.viewToWorld(view);
+    const Eigen::Vector3d previous = g.worldToView(world - g.camera.position);
+    const Eigen::Vector2d uv = g.project(previous);
+    const int pi = static_cast<int>(std::floor(uv.x()));
+    const int pj = static_cast<int>(std::floor(uv.y()));
+    const auto& c = current[p];
+    bool valid = pi >= 0 && pj >= 0 && pi < g.width && pj < g.height;  // layer 1
+    std::size_t q = 0;
+    if (valid) {
+      q = static_cast<std::size_t>(pj) * g.width + pi;
+      const double expected = -previous.z();
+      valid = g.mask[q] != 0 &&
+              std::abs(expected - g.depth[q]) / expected <= kDepthRejection;  // layer 2
+    }
+    if (!valid) {
+      out[p] = c;
+      return;
+    }
+    double lo = 1.0;
+    double hi = 0.0;
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (!inside(g, i + dx, j + dy)) continue;
+        const double a = current[static_cast<std::size_t>(j + dy) * g.width + (i + dx)][3] / 255.0;
+        lo = std::min(lo, a);
+        hi = std::max(hi, a);
+      }
+    }
+    const double h_ao = std::clamp(history[q][3] / 255.0, lo, hi);  // layer 3
+    const double c_ao = c[3] / 255.0;
+    const Eigen::Vector3d cb = decodeBent(c);
+    Eigen::Vector3d b = cb + blend * (decodeBent(history[q]) - cb);
+    b = b.norm() > 1e-12 ? b.normalized() : cb;
+    out[p] = {unorm8(b.x() * 0.5 + 0.5), unorm8(b.y() * 0.5 + 0.5), unorm8(b.z() * 0.5 + 0.5),
+              unorm8(c_ao + blend * (h_ao - c_ao))};
+  });
+  return out;
+}
+
+AoEstimate decodeRgba8(const GBuffer& g, const Rgba8Image& image) {
+  AoEstimate e = makeEstimate(g);
+  for (std::size_t p = 0; p < g.pixels(); ++p) {
+    if (g.mask[p] == 0) continue;
+    e.a[p] = static_cast<float>(image[p][3] / 255.0);
+    Eigen::Vector3d w = g.viewToWorld(decodeBent(image[p]));
+    if (!(w.norm() > 1e-12))
+      w = Eigen::Vector3d(g.normal[3 * p], g.normal[3 * p + 1], g.normal[3 * p + 2]);
+    w.normalize();
+    for (int c = 0; c < 3; ++c) e.bent[3 * p + c] = static_cast<float>(w[c]);
+  }
+  return e;
+}
+
+}  // namespace gtbake

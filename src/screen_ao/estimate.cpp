@@ -1,0 +1,12 @@
+#include "screen_ao/estimate.h"
+
+namespace gtbake {
+
+AoEstimate makeEstimate(const GBuffer& g) {
+  AoEstimate e;
+  e.a.assign(g.pixels(), 0.0f);
+  e.bent.assign(3 * g.pixels(), 0.0f);
+  return e;
+}
+
+}  // namespace gtbake

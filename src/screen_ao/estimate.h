@@ -1,0 +1,26 @@
+// What every screen-space estimator returns for one image (docs/screen_ao.md).
+#pragma once
+
+#include <vector>
+
+#include "screen_ao/gbuffer.h"
+
+namespace gtbake {
+
+struct AoEstimate {
+  std::vector<float> a;     // Â per pixel (0 where masked)
+  std::vector<float> bent;  // b̂ per pixel, world space, unit, xyz at 3p (0 where masked)
+};
+
+// Sized for g, all zero.
+AoEstimate makeEstimate(const GBuffer& g);
+
+// Runs perPixel(p, &a, &bent_view) for every unmasked pixel with TBB over rows (each pixel writes
+// only its own slot, so any thread count gives the same bytes) and stores Â and the bent normal
+// rotated to world space and normalised (N where the integral vanishes).
+template <typename F>
+AoEstimate estimatePerPixel(const GBuffer& g, F perPixel);
+
+}  // namespace gtbake
+
+#include "screen_ao/estimate_impl.h"

@@ -1,0 +1,35 @@
+// Template body of estimatePerPixel (estimate.h).
+#pragma once
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Core>
+
+namespace gtbake {
+
+template <typename F>
+AoEstimate estimatePerPixel(const GBuffer& g, F perPixel) {
+  AoEstimate e = makeEstimate(g);
+  tbb::parallel_for(tbb::blocked_range<int>(0, g.height), [&](const tbb::blocked_range<int>& r) {
+    for (int j = r.begin(); j != r.end(); ++j) {
+      for (int i = 0; i < g.width; ++i) {
+        const std::size_t p = static_cast<std::size_t>(j) * g.width + i;
+        if (g.mask[p] == 0) continue;
+        double a = 0.0;
+        Eigen::Vector3d bent = Eigen::Vector3d::Zero();
+        perPixel(i, j, p, &a, &bent);
+        Eigen::Vector3d world = g.viewToWorld(bent);
+        if (!(world.norm() > 1e-12)) {
+          world = Eigen::Vector3d(g.normal[3 * p], g.normal[3 * p + 1], g.normal[3 * p + 2]);
+        }
+        world.normalize();
+        e.a[p] = static_cast<float>(a);
+        for (int c = 0; c < 3; ++c) e.bent[3 * p + c] = static_cast<float>(world[c]);
+      }
+    }
+  });
+  return e;
+}
+
+}  // namespace gtbake

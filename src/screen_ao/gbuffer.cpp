@@ -1,0 +1,163 @@
+#include "screen_ao/gbuffer.h"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "common/error.h"
+#include "common/image_io.h"
+#include "common/output_set.h"
+#include "sweep/camera_json.h"
+
+namespace gtbake {
+
+namespace {
+
+const std::vector<float>& need(const std::map<std::string, std::vector<float>>& channels,
+                               const std::string& name, std::size_t pixels,
+                               const std::string& where) {
+  const auto it = channels.find(name);
+  if (it == channels.end()) {
+    throw Error(where + " has no channel " + name +
+                " (sweep it again with this gtbake: the G-buffer channels are new)");
+  }
+  if (it->second.size() != pixels) throw Error(where + ": channel " + name + " has another size");
+  return it->second;
+}
+
+SweepImage readImage(const OutputManifest& files, const nlohmann::json& entry,
+                     const std::string& where) {
+  SweepImage image;
+  try {
+    image.name = entry.at("name").get<std::string>();
+    image.group = entry.contains("scene") ? entry.at("scene").get<std::string>() : image.name;
+    const std::string file = entry.at("file").get<std::string>();
+    const int width = entry.at("width").get<int>();
+    const int height = entry.at("height").get<int>();
+    if (!entry.contains("camera")) {
+      throw Error(where + " entry " + image.name +
+                  " has no camera (sweep it again with this gtbake)");
+    }
+    const PerspectiveCamera camera =
+        cameraFromJson(entry.at("camera"), where + " entry " + image.name);
+    const ExrImage exr = decodeExr(files.readVerified(file), file, {width, height, where});
+    image.gbuffer = gbufferFromChannels(width, height, camera, exr.channels, file);
+    const std::size_t pixels = image.gbuffer.pixels();
+    image.truth.a = need(exr.channels, "A", pixels, file);
+    for (const char* c : {"BNX", "BNY", "BNZ"}) need(exr.channels, c, pixels, file);
+    image.truth.bent.resize(3 * pixels);
+    for (int c = 0; c < 3; ++c) {
+      const std::vector<float>& v = exr.channels.at(std::string("BN") + "XYZ"[c]);
+      for (std::size_t p = 0; p < pixels; ++p) image.truth.bent[3 * p + c] = v[p];
+    }
+    for (const auto& [name, values] : exr.channels) {
+      if (name.rfind("A_R", 0) == 0) image.truth.a_at_radius[name] = values;
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(where + ": malformed scenes[] entry (" + e.what() + ")");
+  }
+  return image;
+}
+
+}  // namespace
+
+double GBuffer::pixelsPerMetre(double z) const {
+  return 0.5 * height / (tan_half * z);
+}
+
+Eigen::Vector2d GBuffer::project(const Eigen::Vector3d& v) const {
+  const double sx = v.x() / -v.z();
+  const double sy = v.y() / -v.z();
+  return {0.5 * width * (sx / (tan_half * aspect) + 1.0), 0.5 * height * (1.0 - sy / tan_half)};
+}
+
+Eigen::Vector3d GBuffer::viewPoint(int i, int j, double z) const {
+  const double sx = (2.0 * (i + 0.5) / width - 1.0) * tan_half * aspect;
+  const double sy = (1.0 - 2.0 * (j + 0.5) / height) * tan_half;
+  return {sx * z, sy * z, -z};
+}
+
+Eigen::Vector3d GBuffer::worldToView(const Eigen::Vector3d& w) const {
+  return camera.basis.transpose() * w;
+}
+
+Eigen::Vector3d GBuffer::viewToWorld(const Eigen::Vector3d& v) const {
+  return camera.basis * v;
+}
+
+void makeViewSpace(GBuffer* g) {
+  g->tan_half = std::tan(0.5 * g->camera.yfov);
+  g->aspect = static_cast<double>(g->width) / g->height;
+  const std::size_t pixels = g->pixels();
+  g->position.assign(3 * pixels, 0.0f);
+  g->view_normal.assign(3 * pixels, 0.0f);
+  g->texels.assign(pixels, Texel{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0.0f, 0u});
+  for (int j = 0; j < g->height; ++j) {
+    for (int i = 0; i < g->width; ++i) {
+      const std::size_t p = static_cast<std::size_t>(j) * g->width + i;
+      if (g->mask[p] == 0) continue;
+      const Eigen::Vector3d x = g->viewPoint(i, j, g->depth[p]);
+      const Eigen::Vector3d n =
+          g->worldToView(
+               Eigen::Vector3d(g->normal[3 * p], g->normal[3 * p + 1], g->normal[3 * p + 2]))
+              .normalized();
+      Texel& t = g->texels[p];
+      for (int c = 0; c < 3; ++c) {
+        g->position[3 * p + c] = t.position[c] = static_cast<float>(x[c]);
+        g->view_normal[3 * p + c] = t.normal[c] = static_cast<float>(n[c]);
+      }
+      t.depth = g->depth[p];
+      t.valid = 1u;
+    }
+  }
+}
+
+GBuffer gbufferFromChannels(int width, int height, const PerspectiveCamera& camera,
+                            const std::map<std::string, std::vector<float>>& channels,
+                            const std::string& where) {
+  GBuffer g;
+  g.width = width;
+  g.height = height;
+  g.camera = camera;
+  const std::size_t pixels = g.pixels();
+  const std::vector<float>& mask = need(channels, "mask", pixels, where);
+  g.depth = need(channels, "Z", pixels, where);
+  const std::vector<float>* n[3] = {&need(channels, "NX", pixels, where),
+                                    &need(channels, "NY", pixels, where),
+                                    &need(channels, "NZ", pixels, where)};
+  g.mask.resize(pixels);
+  g.normal.resize(3 * pixels);
+  for (std::size_t p = 0; p < pixels; ++p) {
+    g.mask[p] = mask[p] > 0.5f ? 1 : 0;
+    for (int c = 0; c < 3; ++c) g.normal[3 * p + c] = (*n[c])[p];
+    if (g.mask[p] == 0) continue;
+    const double length =
+        std::sqrt(g.normal[3 * p] * g.normal[3 * p] + g.normal[3 * p + 1] * g.normal[3 * p + 1] +
+                  g.normal[3 * p + 2] * g.normal[3 * p + 2]);
+    if (!(g.depth[p] > 0.0f) || !std::isfinite(g.depth[p]) || !(std::abs(length - 1.0) < 1e-3)) {
+      throw Error(where + ": pixel " + std::to_string(p) +
+                  " has a depth <= 0 or a normal that is not unit length");
+    }
+  }
+  makeViewSpace(&g);
+  return g;
+}
+
+SweepImages readSweepImages(const std::filesystem::path& dir) {
+  const OutputManifest files = readOutputSet(dir, "sweep");
+  const std::string where = (dir / "sweep.json").string();
+  nlohmann::json json;
+  try {
+    json = nlohmann::json::parse(files.readVerified("sweep.json"));
+  } catch (const nlohmann::json::exception&) {
+    throw Error(where + " is not valid JSON");
+  }
+  SweepImages result;
+  result.sweep_version = json.value("gtbake_version", std::string());
+  if (!json.contains("scenes") || !json["scenes"].is_array() || json["scenes"].empty()) {
+    throw Error(where + " lists no scenes");
+  }
+  for (const auto& entry : json["scenes"]) result.images.push_back(readImage(files, entry, where));
+  return result;
+}
+
+}  // namespace gtbake

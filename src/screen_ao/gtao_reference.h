@@ -1,0 +1,51 @@
+// `gtao-reference`: GTAO as the paper (Eqs. 5–8) and the technical memo (Alg. 1, 2) define it,
+// run to convergence: evenly spaced slices, horizons from every texel the slice's line crosses
+// within the radius, the
+// analytic cosine-weighted slice integral with the projected-normal term, Alg. 2's bent normal
+// (docs/screen_ao.md, "gtao-reference").
+#pragma once
+
+#include <vector>
+
+#include "screen_ao/estimate.h"
+
+namespace gtbake {
+
+struct GtaoReferenceSettings {
+  double radius = 1.0;  // metres: samples farther from P than this are ignored
+  int slices = 16;      // φ_s = π(s + ½)/slices
+  // Samples per texel the side's line crosses within the projected radius (forEachCrossedTexel):
+  // every texel along the line is visited.
+  int steps_per_pixel = 1;
+};
+
+// Throws gtbake::Error naming the bad setting.
+void validate(const GtaoReferenceSettings& s);
+
+AoEstimate gtaoReference(const GBuffer& g, const GtaoReferenceSettings& s);
+
+// One pixel (view-space Â and unnormalised bent normal), for tests and the convergence check.
+void gtaoReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSettings& s, double* a,
+                        Eigen::Vector3d* bent);
+
+}  // namespace gtbake
+
+namespace gtbake {
+
+// Convergence evidence: Â at s and at twice the slices and steps, on every 8th pixel of every 8th
+// row of every image (1 in 64 of the pixels, where unmasked).
+struct ReferenceConvergence {
+  GtaoReferenceSettings settings;
+  GtaoReferenceSettings doubled;
+  std::size_t pixels = 0;
+  double rms_change = 0.0;
+  double max_change = 0.0;
+};
+
+inline constexpr int kConvergenceStride = 8;
+inline constexpr double kConvergenceBar = 0.002;  // RMS change that counts as converged
+
+ReferenceConvergence referenceConvergence(const std::vector<const GBuffer*>& images,
+                                          const GtaoReferenceSettings& s);
+
+}  // namespace gtbake

@@ -1,0 +1,42 @@
+// The estimators `gtbake screen-ao` knows, their settings and the command line's
+// "--setting ESTIMATOR.KEY=VALUE" (docs/screen_ao.md, "Command").
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "screen_ao/gtao_reference.h"
+#include "screen_ao/gtao_runtime.h"
+#include "screen_ao/hbao.h"
+#include "screen_ao/visibility_bitmask.h"
+
+namespace gtbake {
+
+// In output order: gtao-reference, gtao-runtime, hbao, bitmask-uniform, bitmask-cosine.
+const std::vector<std::string>& screenAoEstimatorNames();
+
+struct ScreenAoSettings {
+  GtaoReferenceSettings reference;
+  GtaoRuntimeSettings runtime;
+  HbaoSettings hbao;
+  BitmaskSettings bitmask_uniform;
+  BitmaskSettings bitmask_cosine{1.0, 8, 8, 0.5, SectorWeights::kCosine};
+};
+
+// "a,b,c" of known names, no repeats ("all" = every one). Throws gtbake::Error naming the word.
+std::vector<std::string> parseEstimatorList(const std::string& text);
+
+// Applies "ESTIMATOR.KEY=VALUE" (ESTIMATOR "all" with KEY radius sets every radius); throws a
+// one-line gtbake::Error on an unknown estimator or key or a value that does not parse. Ranges
+// are checked by validateSettings.
+void applySetting(ScreenAoSettings* s, const std::string& text);
+void validateSettings(const ScreenAoSettings& s);
+
+nlohmann::ordered_json settingsJson(const ScreenAoSettings& s, const std::string& estimator);
+double estimatorRadius(const ScreenAoSettings& s, const std::string& estimator);
+
+// Runs one estimator on one image.
+AoEstimate runEstimator(const ScreenAoSettings& s, const std::string& estimator, const GBuffer& g);
+
+}  // namespace gtbake

@@ -1,0 +1,165 @@
+#include "screen_ao/visibility_bitmask.h"
+
+#include <bitset>
+
+#include "common/error.h"
+#include "screen_ao/slice_geometry.h"
+
+namespace gtbake {
+
+namespace {
+
+// Sectors (1e-4 rad for uniform ones): the float32 G-buffer puts a sample on the tangent plane up
+// to ~Z·1e-7/|D| rad off it, which must not set the sector at the hemisphere's end.
+constexpr double kSectorSlack = 1e-3;
+
+// The map between slice angles and sector coordinates of one slice (n fixed).
+class SectorMap {
+ public:
+  SectorMap(double n, SectorWeights weights)
+      : n_(n),
+        weights_(weights),
+        below_(arcIntegral(n - 0.5 * kPi, n)),
+        open_(below_ + arcIntegral(n + 0.5 * kPi, n)) {}
+  double coordinate(double theta) const {
+    const double t = std::clamp(theta, n_ - 0.5 * kPi, n_ + 0.5 * kPi);
+    if (weights_ == SectorWeights::kUniform) return (t - n_ + 0.5 * kPi) / kPi;
+    // ∫ from n − π/2 to θ of cos(x − n)|sin x| dx (arcIntegral is the signed mass from 0).
+    const double mass = t <= 0.0 ? below_ - arcIntegral(t, n_) : below_ + arcIntegral(t, n_);
+    return std::clamp(mass / open_, 0.0, 1.0);
+  }
+  // The inverse: Newton on C from the uniform guess, kept inside a shrinking bracket (bisection
+  // when a step leaves it), to 1e-10 in u.
+  double angle(double u) const {
+    double lo = n_ - 0.5 * kPi;
+    double hi = n_ + 0.5 * kPi;
+    double t = lo + kPi * u;
+    if (weights_ == SectorWeights::kUniform) return t;
+    for (int k = 0; k < 32; ++k) {
+      const double f = coordinate(t) - u;
+      if (std::abs(f) < 1e-10) break;
+      (f < 0.0 ? lo : hi) = t;
+      const double slope = std::cos(t - n_) * std::abs(std::sin(t)) / open_;
+      const double next = slope > 0.0 ? t - f / slope : lo - 1.0;
+      t = next > lo && next < hi ? next : 0.5 * (lo + hi);
+    }
+    return t;
+  }
+  double openMass() const { return open_; }
+
+ private:
+  double n_;
+  SectorWeights weights_;
+  double below_;
+  double open_;
+};
+
+// ∫ over [θa, θb] of cos(θ − n)|sin θ| (sin θ, cos θ) dθ: differences of Alg. 2's one-side terms.
+void bentOver(double a, double b, double n, double* t0, double* t1) {
+  double a0 = 0.0, a1 = 0.0, b0 = 0.0, b1 = 0.0;
+  bentIntegrals(0.0, a, n, &a0, &a1);
+  bentIntegrals(0.0, b, n, &b0, &b1);
+  const double sa = a < 0.0 ? -1.0 : 1.0;  // bentIntegrals(0, h) is the mass over [h, 0] for h < 0
+  const double sb = b < 0.0 ? -1.0 : 1.0;
+  *t0 = sb * b0 - sa * a0;
+  *t1 = sb * b1 - sa * a1;
+}
+
+// One slice's 32 sectors from both sides' samples.
+std::uint32_t sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
+                        const Eigen::Vector3d& v, const Slice& slice, const SectorMap& map,
+                        double radius_px, const BitmaskSettings& s) {
+  std::uint32_t bits = 0;
+  for (int side = 0; side < 2; ++side) {
+    const double sign = side == 0 ? -1.0 : 1.0;
+    for (int step = 0; step < s.steps; ++step) {
+      const double t = sign * (step + 0.5) / s.steps * radius_px;
+      Eigen::Vector3d sample;
+      if (!texelPlanePoint(g, i + 0.5 + t * slice.omega.x(), j + 0.5 - t * slice.omega.y(),
+                           &sample)) {
+        continue;
+      }
+      const Eigen::Vector3d front = sample - x;
+      const double length = front.norm();
+      if (length > s.radius || !(length > 0.0)) continue;
+      const Eigen::Vector3d back = front - s.thickness * v;
+      const double theta_f = sign * std::acos(std::clamp(front.dot(v) / length, -1.0, 1.0));
+      const double theta_b = sign * std::acos(std::clamp(back.normalized().dot(v), -1.0, 1.0));
+      bits |= sectorBits(map.coordinate(theta_f), map.coordinate(theta_b));
+    }
+  }
+  return bits;
+}
+
+void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSettings& s,
+                  double* a, Eigen::Vector3d* bent) {
+  const Eigen::Vector3d x = viewPosition(g, p);
+  const Eigen::Vector3d v = -x.normalized();
+  const Eigen::Vector3d normal = viewNormal(g, p);
+  const double radius_px = s.radius * g.pixelsPerMetre(g.depth[p]);
+  double visibility = 0.0;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int k = 0; k < s.slices; ++k) {
+    const Slice slice = makeViewSlice(g, x, v, normal, kPi * (k + 0.5) / s.slices);
+    const SectorMap map(slice.n, s.weights);
+    const std::uint32_t bits = sliceBits(g, i, j, x, v, slice, map, radius_px, s);
+    const double clear = 1.0 - static_cast<double>(std::bitset<32>(bits).count()) / kSectors;
+    visibility += s.weights == SectorWeights::kUniform
+                      ? clear
+                      : slice.projected_length * map.openMass() * clear;
+    for (int run = 0; run < kSectors;) {  // each run of clear sectors
+      if ((bits >> run) & 1u) {
+        ++run;
+        continue;
+      }
+      int end = run;
+      while (end < kSectors && !((bits >> end) & 1u)) ++end;
+      double t0 = 0.0;
+      double t1 = 0.0;
+      bentOver(map.angle(static_cast<double>(run) / kSectors),
+               map.angle(static_cast<double>(end) / kSectors), slice.n, &t0, &t1);
+      sum += slice.projected_length * (t0 * slice.o + t1 * v);
+      run = end;
+    }
+  }
+  *a = visibility / s.slices;
+  *bent = sum;
+}
+
+}  // namespace
+
+double sectorCoordinate(double theta, double n, SectorWeights weights) {
+  return SectorMap(n, weights).coordinate(theta);
+}
+
+std::uint32_t sectorBits(double ua, double ub) {
+  const double lo = std::clamp(std::min(ua, ub), 0.0, 1.0);
+  const double hi = std::clamp(std::max(ua, ub), 0.0, 1.0);
+  const int start = std::min(kSectors - 1, static_cast<int>(std::floor(lo * kSectors)));
+  const int count = static_cast<int>(std::ceil((hi - lo) * kSectors - kSectorSlack));
+  if (count <= 0) return 0u;
+  const std::uint32_t run = count >= kSectors ? 0xffffffffu : (1u << count) - 1u;
+  return run << start;
+}
+
+void validate(const BitmaskSettings& s) {
+  const std::string name =
+      s.weights == SectorWeights::kUniform ? "bitmask-uniform" : "bitmask-cosine";
+  if (!(s.radius > 0.0) || !std::isfinite(s.radius)) {
+    throw Error(name + ": radius must be a positive finite distance in metres");
+  }
+  if (s.slices < 1 || s.slices > 1024) throw Error(name + ": slices must be in [1, 1024]");
+  if (s.steps < 1 || s.steps > 4096) throw Error(name + ": steps must be in [1, 4096]");
+  if (!(s.thickness > 0.0) || !std::isfinite(s.thickness)) {
+    throw Error(name + ": thickness must be a positive finite distance in metres");
+  }
+}
+
+AoEstimate visibilityBitmask(const GBuffer& g, const BitmaskSettings& s) {
+  validate(s);
+  return estimatePerPixel(g, [&](int i, int j, std::size_t p, double* a, Eigen::Vector3d* bent) {
+    bitmaskPixel(g, i, j, p, s, a, bent);
+  });
+}
+
+}  // namespace gtbake

@@ -1,0 +1,38 @@
+// `bitmask-uniform`, `bitmask-cosine`: visibility-bitmask occlusion (Therrien, Levesque and Gilet
+// 2023, "Screen Space Indirect Lighting with Visibility Bitmask"; docs/screen_ao.md, "bitmask").
+// Per slice the hemisphere [n − π/2, n + π/2] about the projected normal is cut into 32 sectors.
+// Each sample S within the radius is a slab of constant thickness t behind it: its front point S
+// and back point S − t·V give two angles from V, and the sectors between them are set. The slice's
+// visibility is the fraction of sectors left clear: uniform sectors of equal angle (the paper's
+// form), or cosine sectors of equal cosine-weighted mass (the GTAO slice weight
+// cos(θ − n)|sin θ|, so sector k spans [C⁻¹(k/32), C⁻¹((k+1)/32)] of that weight's CDF C), then
+// times |N'| and the open slice's integral as in Eq. 8. Bent normal: Alg. 2's integrals over the
+// clear runs of sectors.
+#pragma once
+
+#include "screen_ao/estimate.h"
+
+namespace gtbake {
+
+enum class SectorWeights { kUniform, kCosine };
+
+struct BitmaskSettings {
+  double radius = 1.0;     // metres
+  int slices = 8;          // φ_s = π(s + ½)/slices
+  int steps = 8;           // samples per side at (k + ½)/steps of the projected radius
+  double thickness = 0.5;  // t, metres
+  SectorWeights weights = SectorWeights::kUniform;
+};
+
+inline constexpr int kSectors = 32;
+
+void validate(const BitmaskSettings& s);
+AoEstimate visibilityBitmask(const GBuffer& g, const BitmaskSettings& s);
+
+// Sector coordinate u ∈ [0, 1] of the slice angle θ (clamped to the hemisphere about n).
+double sectorCoordinate(double theta, double n, SectorWeights weights);
+// The 32-bit mask with the sectors of [min(ua, ub), max(ua, ub)] set: start ⌊32·min⌋, count
+// ⌈32·(max − min)⌉ (the paper's rule).
+std::uint32_t sectorBits(double ua, double ub);
+
+}  // namespace gtbake

@@ -1,0 +1,124 @@
+// `gtbake screen-ao` end to end on a small sweep: the output set and its files, and one-line
+// errors with no output for bad input (docs/screen_ao.md, "Outputs").
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "common/image_io.h"
+#include "common/output_set.h"
+#include "gbuffer_scenes.h"
+#include "scene/scene.h"
+#include "screen_ao/screen_ao_command.h"
+#include "support/temp_dir.h"
+#include "sweep/sweep_command.h"
+
+namespace gtbake {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ScreenAoCommand : public ::testing::Test {
+ protected:
+  ScreenAoCommand() : dir_("screen-ao") {}
+  // A sweep of the corner field at 24×24 px, 16 walks.
+  fs::path sweep() {
+    const fs::path gltf = dir_.path() / "corner.gltf";
+    writeGltfScene(gltf, test::cornerField(0.3));
+    SweepOptions o;
+    o.scenes = {gltf};
+    o.out = dir_.path() / "sweep";
+    o.spp = 16;
+    o.width = 24;
+    o.height = 24;
+    o.specular_roughness = {};
+    o.progress = false;
+    runSweep(o);
+    return o.out;
+  }
+  ScreenAoOptions options(const fs::path& sweep_dir, const std::string& out) {
+    ScreenAoOptions o;
+    o.sweep = sweep_dir;
+    o.out = dir_.path() / out;
+    o.progress = false;
+    return o;
+  }
+  test::TempDir dir_;
+};
+
+TEST_F(ScreenAoCommand, WritesOneOutputSet) {
+  ScreenAoOptions o = options(sweep(), "out");
+  runScreenAo(o);
+  const OutputManifest m = readOutputSet(o.out, "screen_ao");
+  const nlohmann::json j = nlohmann::json::parse(m.readVerified("screen_ao.json"));
+  ASSERT_EQ(j["estimators"].size(), 5u);
+  const auto& bins = j["estimators"]["gtao-runtime"]["scenes"]["corner"]["bins"];
+  ASSERT_EQ(bins.size(), 10u);
+  EXPECT_EQ(j["estimators"]["hbao"]["radius_channel"], "A_R1");
+  EXPECT_TRUE(j["convergence"]["rms_change"].is_number());
+  std::size_t pixels = 0;
+  for (const auto& b : bins) pixels += b["pixels"].get<std::size_t>();
+  EXPECT_EQ(pixels, j["estimators"]["hbao"]["scenes"]["all"]["all"]["pixels"].get<std::size_t>());
+  const ExrImage exr = decodeExr(m.readVerified("corner.exr"), "corner.exr");
+  for (const std::string& name : screenAoEstimatorNames()) {
+    for (const char* c : {".A", ".BNX", ".BNY", ".BNZ"})
+      EXPECT_EQ(exr.channels.count(name + c), 1u);
+    EXPECT_NE(m.find("corner_" + name + "_diff.png"), nullptr);
+  }
+  EXPECT_EQ(exr.channels.count("mask"), 1u);
+  EXPECT_NE(m.find("screen_ao.html"), nullptr);
+}
+
+// Every failure is one line and leaves no output set behind.
+void expectOneLineError(const ScreenAoOptions& o, const std::string& needle) {
+  try {
+    runScreenAo(o);
+    ADD_FAILURE() << "no error; expected " << needle;
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(needle), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+  std::error_code ec;
+  EXPECT_FALSE(fs::exists(o.out / "screen_ao.manifest.json", ec));
+}
+
+TEST_F(ScreenAoCommand, RejectsBadInput) {
+  const fs::path swept = sweep();
+  expectOneLineError(options(dir_.path() / "nowhere", "a"), "manifest");
+  ScreenAoOptions bad = options(swept, "b");
+  bad.settings.runtime.frames = 0;
+  expectOneLineError(bad, "frames");
+  bad = options(swept, "c");
+  bad.settings.reference.radius = -1.0;
+  expectOneLineError(bad, "radius");
+  EXPECT_THROW(parseEstimatorList("gtao,hbao"), Error);
+  EXPECT_THROW(parseEstimatorList("hbao,hbao"), Error);
+  ScreenAoSettings s;
+  EXPECT_THROW(applySetting(&s, "hbao.directions=two"), Error);
+  EXPECT_THROW(applySetting(&s, "hbao.thickness=1"), Error);
+  EXPECT_THROW(applySetting(&s, "ssao.radius=1"), Error);
+  EXPECT_THROW(applySetting(&s, "radius=1"), Error);
+  applySetting(&s, "all.radius=0.5");
+  EXPECT_EQ(s.bitmask_cosine.radius, 0.5);
+}
+
+TEST(GbufferChannels, MissingOrMismatchedChannelsAreOneLineErrors) {
+  std::map<std::string, std::vector<float>> channels;
+  for (const char* c : {"mask", "Z", "NX", "NY", "NZ"}) channels[c] = std::vector<float>(4, 0.0f);
+  const PerspectiveCamera camera;
+  channels.erase("Z");
+  try {
+    gbufferFromChannels(2, 2, camera, channels, "old.exr");
+    ADD_FAILURE();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no channel Z"), std::string::npos) << e.what();
+  }
+  channels["Z"] = std::vector<float>(3, 1.0f);
+  EXPECT_THROW(gbufferFromChannels(2, 2, camera, channels, "short.exr"), Error);
+}
+
+}  // namespace
+}  // namespace gtbake
