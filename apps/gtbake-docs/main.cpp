@@ -17,6 +17,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "docs/doc_numbers.h"
+#include "docs/ranking_block.h"
 
 namespace {
 
@@ -89,8 +90,21 @@ int main(int argc, char** argv) {
                      issue.message.c_str());
         ++issues;
       }
-      if (update && result.updated_text != text) {
-        gtbake::writeFileAtomically(file, result.updated_text);
+      std::string updated = result.updated_text;
+      // The generated ranking list (docs/validate_gtso.md §2), from luts/validate_gtso.json.
+      if (updated.find("<!-- ranking-tests:begin -->") != std::string::npos) {
+        const std::string lines = gtbake::docs::rankingLines(
+            nlohmann::json::parse(gtbake::readFile(fs::path(luts) / "validate_gtso.json")));
+        const auto block = gtbake::docs::withRankingBlock(updated, lines);
+        if (block && *block != updated && !update) {
+          std::fprintf(stderr, "%s: the ranking list differs from %s/validate_gtso.json\n",
+                       file.string().c_str(), luts.c_str());
+          ++issues;
+        }
+        if (block) updated = *block;
+      }
+      if (update && updated != text) {
+        gtbake::writeFileAtomically(file, updated);
         std::printf("gtbake-docs: updated %d number(s) in %s\n", result.mismatches,
                     file.string().c_str());
         ++rewritten;

@@ -10,7 +10,8 @@ endif()
 foreach(file bin/gtbake share/gtbake/luts/gtbake_tables.h share/gtbake/luts/gtbake_tables.hlsl
              share/gtbake/luts/gtbake_tables.glsl share/gtbake/luts/gtso3d.dds
              share/gtbake/luts/gtso4d.ktx2 share/gtbake/luts/fit.json share/gtbake/luts/sweep.json
-             share/gtbake/luts/cavity.exr share/gtbake/luts/gtso/gtso.json)
+             share/gtbake/luts/cavity_0.exr share/gtbake/luts/gtso/gtso.json
+             share/gtbake/luts/encode.json share/gtbake/luts/screen_ao/screen_ao.json)
   if(NOT EXISTS ${PREFIX}/${file})
     message(FATAL_ERROR "cmake --install did not install ${file}")
   endif()

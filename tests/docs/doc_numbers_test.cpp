@@ -1,5 +1,6 @@
 // The docs-number markers: parsing, the check, the update, and the command-line tool end to end.
 #include "docs/doc_numbers.h"
+#include "docs/ranking_block.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -218,6 +219,21 @@ TEST(DocNumbersTool, CheckListsProblemsUpdateFixesMismatchesAtomically) {
   EXPECT_EQ(runTool("--check --update " + args, dir), 2);
   EXPECT_EQ(runTool(args, dir), 2);
   EXPECT_EQ(runTool("--check " + (dir.path() / "nowhere").string(), dir), 1);
+}
+
+// The ranking list is rebuilt from validate_gtso.json in roughness order, between its markers only.
+TEST(RankingBlock, LinesComeFromTheStatementsInRoughnessOrder) {
+  const nlohmann::json j = nlohmann::json::parse(R"({
+    "sweep": {"roughness": [0.1, 0.25]},
+    "ranking_tests": {"by_roughness": {"S025": {"statement": "B wins."},
+                                       "S010": {"statement": "A ties."}}}})");
+  const std::string lines = rankingLines(j);
+  EXPECT_EQ(lines, "- r_p 0.10: A ties.\n- r_p 0.25: B wins.\n");
+  const std::string doc = "x\n<!-- ranking-tests:begin -->\n- old\n<!-- ranking-tests:end -->\ny\n";
+  EXPECT_EQ(withRankingBlock(doc, lines),
+            "x\n<!-- ranking-tests:begin -->\n" + lines + "<!-- ranking-tests:end -->\ny\n");
+  EXPECT_FALSE(withRankingBlock("x\n<!-- ranking-tests:begin -->\n- old\n", lines));
+  EXPECT_THROW(rankingLines(nlohmann::json::object()), Error);
 }
 
 }  // namespace
