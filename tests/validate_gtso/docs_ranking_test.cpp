@@ -52,4 +52,18 @@ TEST(DocsRanking, TextIsTheGeneratedStatements) {
   }
 }
 
+// The Eq. 10 verdict's words in docs/fit.md and docs/index.md follow fit.json
+// /shipped/against_band/consistent (the numbers beside them are markers).
+TEST(DocsVerdict, WordsFollowFitJson) {
+  const char* env = std::getenv("GTBAKE_LUTS_DIR");
+  const std::string luts = env != nullptr ? env : std::string(GTBAKE_SOURCE_DIR) + "/luts";
+  const nlohmann::json j = nlohmann::json::parse(readFile(luts + "/fit.json"));
+  const bool consistent = j.at("shipped").at("against_band").at("consistent").get<bool>();
+  const std::string fit = readFile(std::string(GTBAKE_SOURCE_DIR) + "/docs/fit.md");
+  const std::string index = readFile(std::string(GTBAKE_SOURCE_DIR) + "/docs/index.md");
+  const std::string word = consistent ? "consistent with" : "outside the scene-mix uncertainty";
+  EXPECT_NE(fit.find("**Verdict on the paper's constants: " + word), std::string::npos) << word;
+  EXPECT_NE(index.find("the paper's constants are\n" + word), std::string::npos) << word;
+}
+
 }  // namespace
