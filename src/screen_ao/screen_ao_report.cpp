@@ -20,14 +20,13 @@ std::string cell(double v) {
 std::string summaryTable(const std::vector<EstimatorRun>& runs) {
   std::string html =
       "<table><tr><th>estimator</th><th>bias</th><th>RMSE</th><th>bias at R</th>"
-      "<th>RMSE at R</th><th>b&#770; mean&deg;</th><th>b&#770; p95&deg;</th><th>s/MP</th></tr>\n";
+      "<th>RMSE at R</th><th>b&#770; mean&deg;</th><th>b&#770; p95&deg;</th></tr>\n";
   for (const EstimatorRun& run : runs) {
     const ErrorSummary& e = run.errors.back().all;
     html += "<tr><td>" + run.name + "</td><td>" + cell(e.bias) + "</td><td>" + cell(e.rmse) +
             "</td><td>" + (e.pixels_at_radius ? cell(e.bias_at_radius) : "-") + "</td><td>" +
             (e.pixels_at_radius ? cell(e.rmse_at_radius) : "-") + "</td><td>" +
-            cell(e.bent_mean_deg) + "</td><td>" + cell(e.bent_p95_deg) + "</td><td>" +
-            cell(run.megapixels > 0 ? run.seconds / run.megapixels : 0.0) + "</td></tr>\n";
+            cell(e.bent_mean_deg) + "</td><td>" + cell(e.bent_p95_deg) + "</td></tr>\n";
   }
   return html + "</table>\n";
 }

@@ -244,12 +244,16 @@ TEST(Luts, FreshAllReproducesCommittedLuts) {
   const std::pair<const char*, const char*> pages[] = {
       {"fit", "report/index.html"},
       {"validate_gtso", "report/validate_gtso.html"},
-      {"validate_gtso", "report/validate_gtso_cavity.png"}};
+      {"validate_gtso", "report/validate_gtso_cavity_0.png"}};
   for (const auto& [command, page] : pages) {
     const OutputManifest set = readOutputSet(fresh.path(), command);
     ASSERT_NE(set.find(page), nullptr) << command << " " << page;
     EXPECT_EQ(set.readVerified(page), readFile(fresh.path() / page));
   }
+  const OutputManifest screen = readOutputSet(fresh.path() / "screen_ao", "screen_ao");
+  ASSERT_NE(screen.find("screen_ao.html"), nullptr);
+  EXPECT_EQ(screen.readVerified("screen_ao.html"),
+            readFile(fresh.path() / "screen_ao" / "screen_ao.html"));
 }
 
 // The tolerances accept what another machine's Embree does to luts/, and no more: a change of a
