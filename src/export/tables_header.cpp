@@ -253,6 +253,40 @@ std::string floatLiteral(float value) {
   return s;
 }
 
+namespace {
+
+// The cone aperture u's provenance lines: from validate_gtso.json (scene-level interval, law,
+// data) when export was given it, else gtso.json's table fit.
+void coneProvenance(std::ostringstream& o, const GeneratedCodeInput& in) {
+  const nlohmann::json& gj = in.gtso->json;
+  char u_raw[40];
+  std::snprintf(u_raw, sizeof(u_raw), "%.17g", in.gtso->u);
+  if (in.gtso->validate_gtso.is_null()) {
+    o << "// Cone aperture u = " << u_raw << " (SE " << g9(in.gtso->u_se) << "), convention "
+      << jsonAt(gj, {"cone", "convention"}) << "\n";
+  } else {
+    const nlohmann::json& vj = in.gtso->validate_gtso;
+    o << "// Cone aperture u = " << u_raw << " from validate_gtso.json, "
+      << (vj.contains("u_scene_interval") ? "scene-level 95% interval (delete-one-scene jackknife "
+                                            "of log10 u) ["
+                                          : "5% profile interval [")
+      << g9(in.gtso->u_low) << ", " << g9(in.gtso->u_high) << "], SE " << g9(in.gtso->u_se)
+      << ", convention " << jsonAt(vj, {"u_fit", "alpha", "convention"}) << "\n"
+      << "//   objective: " << jsonAt(vj, {"u_fit", "objective"}) << "\n"
+      << "//   law by a paired scene-level test of held-out RMSE: "
+      << jsonAt(vj, {"u_law", "chosen"}) << " (shipped here: u^(alpha^2/2))\n"
+      << "//   data: " << jsonAt(vj, {"sweep"}) << "\n"
+      << "//   RMSE at u, 0.01, 0.244: " << jsonAt(vj, {"u_fit", "alpha", "all", "rmse"}) << ", "
+      << jsonAt(vj, {"u_fit", "alpha", "all", "rmse_u_0.01"}) << ", "
+      << jsonAt(vj, {"u_fit", "alpha", "all", "rmse_u_0.244"})
+      << "; perceptual reading u^(r_p^2/2): " << jsonAt(vj, {"u_fit", "perceptual", "all"}) << "\n"
+      << "//   diagnostic: u fitted to the 3D table (gtso.json) = " << jsonAt(gj, {"cone", "u"})
+      << "\n";
+  }
+}
+
+}  // namespace
+
 std::string provenanceComment(const GeneratedCodeInput& in) {
   const nlohmann::json& fj = in.fit->json;
   const nlohmann::json& gj = in.gtso->json;
@@ -301,30 +335,7 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
       << endToEnd(gj, key, "r8") << "; recommended "
       << jsonAt(gj, {"end_to_end", key, "recommended"}) << "\n";
   }
-  char u_raw[40];
-  std::snprintf(u_raw, sizeof(u_raw), "%.17g", in.gtso->u);
-  if (in.gtso->validate_gtso.is_null()) {
-    o << "// Cone aperture u = " << u_raw << " (SE " << g9(in.gtso->u_se) << "), convention "
-      << jsonAt(gj, {"cone", "convention"}) << "\n";
-  } else {
-    const nlohmann::json& vj = in.gtso->validate_gtso;
-    o << "// Cone aperture u = " << u_raw << " from validate_gtso.json, "
-      << (vj.contains("u_scene_interval") ? "scene-level 95% interval (delete-one-scene jackknife "
-                                            "of log10 u) ["
-                                          : "5% profile interval [")
-      << g9(in.gtso->u_low) << ", " << g9(in.gtso->u_high) << "], SE " << g9(in.gtso->u_se)
-      << ", convention " << jsonAt(vj, {"u_fit", "alpha", "convention"}) << "\n"
-      << "//   objective: " << jsonAt(vj, {"u_fit", "objective"}) << "\n"
-      << "//   law by a paired scene-level test of held-out RMSE: "
-      << jsonAt(vj, {"u_law", "chosen"}) << " (shipped here: u^(alpha^2/2))\n"
-      << "//   data: " << jsonAt(vj, {"sweep"}) << "\n"
-      << "//   RMSE at u, 0.01, 0.244: " << jsonAt(vj, {"u_fit", "alpha", "all", "rmse"}) << ", "
-      << jsonAt(vj, {"u_fit", "alpha", "all", "rmse_u_0.01"}) << ", "
-      << jsonAt(vj, {"u_fit", "alpha", "all", "rmse_u_0.244"})
-      << "; perceptual reading u^(r_p^2/2): " << jsonAt(vj, {"u_fit", "perceptual", "all"}) << "\n"
-      << "//   diagnostic: u fitted to the 3D table (gtso.json) = " << jsonAt(gj, {"cone", "u"})
-      << "\n";
-  }
+  coneProvenance(o, in);
   o << "//   errors of S_cone vs S3: " << jsonAt(gj, {"cone", "errors"}) << "\n"
     << "// BC4 vs the float tables (exact per-block optimum, D3D float decode): 3D RMSE "
     << g9(in.bc4_3d->rmse) << ", max " << g9(in.bc4_3d->max_abs) << "; 4D RMSE "

@@ -69,16 +69,11 @@ void printSummary(const AllOptions& options, const SweepResult& swept, const Fit
       screened.seconds, times.total);
 }
 
-}  // namespace
-
-void runAll(const AllOptions& options) {
-  namespace fs = std::filesystem;
-  ensureDirectory(options.out);
-  const ThreadLimit limit(options.threads);
-  const auto start = std::chrono::steady_clock::now();
-
-  auto t = std::chrono::steady_clock::now();
-  std::vector<fs::path> gltf = options.scenes;  // the user's scenes, or the built-in corpus
+// The scenes (the user's, or the built-in corpus written into <out>/scenes at its settings) and
+// their sweep into <out>; *scenes_seconds is the time spent writing the corpus.
+SweepResult sweepScenes(const AllOptions& options, int threads, double* scenes_seconds) {
+  const auto t = std::chrono::steady_clock::now();
+  std::vector<std::filesystem::path> gltf = options.scenes;
   const bool corpus = gltf.empty();
   if (corpus) {
     banner("scenes", options.progress);
@@ -87,28 +82,40 @@ void runAll(const AllOptions& options) {
     scenes.progress = options.progress;
     gltf = runScenes(scenes);
   }
-  const double scenes_seconds = secondsSince(t);
+  *scenes_seconds = secondsSince(t);
 
   banner("sweep", options.progress);
   SweepOptions sweep;
   sweep.scenes = gltf;
   sweep.out = options.out;  // <out>/<scene>.exr, as the README promises
-  sweep.threads = limit.threads();
+  sweep.threads = threads;
   sweep.progress = options.progress;
   if (corpus) {
     sweep.width = sweep.height = kCorpusResolution;
     sweep.spp = kCorpusSpp;
     sweep.specular_spp = kCorpusSpecularSpp;
   }
-  const SweepResult swept = runSweep(sweep);
+  return runSweep(sweep);
+}
+
+}  // namespace
+
+void runAll(const AllOptions& options) {
+  ensureDirectory(options.out);
+  const ThreadLimit limit(options.threads);
+  const auto start = std::chrono::steady_clock::now();
+
+  double scenes_seconds = 0.0;
+  const SweepResult swept = sweepScenes(options, limit.threads(), &scenes_seconds);
+  const std::filesystem::path& swept_dir = options.out;  // <out>/<scene>.exr, sweep.json
 
   banner("fit", options.progress);
   FitOptions fit;
-  fit.sweep = sweep.out;
+  fit.sweep = swept_dir;
   fit.out = options.out / "fit.json";
   fit.report = options.out / "report";
   fit.progress = options.progress;
-  t = std::chrono::steady_clock::now();
+  auto t = std::chrono::steady_clock::now();
   const FitResult fitted = runFit(fit);
   const double fit_seconds = secondsSince(t);
 
@@ -129,7 +136,7 @@ void runAll(const AllOptions& options) {
 
   banner("validate-gtso", options.progress);
   ValidateGtsoOptions validate_gtso;
-  validate_gtso.sweep = sweep.out;
+  validate_gtso.sweep = swept_dir;
   validate_gtso.luts = options.out;  // <out>/gtso and encode's volumes
   validate_gtso.progress = options.progress;
   const ValidateGtsoResult validated = runValidateGtso(validate_gtso);
@@ -148,7 +155,7 @@ void runAll(const AllOptions& options) {
 
   banner("screen-ao", options.progress);
   ScreenAoOptions screen_ao;
-  screen_ao.sweep = sweep.out;
+  screen_ao.sweep = swept_dir;
   screen_ao.out = options.out / "screen_ao";
   screen_ao.threads = limit.threads();
   screen_ao.progress = options.progress;

@@ -23,11 +23,9 @@ constexpr double kZNear = 0.01;
 // Far plane for viewers, m: beyond the 10 km ground of the generated scenes.
 constexpr double kZFar = 1.0e5;
 
-tinygltf::Model buildModel(const Scene& scene, const std::string& bin_name) {
-  tinygltf::Model model;
-  model.asset.version = "2.0";
-  model.asset.generator = std::string("gtbake ") + GTBAKE_VERSION;
-
+// One buffer (positions, then 32-bit indices), its two views and accessors (with the position
+// bounds glTF requires).
+void addGeometry(const Scene& scene, const std::string& bin_name, tinygltf::Model& model) {
   tinygltf::Buffer buffer;
   buffer.uri = bin_name;
   const std::size_t position_bytes = scene.positions.size() * 12;
@@ -72,25 +70,10 @@ tinygltf::Model buildModel(const Scene& scene, const std::string& bin_name) {
   indices.type = TINYGLTF_TYPE_SCALAR;
   indices.count = 3 * scene.triangles.size();
   model.accessors = {positions, indices};
+}
 
-  tinygltf::Material material;
-  material.name = "lambert_white";
-  material.doubleSided = true;  // docs/sweep.md §1: every surface is two-sided
-  material.pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};
-  material.pbrMetallicRoughness.metallicFactor = 0.0;
-  material.pbrMetallicRoughness.roughnessFactor = 1.0;
-  model.materials.push_back(material);
-
-  tinygltf::Primitive primitive;
-  primitive.attributes["POSITION"] = 0;
-  primitive.indices = 1;
-  primitive.material = 0;
-  primitive.mode = TINYGLTF_MODE_TRIANGLES;
-  tinygltf::Mesh mesh;
-  mesh.name = scene.name;
-  mesh.primitives.push_back(primitive);
-  model.meshes.push_back(mesh);
-
+// The perspective camera and the two nodes: the mesh, and the camera with its pose as a matrix.
+void addCameraAndNodes(const Scene& scene, tinygltf::Model& model) {
   tinygltf::Camera camera;
   camera.type = "perspective";
   camera.name = "camera";
@@ -112,6 +95,34 @@ tinygltf::Model buildModel(const Scene& scene, const std::string& bin_name) {
   }
   camera_node.matrix[15] = 1.0;
   model.nodes = {geometry, camera_node};
+}
+
+tinygltf::Model buildModel(const Scene& scene, const std::string& bin_name) {
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = std::string("gtbake ") + GTBAKE_VERSION;
+
+  addGeometry(scene, bin_name, model);
+
+  tinygltf::Material material;
+  material.name = "lambert_white";
+  material.doubleSided = true;  // docs/sweep.md §1: every surface is two-sided
+  material.pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};
+  material.pbrMetallicRoughness.metallicFactor = 0.0;
+  material.pbrMetallicRoughness.roughnessFactor = 1.0;
+  model.materials.push_back(material);
+
+  tinygltf::Primitive primitive;
+  primitive.attributes["POSITION"] = 0;
+  primitive.indices = 1;
+  primitive.material = 0;
+  primitive.mode = TINYGLTF_MODE_TRIANGLES;
+  tinygltf::Mesh mesh;
+  mesh.name = scene.name;
+  mesh.primitives.push_back(primitive);
+  model.meshes.push_back(mesh);
+
+  addCameraAndNodes(scene, model);
 
   tinygltf::Scene gltf_scene;
   gltf_scene.name = scene.name;
