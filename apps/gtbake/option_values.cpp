@@ -72,7 +72,11 @@ std::pair<int, int> parseShard(const std::string& text) {
   return {index, count};
 }
 
-std::vector<double> parseGbufferRadii(const std::string& text) {
+namespace {
+
+// "none" (empty) or comma-separated finite numbers each passing `valid`; `error` otherwise.
+std::vector<double> parseNumberList(const std::string& text, bool (*valid)(double),
+                                    const std::string& error) {
   if (text == "none") return {};
   std::vector<double> values;
   std::size_t begin = 0;
@@ -81,9 +85,8 @@ std::vector<double> parseGbufferRadii(const std::string& text) {
     const std::string item = text.substr(begin, end == std::string::npos ? end : end - begin);
     char* stop = nullptr;
     const double v = std::strtod(item.c_str(), &stop);
-    if (item.empty() || stop != item.c_str() + item.size() || !std::isfinite(v) || !(v > 0.0)) {
-      throw Error("--gbuffer-radius must be 'none' or comma-separated positive metres, got '" +
-                  text + "'");
+    if (item.empty() || stop != item.c_str() + item.size() || !std::isfinite(v) || !valid(v)) {
+      throw Error(error + ", got '" + text + "'");
     }
     values.push_back(v);
     if (end == std::string::npos) break;
@@ -92,25 +95,19 @@ std::vector<double> parseGbufferRadii(const std::string& text) {
   return values;
 }
 
+}  // namespace
+
+std::vector<double> parseGbufferRadii(const std::string& text) {
+  return parseNumberList(
+      text, [](double v) { return v > 0.0; },
+      "--gbuffer-radius must be 'none' or comma-separated positive metres");
+}
+
 std::vector<double> parseSpecularRoughness(const std::string& text) {
-  if (text == "none") return {};
-  std::vector<double> values;
-  std::size_t begin = 0;
-  while (true) {
-    const std::size_t end = text.find(',', begin);
-    const std::string item = text.substr(begin, end == std::string::npos ? end : end - begin);
-    char* stop = nullptr;
-    const double v = std::strtod(item.c_str(), &stop);
-    if (item.empty() || stop != item.c_str() + item.size() || !std::isfinite(v)) {
-      throw Error(
-          "--specular-roughness must be 'none' or comma-separated numbers in [0, 1], got '" + text +
-          "'");
-    }
-    values.push_back(v);
-    if (end == std::string::npos) break;
-    begin = end + 1;
-  }
-  return values;
+  // The range is the sweep's own option check.
+  return parseNumberList(
+      text, [](double) { return true; },
+      "--specular-roughness must be 'none' or comma-separated numbers in [0, 1]");
 }
 
 }  // namespace gtbake

@@ -27,19 +27,6 @@ const Eigen::Vector3d kUp = Eigen::Vector3d::UnitY();
 const Eigen::Vector3d kX = Eigen::Vector3d::UnitX();
 const Eigen::Vector3d kZ = Eigen::Vector3d::UnitZ();
 
-// Numbers in [0, 1) for one scene: u(k) is the k-th draw of counter `variant` of the stream.
-class Uniform {
- public:
-  Uniform(std::uint64_t seed, std::uint64_t stream, int variant)
-      : rng_(seed, stream), variant_(static_cast<std::uint64_t>(variant)) {}
-  double operator()(std::uint32_t k) const { return rng_.uniform4(variant_, k / 4)[k % 4]; }
-  double in(std::uint32_t k, double lo, double hi) const { return lo + (hi - lo) * (*this)(k); }
-
- private:
-  CounterRng rng_;
-  std::uint64_t variant_;
-};
-
 void addFlatGround(MeshBuilder& mesh, double inner) {
   const std::vector<double> axis = gradedAxis(inner, kGroundStep, kGroundExtent);
   addHeightfield(mesh, axis, axis, [](double, double) { return 0.0; });
@@ -70,7 +57,7 @@ void addTable(MeshBuilder& mesh, const Eigen::Vector3d& at, double hx, double hz
 Scene makeInteriorScene(std::uint64_t seed, int variant) {
   // A room W × D × H with floor, ceiling, back and side walls, open at z = +D/2 (the camera looks
   // in from just inside it); cabinets along the back and side walls, tables and chairs inside.
-  const Uniform u(seed, kInteriorStream, variant);
+  const VariantDraws u(seed, kInteriorStream, variant);
   const double W = u.in(0, 4.0, 7.0), D = u.in(1, 4.0, 7.0), H = u.in(2, 2.4, 3.4);
   MeshBuilder mesh;
   std::uint32_t c[8];
@@ -122,7 +109,7 @@ Scene makeColonnadeScene(std::uint64_t seed, int variant) {
   // A row of columns along x in front of a back wall, carrying either a flat roof slab (a
   // portico) or semicircular arches with a wall above them (an arcade); even variants are
   // porticoes, odd ones arcades.
-  const Uniform u(seed, kColonnadeStream, variant);
+  const VariantDraws u(seed, kColonnadeStream, variant);
   const int columns = 4 + static_cast<int>(4.0 * u(0));
   const double spacing = u.in(1, 0.9, 1.6), radius = u.in(2, 0.1, 0.25) * spacing;
   const double height = u.in(3, 1.8, 3.0), depth = u.in(4, 0.8, 2.0);  // portico depth
@@ -174,7 +161,7 @@ Scene makeColonnadeScene(std::uint64_t seed, int variant) {
 Scene makeRocksScene(std::uint64_t seed, int variant) {
   // A pile of rocks: squashed spheres with a radial relief of three random cosine lobes, partly
   // sunk into the ground and partly stacked (they may interpenetrate, as rubble does).
-  const Uniform u(seed, kRocksStream, variant);
+  const VariantDraws u(seed, kRocksStream, variant);
   const int rocks = 8 + static_cast<int>(16.0 * u(0));
   const double spread = u.in(1, 1.2, 2.6), relief = u.in(2, 0.1, 0.3);
   MeshBuilder mesh;
@@ -230,7 +217,7 @@ Scene makeThinScene(std::uint64_t seed, int variant) {
   // Thin geometry on the ground: a patch of grass blades (single two-sided triangles, leaning), a
   // louvre of tilted slats on posts, and a railing of thin posts and rails; the densities, slat
   // tilt and sizes vary.
-  const Uniform u(seed, kThinStream, variant);
+  const VariantDraws u(seed, kThinStream, variant);
   MeshBuilder mesh;
   addFlatGround(mesh, 6.0);
   // Blades in x ∈ [−2.6, 0], z ∈ [−1.5, 2]: width 2–5 cm, height 0.15–0.6 m.
@@ -271,7 +258,7 @@ Scene makeThinScene(std::uint64_t seed, int variant) {
 Scene makeMechanicalScene(std::uint64_t seed, int variant) {
   // Machine parts on the ground: two meshing spur gears on a base plate, a tube, hexagon bolts
   // and an L bracket; tooth counts and sizes vary.
-  const Uniform u(seed, kMechanicalStream, variant);
+  const VariantDraws u(seed, kMechanicalStream, variant);
   MeshBuilder mesh;
   addFlatGround(mesh, 6.0);
   addBox(mesh, {-0.6, 0.0, 0.0}, 1.6, 1.1, 0.1, 0.0);  // base plate

@@ -16,21 +16,8 @@ namespace {
 // Random stream of the variant parameters of classic type t: kVariantStream + t.
 constexpr std::uint64_t kVariantStream = 0x76617269;  // "vari"
 
-// Uniform draws for one variant: draw(k) is the k-th number in [0, 1) of counter `variant`.
-class Draws {
- public:
-  Draws(std::uint64_t seed, std::uint64_t stream, int variant)
-      : rng_(seed, stream), variant_(static_cast<std::uint64_t>(variant)) {}
-  double operator()(std::uint32_t k) const { return rng_.uniform4(variant_, k / 4)[k % 4]; }
-  double in(std::uint32_t k, double lo, double hi) const { return lo + (hi - lo) * (*this)(k); }
-
- private:
-  CounterRng rng_;
-  std::uint64_t variant_;
-};
-
 Scene classicVariant(std::size_t type, const std::string& name, int variant, std::uint64_t seed) {
-  const Draws d(seed, kVariantStream + type, variant);
+  const VariantDraws d(seed, kVariantStream + type, variant);
   if (name == "cavity") {
     CavityParams p;
     p.radius = d.in(0, 0.6, 1.4);

@@ -14,10 +14,25 @@
 #include <string>
 #include <vector>
 
+#include "common/rng.h"
 #include "scene/mesh_builder.h"
 #include "scene/scene.h"
 
 namespace gtbake {
+
+// Uniform draws for one scene variant: d(k) is the k-th number in [0, 1) of counter `variant` of
+// the random stream (seed, stream); d.in(k, lo, hi) maps it to [lo, hi).
+class VariantDraws {
+ public:
+  VariantDraws(std::uint64_t seed, std::uint64_t stream, int variant)
+      : rng_(seed, stream), variant_(static_cast<std::uint64_t>(variant)) {}
+  double operator()(std::uint32_t k) const { return rng_.uniform4(variant_, k / 4)[k % 4]; }
+  double in(std::uint32_t k, double lo, double hi) const { return lo + (hi - lo) * (*this)(k); }
+
+ private:
+  CounterRng rng_;
+  std::uint64_t variant_;
+};
 
 // Variants per type in the default corpus: 12 types × 4 = 48 scenes.
 inline constexpr int kCorpusVariants = 4;

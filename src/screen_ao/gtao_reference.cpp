@@ -46,12 +46,7 @@ void gtaoReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSetti
                           });
       h[side] = horizonAngle(horizon_cos, side, slice.n);
     }
-    visibility +=
-        slice.projected_length * (arcIntegral(h[0], slice.n) + arcIntegral(h[1], slice.n));
-    double t0 = 0.0;
-    double t1 = 0.0;
-    bentIntegrals(h[0], h[1], slice.n, &t0, &t1);
-    sum += slice.projected_length * (t0 * slice.o + t1 * v);
+    accumulateSlice(slice, h, v, &visibility, &sum);
   }
   *a = visibility / s.slices;
   *bent = sum;

@@ -113,12 +113,7 @@ void gtaoRuntimePixel(const GBuffer& g, int i, int j, int frame, const GtaoRunti
           sideHorizonCos(g, i, j, x, v, slice.omega, sign, low_cos, radius_px, step_noise, s);
       h[side] = horizonAngle(c, side, slice.n);
     }
-    visibility +=
-        slice.projected_length * (arcIntegral(h[0], slice.n) + arcIntegral(h[1], slice.n));
-    double t0 = 0.0;
-    double t1 = 0.0;
-    bentIntegrals(h[0], h[1], slice.n, &t0, &t1);
-    sum += slice.projected_length * (t0 * slice.o + t1 * v);
+    accumulateSlice(slice, h, v, &visibility, &sum);
   }
   *ao = std::pow(std::clamp(visibility / s.directions, 0.0, 1.0), s.intensity);
   *bent = sum.norm() > 1e-12 ? sum : normal;  // degenerate: the surface normal

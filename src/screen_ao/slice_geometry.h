@@ -88,6 +88,18 @@ inline void bentIntegrals(double h0, double h1, double n, double* t0, double* t1
   // clang-format on
 }
 
+// Adds one slice with horizon angles h[0], h[1] to the running sums (memo Alg. 1 line 29, Alg. 2
+// line 6): the visibility |N'| (arc(h0) + arc(h1)) and the bent-normal direction
+// |N'| (t0 o + t1 V), V the view vector.
+inline void accumulateSlice(const Slice& slice, const double h[2], const Eigen::Vector3d& v,
+                            double* visibility, Eigen::Vector3d* sum) {
+  *visibility += slice.projected_length * (arcIntegral(h[0], slice.n) + arcIntegral(h[1], slice.n));
+  double t0 = 0.0;
+  double t1 = 0.0;
+  bentIntegrals(h[0], h[1], slice.n, &t0, &t1);
+  *sum += slice.projected_length * (t0 * slice.o + t1 * v);
+}
+
 // The view-space point of the texel nearest to the image point (x, y) (continuous pixel
 // coordinates), or false off the image or where the pixel is masked (sky: no occluder).
 inline bool texelPoint(const GBuffer& g, double x, double y, Eigen::Vector3d* point,
