@@ -10,8 +10,8 @@
 #include "common/output_set.h"
 #include "reliability_util.h"
 #include "scene/procedural_scenes.h"
-#include "support/test_scenes.h"
 #include "scene/scene.h"
+#include "support/test_scenes.h"
 #include "sweep/sweep_command.h"
 
 namespace gtbake {

@@ -19,9 +19,9 @@
 #include "gtso/gtso_command.h"
 #include "reliability_util.h"
 #include "scene/procedural_scenes.h"
-#include "support/test_scenes.h"
 #include "scene/scene.h"
 #include "scene/scenes_command.h"
+#include "support/test_scenes.h"
 #include "sweep/sweep_command.h"
 
 namespace gtbake {

@@ -10,10 +10,10 @@
 
 #include "common/error.h"
 #include "scene/procedural_scenes.h"
-#include "support/test_scenes.h"
 #include "scene/scene.h"
 #include "scene/scenes_command.h"
 #include "scene_test_util.h"
+#include "support/test_scenes.h"
 
 namespace gtbake {
 namespace {

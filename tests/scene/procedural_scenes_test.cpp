@@ -11,8 +11,8 @@
 #include "common/math_constants.h"
 #include "scene/mesh_builder.h"
 #include "scene/procedural_scenes.h"
-#include "support/test_scenes.h"
 #include "scene_test_util.h"
+#include "support/test_scenes.h"
 
 namespace gtbake {
 namespace {
