@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 build="${1:-build-sanitize}"
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGTBAKE_SANITIZE=ON \
   -DGTBAKE_BUILD_BENCH=OFF -DGTBAKE_FUZZ_ITERATIONS=400
-cmake --build "$build" -j"$(nproc)" --target test_reliability test_scene fuzz_gltf fuzz_exr fuzz_json
+cmake --build "$build" -j"$(nproc)" --target gtbake_sanitize_tier
 # Leak checking is off: TBB and Embree keep process-lifetime allocations that LSan reports.
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:strict_string_checks=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
