@@ -1,9 +1,13 @@
 #include "validate_gtso/scene_paired_test.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <numeric>
 
 #include "common/error.h"
@@ -16,18 +20,24 @@ namespace {
 // |Σ ±d_s| ≥ |Σ d_s| counts with this relative slack (the observed pattern itself must count).
 constexpr double kTieSlack = 1e-12;
 
-// How many sign patterns in `patterns` give |Σ ±d| ≥ target; pattern bits from `bits(k)`.
+// How many sign patterns in `patterns` give |Σ ±d| ≥ target; pattern bits from `bits(k)`. Each
+// pattern's sum is summed in scene order, and the count is an integer, so the result does not
+// depend on how the patterns are split across threads.
 template <typename Bits>
 std::uint64_t countAtLeast(const std::vector<double>& d, double target, std::uint64_t patterns,
                            Bits&& bits) {
-  std::uint64_t hits = 0;
-  for (std::uint64_t k = 0; k < patterns; ++k) {
-    const std::uint64_t b = bits(k);
-    double sum = 0.0;
-    for (std::size_t s = 0; s < d.size(); ++s) sum += ((b >> s) & 1u) ? -d[s] : d[s];
-    if (std::abs(sum) >= target) ++hits;
-  }
-  return hits;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::uint64_t>(0, patterns), std::uint64_t{0},
+      [&](const tbb::blocked_range<std::uint64_t>& r, std::uint64_t hits) {
+        for (std::uint64_t k = r.begin(); k != r.end(); ++k) {
+          const std::uint64_t b = bits(k);
+          double sum = 0.0;
+          for (std::size_t s = 0; s < d.size(); ++s) sum += ((b >> s) & 1u) ? -d[s] : d[s];
+          if (std::abs(sum) >= target) ++hits;
+        }
+        return hits;
+      },
+      std::plus<>());
 }
 
 std::string pText(double p) {
