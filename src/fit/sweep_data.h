@@ -34,7 +34,6 @@ struct SweepScene {
   // before views (each image was its own scene).
   std::string cluster{};
   std::string type{};
-  const std::string& clusterName() const { return cluster.empty() ? name : cluster; }
 };
 
 struct SweepData {

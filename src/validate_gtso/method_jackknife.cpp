@@ -1,24 +1,16 @@
 #include "validate_gtso/method_jackknife.h"
 
-#include <algorithm>
 #include <cmath>
+
+#include "validate_gtso/scene_statistics.h"
 
 namespace gtbake {
 
 nlohmann::ordered_json methodJackknifeJson(
     const SpecularSweep& sweep, const std::string& unit, const std::vector<std::string>& names,
     const std::vector<std::vector<std::vector<ErrorStats>>>& cells) {
-  std::vector<std::string> groups;
-  std::vector<std::size_t> of;
-  for (const SpecularScene& view : sweep.scenes) {
-    // Empty fields (sweeps before views): each image its own scene, its scene its type.
-    const std::string& scene = view.cluster.empty() ? view.name : view.cluster;
-    const std::string& key = unit == "type" && !view.type.empty() ? view.type : scene;
-    const auto found = std::find(groups.begin(), groups.end(), key);
-    of.push_back(static_cast<std::size_t>(found - groups.begin()));
-    if (found == groups.end()) groups.push_back(key);
-  }
-  const std::size_t G = groups.size();
+  std::vector<int> of;
+  const std::size_t G = sceneClusters(sweep, of, unit == "type").size();
   nlohmann::ordered_json out;
   out["method"] = "delete-one-" + unit +
                   " jackknife of each method's RMSE over every unmasked pixel and roughness: SE = "
@@ -33,8 +25,9 @@ nlohmann::ordered_json methodJackknifeJson(
     std::vector<double> sum2(G, 0.0), count(G, 0.0);
     for (std::size_t v = 0; v < cells[m].size(); ++v) {
       for (const ErrorStats& e : cells[m][v]) {
-        sum2[of[v]] += e.sum2;
-        count[of[v]] += static_cast<double>(e.count);
+        const auto g = static_cast<std::size_t>(of[v]);
+        sum2[g] += e.sum2;
+        count[g] += static_cast<double>(e.count);
       }
     }
     double total2 = 0.0, total = 0.0;

@@ -133,10 +133,11 @@ std::string sceneStatisticsHtml(const SpecularSweep& sweep, const SceneStatistic
   return o.str();
 }
 
-std::vector<std::string> sceneClusters(const SpecularSweep& sweep, std::vector<int>& cluster_of) {
+std::vector<std::string> sceneClusters(const SpecularSweep& sweep, std::vector<int>& cluster_of,
+                                       bool by_type) {
   std::vector<std::string> names;
   for (const SpecularScene& scene : sweep.scenes) {
-    const std::string& key = scene.cluster.empty() ? scene.name : scene.cluster;
+    const std::string& key = by_type ? scene.typeName() : scene.sceneName();
     const auto it = std::find(names.begin(), names.end(), key);
     cluster_of.push_back(static_cast<int>(it - names.begin()));
     if (it == names.end()) names.push_back(key);

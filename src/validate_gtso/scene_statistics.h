@@ -24,8 +24,10 @@ struct SceneStatistics {
   std::vector<OutOfPlaneBin> out_of_plane;
 };
 
-// The clusters of the sweep's scenes (SpecularScene::cluster, else the name), first-seen order.
-std::vector<std::string> sceneClusters(const SpecularSweep& sweep, std::vector<int>& cluster_of);
+// The clusters of the sweep's views (SpecularScene::sceneName(), or typeName() with by_type),
+// first-seen order, and each view's cluster index in cluster_of.
+std::vector<std::string> sceneClusters(const SpecularSweep& sweep, std::vector<int>& cluster_of,
+                                       bool by_type = false);
 
 // values[m][i]: method m (Method order) at samples[i]; `methods` are the scored ones.
 SceneStatistics sceneStatistics(const SpecularSweep& sweep,

@@ -16,6 +16,10 @@ struct SpecularScene {
   // scene are one unit of every scene-level statistic (docs/validate_gtso.md §3).
   std::string cluster;
   std::string type;  // sweep.json "type" (else the cluster): the delete-one-type jackknife's unit
+  // The unit names with their fallbacks (sweeps before views: each image its own scene, its scene
+  // its type).
+  const std::string& sceneName() const { return cluster.empty() ? name : cluster; }
+  const std::string& typeName() const { return type.empty() ? sceneName() : type; }
   int width = 0;
   int height = 0;
   std::vector<std::uint8_t> mask;  // per pixel, 1 = geometry
