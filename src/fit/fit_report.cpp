@@ -22,10 +22,6 @@ constexpr std::size_t kScatterPerScene = 600;
 // Samples of each drawn curve (points; smooth at the plot size).
 constexpr int kCurveSamples = 101;
 
-std::string fmt(double v, const char* format = "%.4f") {
-  return formatNumber(v, format);
-}
-
 // One colour per albedo, viridis control points (dark = low ρ).
 const char* albedoColor(std::size_t j, std::size_t count) {
   static const char* const kRamp[7] = {"#440154", "#443983", "#31688e", "#21918c",
@@ -60,7 +56,8 @@ std::string table(const std::vector<std::string>& header,
 }
 
 std::string curveDistance(const CurveDifference& d) {
-  return fmt(d.value, "%.4f") + " (A " + fmt(d.A, "%.2f") + ", &rho; " + fmt(d.rho, "%.2f") + ")";
+  return formatNumber(d.value, "%.4f") + " (A " + formatNumber(d.A, "%.2f") + ", &rho; " +
+         formatNumber(d.rho, "%.2f") + ")";
 }
 
 // Collects the figures of the page: each staged beside index.html.
@@ -101,7 +98,7 @@ void bandFigures(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures
     if (jk.available) plot.band(xs, lo, hi, albedoColor(j, M), 0.35);
     curveOf(plot, cubicAt(refit, rho), albedoColor(j, M), false);
     curveOf(plot, cubicAt(shipped, rho), albedoColor(j, M), true);
-    plot.legend("&#961; = " + fmt(rho, "%.2f"), albedoColor(j, M));
+    plot.legend("&#961; = " + formatNumber(rho, "%.2f"), albedoColor(j, M));
   }
   figures.heading(
       "<h2>Eq. 10: refit (solid, simultaneous band &#177;c SE shaded) against the shipped "
@@ -111,7 +108,7 @@ void bandFigures(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures
   figures.heading(
       "<h2>The band per albedo: G<sub>shipped</sub> &minus; G<sub>refit</sub> (dashed) against "
       "&#177;c&middot;SE<sub>G</sub> (shaded), simultaneous max-t c = " +
-      fmt(jk.threshold, "%.2f") + "</h2>\n");
+      formatNumber(jk.threshold, "%.2f") + "</h2>\n");
   double span = 0.0;
   for (double rho : a.data.albedos) {
     for (double A : xs) {
@@ -122,7 +119,7 @@ void bandFigures(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures
   }
   for (std::size_t j = 0; j < M; ++j) {
     const double rho = a.data.albedos[j];
-    SvgPlot panel(0, 1, -1.05 * span, 1.05 * span, "&#961; = " + fmt(rho, "%.2f"), "A",
+    SvgPlot panel(0, 1, -1.05 * span, 1.05 * span, "&#961; = " + formatNumber(rho, "%.2f"), "A",
                   "G &#8722; G(refit)");
     std::vector<double> lo, hi, diff, zero(xs.size(), 0.0);
     for (double A : xs) {
@@ -135,7 +132,7 @@ void bandFigures(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures
     panel.curve(xs, diff, "#333", true);
     panel.legend("refit &#177; c SE (scene jackknife)", "#c0392b");
     panel.legend("shipped", "#333", true);
-    figures.add("band_rho" + fmt(100 * rho, "%03.0f") + ".svg", panel);
+    figures.add("band_rho" + formatNumber(100 * rho, "%03.0f") + ".svg", panel);
   }
 }
 
@@ -152,7 +149,7 @@ void figure7(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures& fi
     plot.legendBottomRight(static_cast<int>(M));
     for (std::size_t j = M; j-- > 0;) {
       curveOf(plot, fit.per_albedo[j].theta, albedoColor(j, M), false);
-      plot.legend("&#961; = " + fmt(a.data.albedos[j], "%.2f"), albedoColor(j, M));
+      plot.legend("&#961; = " + formatNumber(a.data.albedos[j], "%.2f"), albedoColor(j, M));
     }
     figures.add("fig7_cubics.svg", plot);
   }
@@ -230,10 +227,10 @@ std::string headline(const FitAnalysis& a) {
     html +=
         "Scene-jackknife standard error of G(A, &rho;) over A&isin;(0,1], "
         "&rho;&isin;[0.1,0.9]: largest <b>" +
-        fmt(jk.band_max.value) + "</b> at A = " + fmt(jk.band_max.A, "%.3f") +
-        ", &rho; = " + fmt(jk.band_max.rho, "%.2f") + " (" + std::to_string(jk.scenes) +
+        formatNumber(jk.band_max.value) + "</b> at A = " + formatNumber(jk.band_max.A, "%.3f") +
+        ", &rho; = " + formatNumber(jk.band_max.rho, "%.2f") + " (" + std::to_string(jk.scenes) +
         " scenes). Monte Carlo SE of G (another seed): largest " +
-        fmt(jk.mc_band_max.value, "%.5f") + ".";
+        formatNumber(jk.mc_band_max.value, "%.5f") + ".";
   } else {
     html += jk.message + ".";
   }
@@ -248,13 +245,15 @@ std::string coefficientTables(const FitAnalysis& a, const MultiBounceCoeffs& shi
   const SceneJackknife& jk = a.jackknife;
   std::vector<std::vector<std::string>> rows;
   for (int i = 0; i < 6; ++i) {
-    rows.push_back({kCoeffNames[i], fmt(lin.coeffs[i]), jk.available ? fmt(jk.se[i]) : "&ndash;",
-                    fmt(lin.se[i], "%.5f"), fmt(shipped[i]),
-                    jk.available ? fmt((shipped[i] - lin.coeffs[i]) / jk.se[i], "%.1f") : "&ndash;",
-                    fmt(lin.eiv_bias[i], "%+.5f"),
-                    fmt(remainingBias(lin.eiv_bias[i], lin.eiv_bias_two_point[i],
-                                      a.fit.settings.eiv_correction),
-                        "%.5f")});
+    rows.push_back(
+        {kCoeffNames[i], formatNumber(lin.coeffs[i]),
+         jk.available ? formatNumber(jk.se[i]) : "&ndash;", formatNumber(lin.se[i], "%.5f"),
+         formatNumber(shipped[i]),
+         jk.available ? formatNumber((shipped[i] - lin.coeffs[i]) / jk.se[i], "%.1f") : "&ndash;",
+         formatNumber(lin.eiv_bias[i], "%+.5f"),
+         formatNumber(remainingBias(lin.eiv_bias[i], lin.eiv_bias_two_point[i],
+                                    a.fit.settings.eiv_correction),
+                      "%.5f")});
   }
   std::string html =
       "<h2>Linear coefficients</h2>\n" +
@@ -268,7 +267,7 @@ std::string coefficientTables(const FitAnalysis& a, const MultiBounceCoeffs& shi
     std::vector<std::vector<std::string>> corr;
     for (int r = 0; r < 6; ++r) {
       std::vector<std::string> row = {kCoeffNames[r]};
-      for (int c = 0; c < 6; ++c) row.push_back(fmt(jk.correlation[6 * r + c], "%+.3f"));
+      for (int c = 0; c < 6; ++c) row.push_back(formatNumber(jk.correlation[6 * r + c], "%+.3f"));
       corr.push_back(row);
     }
     html += "<h3>Scene-jackknife correlation</h3>\n" +
@@ -282,19 +281,21 @@ std::string coefficientTables(const FitAnalysis& a, const MultiBounceCoeffs& shi
 std::string alternativeTables(const FitAnalysis& a) {
   std::vector<std::vector<std::string>> rows;
   for (const Alternative& alt : a.weightings) {
-    rows.push_back({alt.name, curveDistance(alt.vs_default), fmt(alt.linear[0]), fmt(alt.linear[2]),
-                    fmt(alt.linear[4]), fmt(alt.rmse, "%.5f")});
+    rows.push_back({alt.name, curveDistance(alt.vs_default), formatNumber(alt.linear[0]),
+                    formatNumber(alt.linear[2]), formatNumber(alt.linear[4]),
+                    formatNumber(alt.rmse, "%.5f")});
   }
   const OpenSurface& o = a.open_surface;
   const double cost = a.fit.settings.constrain_open ? a.refit_errors.rmse - a.constraint.rmse
                                                     : a.constraint.rmse - a.refit_errors.rmse;
   return "<h2>Point weighting and the open surface</h2>\n" +
          table({"weighting", "max |&Delta;G| vs pixel", "a1", "b1", "c1", "RMSE"}, rows) +
-         "<p>G(1, &rho;) of the refit = " + fmt(o.intercept, "%.5f") + " " + fmt(o.slope, "%+.5f") +
+         "<p>G(1, &rho;) of the refit = " + formatNumber(o.intercept, "%.5f") + " " +
+         formatNumber(o.slope, "%+.5f") +
          " &rho; (an open surface gives 1). The constraint a &minus; b + c "
          "= 1 (--constrain-open) changes the RMSE by " +
-         fmt(cost, "%+.2e") + "; the curves differ by " + fmt(a.constraint.vs_default.value) +
-         " at most.</p>\n";
+         formatNumber(cost, "%+.2e") + "; the curves differ by " +
+         formatNumber(a.constraint.vs_default.value) + " at most.</p>\n";
 }
 
 std::string errorTables(const FitAnalysis& a) {
@@ -302,21 +303,23 @@ std::string errorTables(const FitAnalysis& a) {
   const ErrorTable& r = a.refit_errors;
   const ErrorTable& s = a.shipped_errors;
   for (std::size_t j = 0; j < r.per_albedo.size(); ++j) {
-    rows.push_back({"&rho; = " + r.per_albedo[j].label, fmt(r.per_albedo[j].rmse, "%.5f"),
-                    fmt(a.floor.per_albedo[j].floor, "%.5f"), fmt(r.per_albedo[j].max_abs, "%.5f"),
-                    fmt(s.per_albedo[j].rmse, "%.5f"), fmt(s.per_albedo[j].max_abs, "%.5f"), "",
-                    ""});
+    rows.push_back({"&rho; = " + r.per_albedo[j].label, formatNumber(r.per_albedo[j].rmse, "%.5f"),
+                    formatNumber(a.floor.per_albedo[j].floor, "%.5f"),
+                    formatNumber(r.per_albedo[j].max_abs, "%.5f"),
+                    formatNumber(s.per_albedo[j].rmse, "%.5f"),
+                    formatNumber(s.per_albedo[j].max_abs, "%.5f"), "", ""});
   }
   for (std::size_t k = 0; k < r.per_scene.size(); ++k) {
-    rows.push_back({r.per_scene[k].label, fmt(r.per_scene[k].rmse, "%.5f"),
-                    fmt(a.floor.per_scene[k].floor, "%.5f"), fmt(r.per_scene[k].max_abs, "%.5f"),
-                    fmt(s.per_scene[k].rmse, "%.5f"), fmt(s.per_scene[k].max_abs, "%.5f"),
-                    std::to_string(a.scene_weights[k].points),
-                    fmt(100 * a.scene_weights[k].share, "%.1f") + "%"});
+    rows.push_back(
+        {r.per_scene[k].label, formatNumber(r.per_scene[k].rmse, "%.5f"),
+         formatNumber(a.floor.per_scene[k].floor, "%.5f"),
+         formatNumber(r.per_scene[k].max_abs, "%.5f"), formatNumber(s.per_scene[k].rmse, "%.5f"),
+         formatNumber(s.per_scene[k].max_abs, "%.5f"), std::to_string(a.scene_weights[k].points),
+         formatNumber(100 * a.scene_weights[k].share, "%.1f") + "%"});
   }
-  rows.push_back({"all", fmt(r.rmse, "%.5f"), fmt(a.floor.rmse, "%.5f"), fmt(r.max_abs, "%.5f"),
-                  fmt(s.rmse, "%.5f"), fmt(s.max_abs, "%.5f"), std::to_string(a.data.points()),
-                  "100%"});
+  rows.push_back({"all", formatNumber(r.rmse, "%.5f"), formatNumber(a.floor.rmse, "%.5f"),
+                  formatNumber(r.max_abs, "%.5f"), formatNumber(s.rmse, "%.5f"),
+                  formatNumber(s.max_abs, "%.5f"), std::to_string(a.data.points()), "100%"});
   return "<h2>Errors of G against the path-traced data, and the floor</h2>\n" +
          table({"", "refit RMSE", "floor RMSE", "refit max|e|", "shipped RMSE", "shipped max|e|",
                 "points", "weight"},
@@ -332,12 +335,13 @@ std::string leaveOneOutTable(const SceneJackknife& jk) {
   if (jk.leave_one_out.empty()) return "";
   std::vector<std::vector<std::string>> rows;
   for (const LeaveOneOut& r : jk.leave_one_out) {
-    rows.push_back({r.left_out, fmt(r.linear[0]), fmt(r.linear[2]), fmt(r.linear[4]),
-                    curveDistance(r.vs_refit), curveDistance(r.vs_shipped)});
+    rows.push_back({r.left_out, formatNumber(r.linear[0]), formatNumber(r.linear[2]),
+                    formatNumber(r.linear[4]), curveDistance(r.vs_refit),
+                    curveDistance(r.vs_shipped)});
   }
-  const std::string band =
-      jk.available ? " &mdash; band max " + fmt(jk.band_max.value) + ", SE a1 " + fmt(jk.se[0])
-                   : " &mdash; " + jk.message;
+  const std::string band = jk.available ? " &mdash; band max " + formatNumber(jk.band_max.value) +
+                                              ", SE a1 " + formatNumber(jk.se[0])
+                                        : " &mdash; " + jk.message;
   return "<h2>Leave one " + jk.unit + " out (" + std::to_string(jk.scenes) + " " + jk.unit +
          "s, the jackknife's replicas" + band + ")</h2>\n" +
          table(
@@ -360,13 +364,13 @@ std::string thumbnails(const FitAnalysis& a, const fs::path& dir) {
 std::string perAlbedoTable(const MultiBounceFit& fit) {
   std::vector<std::vector<std::string>> rows;
   for (const AlbedoFit& f : fit.per_albedo) {
-    std::vector<std::string> row = {fmt(f.rho, "%.2f")};
+    std::vector<std::string> row = {formatNumber(f.rho, "%.2f")};
     for (int q = 0; q < 3; ++q) {
-      row.push_back(fmt(f.theta[q]) + " &#177; " + fmt(f.se[q], "%.5f"));
-      row.push_back(fmt(f.eiv_bias[q], "%+.5f"));
+      row.push_back(formatNumber(f.theta[q]) + " &#177; " + formatNumber(f.se[q], "%.5f"));
+      row.push_back(formatNumber(f.eiv_bias[q], "%+.5f"));
     }
-    row.push_back(fmt(f.rmse, "%.5f"));
-    row.push_back(fmt(f.max_abs, "%.5f"));
+    row.push_back(formatNumber(f.rmse, "%.5f"));
+    row.push_back(formatNumber(f.max_abs, "%.5f"));
     rows.push_back(row);
   }
   const Cubic& rms = fit.linear.lack_of_fit_rms;
@@ -376,7 +380,8 @@ std::string perAlbedoTable(const MultiBounceFit& fit) {
                rows) +
          "<p>Lack of fit of the lines in &rho; (model error of the linear-in-&rho; law, not an "
          "uncertainty): RMS residual a " +
-         fmt(rms[0]) + ", b " + fmt(rms[1]) + ", c " + fmt(rms[2]) + ".</p>\n";
+         formatNumber(rms[0]) + ", b " + formatNumber(rms[1]) + ", c " + formatNumber(rms[2]) +
+         ".</p>\n";
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "common/error.h"
+#include "common/text_format.h"
 
 namespace gtbake {
 
@@ -45,12 +46,6 @@ GridPoint bandMax(const BandRule& rule, Band&& band_at) {
     if (band > best.value) best = {band, A, rho};
   });
   return best;
-}
-
-std::string fixed(double v, const char* format) {
-  char text[32];
-  std::snprintf(text, sizeof(text), format, v);
-  return text;
 }
 
 }  // namespace
@@ -243,16 +238,16 @@ BandScore scoreAgainstBand(const SceneJackknife& jackknife, const MultiBounceCoe
       score.largest_undetectable = {c * band, A, rho};
   });
   score.consistent = score.max_ratio.value <= c;
-  const std::string where =
-      "A = " + fixed(score.max_ratio.A, "%.3f") + ", rho = " + fixed(score.max_ratio.rho, "%.2f");
+  const std::string where = "A = " + formatNumber(score.max_ratio.A, "%.3f") +
+                            ", rho = " + formatNumber(score.max_ratio.rho, "%.2f");
   score.verdict =
       score.consistent
           ? "consistent with the path-traced data at the scene-mix uncertainty: max |dG|/band " +
-                fixed(score.max_ratio.value, "%.2f") + " <= " + fixed(c, "%.2f") +
+                formatNumber(score.max_ratio.value, "%.2f") + " <= " + formatNumber(c, "%.2f") +
                 " (simultaneous max-t; at " + where + ")"
           : "outside the scene-mix uncertainty at " + where + ", by " +
-                fixed(score.max_ratio.value, "%.2f") +
-                " band widths (simultaneous max-t threshold " + fixed(c, "%.2f") + ")";
+                formatNumber(score.max_ratio.value, "%.2f") +
+                " band widths (simultaneous max-t threshold " + formatNumber(c, "%.2f") + ")";
   return score;
 }
 

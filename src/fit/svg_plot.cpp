@@ -1,15 +1,8 @@
 #include "fit/svg_plot.h"
 
 #include <cmath>
-#include <cstdio>
 
 namespace gtbake {
-
-std::string formatNumber(double v, const char* format) {
-  char text[64];
-  std::snprintf(text, sizeof(text), format, v);
-  return text;
-}
 
 SvgPlot::SvgPlot(double x0, double x1, double y0, double y1, const std::string& title,
                  const std::string& xlabel, const std::string& ylabel)

@@ -8,10 +8,9 @@
 #include <utility>
 #include <vector>
 
-namespace gtbake {
+#include "common/text_format.h"
 
-// printf-style formatting of one double.
-std::string formatNumber(double v, const char* format = "%.4f");
+namespace gtbake {
 
 class SvgPlot {
  public:

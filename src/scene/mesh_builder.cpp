@@ -128,6 +128,21 @@ void addCylinder(MeshBuilder& mesh, const Eigen::Vector3d& base, double radius, 
   }
 }
 
+namespace {
+
+// The six faces of a box whose corner k sits on the + side of axis a_i where bit i of k is set.
+void addBoxFaces(MeshBuilder& mesh, const std::array<std::uint32_t, 8>& v,
+                 const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& a2) {
+  mesh.quad(v[0], v[1], v[3], v[2], -a2);
+  mesh.quad(v[4], v[5], v[7], v[6], a2);
+  mesh.quad(v[0], v[1], v[5], v[4], -a1);
+  mesh.quad(v[2], v[3], v[7], v[6], a1);
+  mesh.quad(v[0], v[2], v[6], v[4], -a0);
+  mesh.quad(v[1], v[3], v[7], v[5], a0);
+}
+
+}  // namespace
+
 void addBox(MeshBuilder& mesh, const Eigen::Vector3d& base, double hx, double hz, double height,
             double yaw) {
   const Eigen::Vector3d ax(std::cos(yaw), 0.0, -std::sin(yaw));
@@ -139,13 +154,18 @@ void addBox(MeshBuilder& mesh, const Eigen::Vector3d& base, double hx, double hz
     const double y = (k & 4) ? height : 0.0;
     v[k] = mesh.vertex(base + sx * hx * ax + sz * hz * az + y * Eigen::Vector3d::UnitY());
   }
-  const Eigen::Vector3d up = Eigen::Vector3d::UnitY();
-  mesh.quad(v[0], v[1], v[3], v[2], -up);
-  mesh.quad(v[4], v[5], v[7], v[6], up);
-  mesh.quad(v[0], v[1], v[5], v[4], -az);
-  mesh.quad(v[2], v[3], v[7], v[6], az);
-  mesh.quad(v[0], v[2], v[6], v[4], -ax);
-  mesh.quad(v[1], v[3], v[7], v[5], ax);
+  addBoxFaces(mesh, v, ax, az, Eigen::Vector3d::UnitY());
+}
+
+void addOrientedBox(MeshBuilder& mesh, const Eigen::Vector3d& centre, const Eigen::Vector3d& a0,
+                    const Eigen::Vector3d& a1, const Eigen::Vector3d& a2,
+                    const Eigen::Vector3d& h) {
+  std::array<std::uint32_t, 8> v{};
+  for (int k = 0; k < 8; ++k) {
+    v[k] = mesh.vertex(centre + ((k & 1) ? 1.0 : -1.0) * h[0] * a0 +
+                       ((k & 2) ? 1.0 : -1.0) * h[1] * a1 + ((k & 4) ? 1.0 : -1.0) * h[2] * a2);
+  }
+  addBoxFaces(mesh, v, a0, a1, a2);
 }
 
 }  // namespace gtbake

@@ -84,5 +84,8 @@ void addCylinder(MeshBuilder& mesh, const Eigen::Vector3d& base, double radius, 
 // radians about +Y, height `height`. Outward facing.
 void addBox(MeshBuilder& mesh, const Eigen::Vector3d& base, double hx, double hz, double height,
             double yaw);
+// Box centred at `centre` with half-extents h along the orthonormal axes a0, a1, a2.
+void addOrientedBox(MeshBuilder& mesh, const Eigen::Vector3d& centre, const Eigen::Vector3d& a0,
+                    const Eigen::Vector3d& a1, const Eigen::Vector3d& a2, const Eigen::Vector3d& h);
 
 }  // namespace gtbake

@@ -12,8 +12,6 @@
 namespace gtbake {
 namespace {
 
-constexpr double kFov = 0.8;  // as the classic scenes
-constexpr double kGroundStep = 0.5;
 // Random streams of the new types (one each, so they never share draws).
 constexpr std::uint64_t kInteriorStream = 0x696e7472;    // "intr"
 constexpr std::uint64_t kColonnadeStream = 0x636f6c6e;   // "coln"
@@ -26,11 +24,6 @@ constexpr int kSegments = 48;
 const Eigen::Vector3d kUp = Eigen::Vector3d::UnitY();
 const Eigen::Vector3d kX = Eigen::Vector3d::UnitX();
 const Eigen::Vector3d kZ = Eigen::Vector3d::UnitZ();
-
-void addFlatGround(MeshBuilder& mesh, double inner) {
-  const std::vector<double> axis = gradedAxis(inner, kGroundStep, kGroundExtent);
-  addHeightfield(mesh, axis, axis, [](double, double) { return 0.0; });
-}
 
 // The camera of the ground-based new types: as clutter's, looking down at the origin.
 PerspectiveCamera groundCamera(double scale) {

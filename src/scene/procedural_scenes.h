@@ -23,6 +23,14 @@ constexpr double kGroundExtent = 1.0e4;
 // Segments per full turn of every curved surface: facet normals within 2π/128 = 2.8° of the
 // true normal (half of that at facet centres), the sagitta R(1 − cos(π/128)) = 3·10⁻⁴ R.
 constexpr int kCurveSegments = 128;
+// Vertical field of view of every camera, rad (≈ 46°): a normal lens, little distortion.
+constexpr double kFov = 0.8;
+// Ground grid step near the features, m: small enough to keep the flat cells well shaped.
+constexpr double kGroundStep = 0.5;
+
+class MeshBuilder;
+// The flat ground y = 0 out to ±kGroundExtent: kGroundStep cells within ±inner, graded beyond.
+void addFlatGround(MeshBuilder& mesh, double inner);
 
 // The seven classic scene types in their fixed order: cavity, wedge, corner, spheres, wells,
 // clutter, terrain (data/scenes/ holds them, seed 1).

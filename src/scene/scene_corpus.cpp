@@ -121,22 +121,6 @@ Scene makeCorpusScene(const std::string& type, int variant, std::uint64_t seed) 
   return scene;
 }
 
-void addOrientedBox(MeshBuilder& mesh, const Eigen::Vector3d& centre, const Eigen::Vector3d& a0,
-                    const Eigen::Vector3d& a1, const Eigen::Vector3d& a2,
-                    const Eigen::Vector3d& h) {
-  std::uint32_t v[8];
-  for (int k = 0; k < 8; ++k) {
-    v[k] = mesh.vertex(centre + ((k & 1) ? 1.0 : -1.0) * h[0] * a0 +
-                       ((k & 2) ? 1.0 : -1.0) * h[1] * a1 + ((k & 4) ? 1.0 : -1.0) * h[2] * a2);
-  }
-  mesh.quad(v[0], v[2], v[6], v[4], -a0);
-  mesh.quad(v[1], v[3], v[7], v[5], a0);
-  mesh.quad(v[0], v[1], v[5], v[4], -a1);
-  mesh.quad(v[2], v[3], v[7], v[6], a1);
-  mesh.quad(v[0], v[1], v[3], v[2], -a2);
-  mesh.quad(v[4], v[5], v[7], v[6], a2);
-}
-
 void addExtrusion(MeshBuilder& mesh, const Eigen::Vector3d& base,
                   const std::vector<Eigen::Vector2d>& profile, double height) {
   const Eigen::Vector3d up = Eigen::Vector3d::UnitY();

@@ -53,9 +53,6 @@ Scene makeMechanicalScene(std::uint64_t seed, int variant);
 
 // Building blocks of the new types (outward facing closed solids unless said otherwise).
 //
-// Box centred at `centre` with half-extents h along the orthonormal axes a0, a1, a2.
-void addOrientedBox(MeshBuilder& mesh, const Eigen::Vector3d& centre, const Eigen::Vector3d& a0,
-                    const Eigen::Vector3d& a1, const Eigen::Vector3d& a2, const Eigen::Vector3d& h);
 // Upright prism over a profile star-shaped about its origin (points (x, z) in order around it),
 // placed at `base` (its bottom centre), `height` tall; caps are fans from the centre.
 void addExtrusion(MeshBuilder& mesh, const Eigen::Vector3d& base,

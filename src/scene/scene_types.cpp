@@ -13,20 +13,11 @@
 namespace gtbake {
 namespace {
 
-// Vertical field of view of every camera, rad (≈ 46°): a normal lens, little distortion.
-constexpr double kFov = 0.8;
-// Ground grid step near the features, m: small enough to keep the flat cells well shaped.
-constexpr double kGroundStep = 0.5;
 // Random streams of the seeded generators (one per scene type, so they never share draws).
 constexpr std::uint64_t kClutterStream = 0x636c7574;  // "clut"
 constexpr std::uint64_t kTerrainStream = 0x74657272;  // "terr"
 
 const Eigen::Vector3d kUp = Eigen::Vector3d::UnitY();
-
-void addFlatGround(MeshBuilder& mesh, double inner) {
-  const std::vector<double> axis = gradedAxis(inner, kGroundStep, kGroundExtent);
-  addHeightfield(mesh, axis, axis, [](double, double) { return 0.0; });
-}
 
 // Perlin gradient noise in [−1, 1]-ish: unit gradients at integer lattice points drawn from the
 // counter-based RNG (key: seed and octave; counter: the lattice point), quintic fade.
@@ -53,6 +44,11 @@ double smoothstep(double e0, double e1, double t) {
 }
 
 }  // namespace
+
+void addFlatGround(MeshBuilder& mesh, double inner) {
+  const std::vector<double> axis = gradedAxis(inner, kGroundStep, kGroundExtent);
+  addHeightfield(mesh, axis, axis, [](double, double) { return 0.0; });
+}
 
 const std::vector<std::string>& sceneTypeNames() {
   static const std::vector<std::string> names = {"cavity", "wedge",   "corner", "spheres",

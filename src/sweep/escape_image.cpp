@@ -10,6 +10,7 @@
 #include <cstdio>
 
 #include "common/progress.h"
+#include "common/text_format.h"
 
 namespace gtbake {
 
@@ -119,24 +120,27 @@ EscapeImage traceEscapeImage(const EmbreeTracer& tracer, const PerspectiveCamera
   return image;
 }
 
+namespace {
+
+// `prefix` and the value in hundredths, three digits ("G050" for 0.5).
+std::string hundredthsChannelName(char prefix, double value) {
+  return prefix + formatNumber(std::round(value * 100.0), "%03.0f");
+}
+
+}  // namespace
+
 std::string albedoChannelName(double albedo) {
-  char name[8];
-  std::snprintf(name, sizeof(name), "G%03d", static_cast<int>(std::lround(albedo * 100.0)));
-  return name;
+  return hundredthsChannelName('G', albedo);
 }
 
 std::string gbufferRadiusChannelName(double radius) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%g", radius);
-  std::string name = std::string("A_R") + text;
+  std::string name = "A_R" + formatNumber(radius, "%g");
   std::replace(name.begin(), name.end(), '.', 'p');
   return name;
 }
 
 std::string specularChannelName(double roughness) {
-  char name[8];
-  std::snprintf(name, sizeof(name), "S%03d", static_cast<int>(std::lround(roughness * 100.0)));
-  return name;
+  return hundredthsChannelName('S', roughness);
 }
 
 namespace {

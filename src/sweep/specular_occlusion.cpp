@@ -7,6 +7,7 @@
 #include <set>
 
 #include "common/error.h"
+#include "common/text_format.h"
 
 #include "sweep/philox_lanes.h"
 #include "sweep/strata.h"
@@ -36,14 +37,7 @@ void validateSpecularOptions(const std::vector<double>& roughness, int spp) {
 }
 
 std::string specularRoughnessList(const std::vector<double>& roughness) {
-  if (roughness.empty()) return "none";
-  std::string list;
-  for (double r : roughness) {
-    char text[32];
-    std::snprintf(text, sizeof(text), "%.9g", r);
-    list += (list.empty() ? "" : ",") + std::string(text);
-  }
-  return list;
+  return formatNumberList(roughness);
 }
 
 VndfFrame makeVndfFrame(double alpha, const float wo_local[3]) {

@@ -24,6 +24,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/progress.h"
+#include "common/text_format.h"
 #include "common/threads.h"
 #include "gtbake_version.h"
 #include "scene/auto_camera.h"
@@ -129,12 +130,6 @@ void ensureWritableDirectory(const fs::path& out) {
     throw Error("output directory " + out.string() + " is not writable");
 }
 
-std::string formatNumber(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.9g", value);
-  return text;
-}
-
 // One image of the sweep: a scene seen from one camera.
 struct SweepView {
   std::size_t scene = 0;  // index into SweepInputs::scenes and ::files
@@ -226,7 +221,7 @@ SweepIdentity describeSweep(const SweepOptions& o, const SweepInputs& in) {
       {"gtbake.spp", std::to_string(o.spp)},
       {"gtbake.bounces", std::to_string(o.bounces)},
       {"gtbake.seed", std::to_string(o.seed)},
-      {"gtbake.radius", std::isinf(o.radius) ? "inf" : formatNumber(o.radius)},
+      {"gtbake.radius", std::isinf(o.radius) ? "inf" : formatNumber(o.radius, "%.9g")},
       {"gtbake.stratified_first_bounce", o.stratify_first_bounce ? "1" : "0"},
       {"gtbake.specular_roughness", specularRoughnessList(o.specular_roughness)},
       {"gtbake.specular_spp", std::to_string(o.specular_roughness.empty() ? 0 : o.specular_spp)},
@@ -447,10 +442,7 @@ SweepResult finishShard(const SweepOptions& o, const SweepIdentity& id, const Ti
 }  // namespace
 
 std::string gbufferRadiusList(const std::vector<double>& radii) {
-  if (radii.empty()) return "none";
-  std::string list;
-  for (double r : radii) list += (list.empty() ? "" : ",") + formatNumber(r);
-  return list;
+  return formatNumberList(radii);
 }
 
 SweepResult runSweep(const SweepOptions& options) {
