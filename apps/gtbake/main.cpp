@@ -60,6 +60,21 @@ std::string firstLine(const std::string& text) {
   return text.substr(0, text.find('\n'));
 }
 
+// --estimator and --screen-ao of fit and validate (parseAoInput): a profile's A.
+struct AoInputText {
+  std::string estimator;
+  std::string screen_ao;
+};
+std::shared_ptr<AoInputText> addAoInputOptions(CLI::App* parser) {
+  auto text = std::make_shared<AoInputText>();
+  parser->add_option("--estimator", text->estimator,
+                     "Fit on this screen-space estimator's A instead of the ray-traced A "
+                     "(a profile; docs/profiles.md)");
+  parser->add_option("--screen-ao", text->screen_ao,
+                     "Directory from gtbake screen-ao (default: <sweep>/screen_ao)");
+  return text;
+}
+
 // --threads, the same for every stage; ThreadLimit (common/threads.h) checks the value.
 void addThreadsOption(CLI::App* parser, int& threads) {
   parser->add_option("--threads", threads, "Worker threads (0 = all cores)");
@@ -159,9 +174,11 @@ Subcommand addFitCommand(CLI::App& app) {
       ->capture_default_str();
   parser->add_flag("--constrain-open", options->constrain_open,
                    "Constrain a - b + c = 1 (G(1, rho) = 1 for an open surface)");
-  return {parser, [options, shipped, shipped_option, weighting](const RunContext& context) {
+  auto input = addAoInputOptions(parser);
+  return {parser, [options, shipped, shipped_option, weighting, input](const RunContext& context) {
             if (shipped_option->count() > 0) options->shipped = parseCoeffs(*shipped, "--shipped");
             options->weighting = parseWeighting(*weighting);
+            options->input = parseAoInput(input->estimator, input->screen_ao, options->sweep);
             options->progress = context.progress;
             runFit(*options);
           }};
@@ -178,9 +195,11 @@ Subcommand addValidateCommand(CLI::App& app) {
   auto weighting = std::make_shared<std::string>("pixel");
   parser->add_option("--weighting", *weighting, "Point weights of the refit")
       ->capture_default_str();
-  return {parser, [options, coeffs, coeffs_option, weighting](const RunContext& context) {
+  auto input = addAoInputOptions(parser);
+  return {parser, [options, coeffs, coeffs_option, weighting, input](const RunContext& context) {
             if (coeffs_option->count() > 0) options->coeffs = parseCoeffs(*coeffs);
             options->weighting = parseWeighting(*weighting);
+            options->input = parseAoInput(input->estimator, input->screen_ao, options->sweep);
             options->progress = context.progress;
             runValidate(*options);
           }};
@@ -279,8 +298,9 @@ Subcommand addScreenAoCommand(CLI::App& app) {
 
 Subcommand addAllCommand(CLI::App& app) {
   auto options = std::make_shared<AllOptions>();
-  auto* parser = app.add_subcommand(
-      "all", "scenes, sweep, fit, gtso, encode, validate-gtso, export and screen-ao with defaults");
+  auto* parser = app.add_subcommand("all",
+                                    "scenes, sweep, fit, screen-ao, profiles, gtso, encode, "
+                                    "validate-gtso and export with defaults");
   parser->add_option("--out", options->out, "Output directory")->capture_default_str();
   addThreadsOption(parser, options->threads);
   parser->add_option("--scenes", options->scenes,

@@ -1,5 +1,6 @@
 #include "option_values.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -7,6 +8,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "screen_ao/screen_ao_settings.h"
 #include "sweep/sweep_command.h"
 
 namespace gtbake {
@@ -96,6 +98,24 @@ std::vector<double> parseNumberList(const std::string& text, bool (*valid)(doubl
 }
 
 }  // namespace
+
+AoInput parseAoInput(const std::string& estimator, const std::string& screen_ao,
+                     const std::filesystem::path& sweep) {
+  AoInput input;
+  if (estimator.empty()) {
+    if (!screen_ao.empty()) throw Error("--screen-ao needs --estimator (which estimator's A)");
+    return input;
+  }
+  const std::vector<std::string>& names = screenAoEstimatorNames();
+  if (std::find(names.begin(), names.end(), estimator) == names.end()) {
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw Error("--estimator '" + estimator + "' is not a screen-ao estimator (" + list + ")");
+  }
+  input.estimator = estimator;
+  input.screen_ao = screen_ao.empty() ? sweep / "screen_ao" : std::filesystem::path(screen_ao);
+  return input;
+}
 
 std::vector<double> parseGbufferRadii(const std::string& text) {
   return parseNumberList(

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,5 +32,12 @@ std::vector<double> parseGbufferRadii(const std::string& text);
 
 // --specular-roughness: "none" (empty) or comma-separated r_p values. Throws gtbake::Error.
 std::vector<double> parseSpecularRoughness(const std::string& text);
+
+// --estimator NAME [--screen-ao DIR] of fit and validate: the A a profile is fitted on
+// (docs/profiles.md). An empty name is the ray-traced A (then --screen-ao must be empty too); a
+// name must be a `gtbake screen-ao` estimator; DIR defaults to <sweep>/screen_ao, where `gtbake
+// all` writes it. Throws gtbake::Error.
+AoInput parseAoInput(const std::string& estimator, const std::string& screen_ao,
+                     const std::filesystem::path& sweep);
 
 }  // namespace gtbake

@@ -79,21 +79,39 @@ Alternative constraintAlternative(const SweepData& data, const MultiBounceFit& f
   return out;
 }
 
+std::optional<ErrorTable> heldOutErrors(const SweepData& data, const SceneJackknife& by_scene) {
+  const Grouping groups = groupByScene(data);
+  if (by_scene.leave_one_out.size() != groups.names.size()) return std::nullopt;
+  std::vector<MultiBounceCoeffs> per_view;
+  for (std::size_t v = 0; v < data.scenes.size(); ++v) {
+    per_view.push_back(by_scene.leave_one_out[groups.of[v]].linear);
+  }
+  return errorTable(data, per_view);
+}
+
 FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& settings,
-                         const MultiBounceCoeffs& shipped, Progress* progress) {
+                         const MultiBounceCoeffs& shipped, Progress* progress,
+                         const AoInput& input) {
   const auto step = [&] {
     if (progress != nullptr) progress->add(1);
   };
   FitAnalysis a;
   a.data = loadSweep(sweep);
+  a.input = input;
+  useScreenEstimate(&a.data, input);
   step();
-  a.fit = fitMultiBounce(a.data, settings);
+  // Â is a deterministic function of the G-buffer: no noise in the regressor, nothing for the
+  // errors-in-variables correction to remove (its estimate would be G's noise alone).
+  FitSettings used = settings;
+  used.eiv_correction = settings.eiv_correction && input.rayTraced();
+  a.fit = fitMultiBounce(a.data, used);
   a.scene_weights = sceneWeights(a.data, a.fit.weights);
   step();
   a.jackknife = sceneJackknife(a.data, a.fit, shipped);
   a.type_jackknife = typeJackknife(a.data, a.fit, shipped);
   step();
   a.refit_errors = errorTable(a.data, a.fit.linear.coeffs);
+  a.held_out_errors = heldOutErrors(a.data, a.jackknife);
   a.shipped_errors = errorTable(a.data, shipped);
   a.shipped_difference = maxCurveDifference(a.fit.linear.coeffs, shipped);
   a.shipped_score = scoreAgainstBand(a.jackknife, a.fit.linear.coeffs, shipped);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "fit/fit_floor.h"
 #include "fit/multibounce_fit.h"
 #include "fit/scene_jackknife.h"
+#include "fit/screen_estimate.h"
 #include "fit/sweep_data.h"
 
 namespace gtbake {
@@ -44,7 +46,11 @@ struct FitAnalysis {
   MultiBounceFit fit;
   SceneJackknife jackknife;       // delete-one-scene
   SceneJackknife type_jackknife;  // delete-one-type
+  AoInput input;  // the A the fit read (ray-traced, or a screen-space estimator's Â)
   ErrorTable refit_errors;
+  // Every view scored with the refit that left its scene out (docs/fit.md §9): the error on
+  // content the constants were not fitted on. Empty without leave-one-scene-out replicas.
+  std::optional<ErrorTable> held_out_errors;
   ErrorTable shipped_errors;
   CurveDifference shipped_difference;   // max |G_refit − G_shipped|
   BandScore shipped_score;              // the shipped constants against the band
@@ -58,12 +64,15 @@ struct FitAnalysis {
 // Stages of analyzeSweep, for a progress bar (kAnalysisStages units).
 inline constexpr int kAnalysisStages = 7;
 
+// `input` chooses the regressor: the sweep's A, or a screen-space estimator's Â (profiles).
 FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& settings,
-                         const MultiBounceCoeffs& shipped, Progress* progress);
+                         const MultiBounceCoeffs& shipped, Progress* progress,
+                         const AoInput& input = {});
 
 // The steps, each testable alone.
 std::vector<SceneWeight> sceneWeights(const SweepData& data, const std::vector<double>& weights);
 std::vector<Alternative> weightingAlternatives(const SweepData& data, const MultiBounceFit& fit);
 Alternative constraintAlternative(const SweepData& data, const MultiBounceFit& fit);
+std::optional<ErrorTable> heldOutErrors(const SweepData& data, const SceneJackknife& by_scene);
 
 }  // namespace gtbake

@@ -33,10 +33,16 @@ FitResult runFit(const FitOptions& options) {
   requireFiniteCoeffs(options.shipped, "shipped constants");
   std::vector<fs::path> inputs = outputSetPaths(options.sweep, "sweep");
   inputs.push_back(options.sweep / "sweep.json");
+  if (!options.input.rayTraced()) {
+    for (const fs::path& p : outputSetPaths(options.input.screen_ao, "screen_ao")) {
+      inputs.push_back(p);
+    }
+  }
   checkOutputFile(options.out, "--out", inputs);
   // Stages: the analysis, the report, fit.json.
   Progress bar("fit", kAnalysisStages + 2, options.progress);
-  const FitAnalysis a = analyzeSweep(options.sweep, settingsOf(options), options.shipped, &bar);
+  const FitAnalysis a =
+      analyzeSweep(options.sweep, settingsOf(options), options.shipped, &bar, options.input);
   const fs::path out_dir =
       options.out.parent_path().empty() ? fs::path(".") : options.out.parent_path();
   ensureDirectory(out_dir);
@@ -65,8 +71,14 @@ FitResult runFit(const FitOptions& options) {
   printFitSummary(a, options.shipped);
   std::printf("wrote %s and %s\n", options.out.string().c_str(),
               (report_dir / "index.html").string().c_str());
-  return {a.fit.linear.coeffs, a.fit.linear.se, a.jackknife.se, a.jackknife.band_max.value,
-          a.shipped_score.verdict};
+  return {a.fit.linear.coeffs,
+          a.fit.linear.se,
+          a.jackknife.se,
+          a.jackknife.band_max.value,
+          a.shipped_score.verdict,
+          a.refit_errors.rmse,
+          a.held_out_errors ? a.held_out_errors->rmse : 0.0,
+          a.shipped_errors.rmse};
 }
 
 void runValidate(const ValidateOptions& options) {
@@ -74,7 +86,7 @@ void runValidate(const ValidateOptions& options) {
   FitSettings settings;
   settings.weighting = options.weighting;
   Progress bar("validate", kAnalysisStages, options.progress);
-  const FitAnalysis a = analyzeSweep(options.sweep, settings, options.coeffs, &bar);
+  const FitAnalysis a = analyzeSweep(options.sweep, settings, options.coeffs, &bar, options.input);
   bar.finish();
   printValidateSummary(a, options.coeffs);
 }

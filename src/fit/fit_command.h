@@ -8,6 +8,7 @@
 
 #include "fit/multibounce_coeffs.h"
 #include "fit/normal_equations.h"
+#include "fit/screen_estimate.h"
 
 namespace gtbake {
 
@@ -19,6 +20,7 @@ struct FitOptions {
   bool eiv_correction = true;  // SIMEX correction of the bias from noise in A (docs/fit.md §4)
   Weighting weighting = Weighting::kPixel;
   bool constrain_open = false;  // a − b + c = 1 for every ρ (G(1, ρ) = 1)
+  AoInput input;                // ray-traced A, or a screen-space estimator's (a profile)
   bool progress = true;
 };
 
@@ -28,6 +30,9 @@ struct FitResult {
   MultiBounceCoeffs scene_se{};   // scene jackknife (zero without one)
   double band_max = 0.0;          // largest scene-jackknife SE of G(A, ρ)
   std::string verdict;            // the shipped constants against the band
+  double rmse = 0.0;              // of G with the refit, every point and albedo
+  double held_out_rmse = 0.0;     // the same, each scene scored by the fit without it (0: none)
+  double shipped_rmse = 0.0;      // of G with the shipped constants
 };
 
 // Writes fit.json and the report; prints the summary table to stdout.
@@ -37,6 +42,7 @@ struct ValidateOptions {
   std::filesystem::path sweep;
   MultiBounceCoeffs coeffs = kPaperCoeffs;
   Weighting weighting = Weighting::kPixel;
+  AoInput input;  // ray-traced A, or a screen-space estimator's (docs/profiles.md)
   bool progress = true;
 };
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "common/error.h"
+#include "common/text_format.h"
 
 namespace gtbake {
 
@@ -33,12 +34,6 @@ struct Accumulator {
   }
 };
 
-std::string rhoLabel(double rho) {
-  char text[16];
-  std::snprintf(text, sizeof(text), "%.2f", rho);
-  return text;
-}
-
 }  // namespace
 
 void requireFiniteCoeffs(const MultiBounceCoeffs& coeffs, const std::string& what) {
@@ -50,13 +45,21 @@ void requireFiniteCoeffs(const MultiBounceCoeffs& coeffs, const std::string& wha
 }
 
 ErrorTable errorTable(const SweepData& data, const MultiBounceCoeffs& coeffs) {
+  return errorTable(data, std::vector<MultiBounceCoeffs>(data.scenes.size(), coeffs));
+}
+
+ErrorTable errorTable(const SweepData& data, const std::vector<MultiBounceCoeffs>& per_view) {
+  if (per_view.size() != data.scenes.size()) {
+    throw Error("internal: error table with " + std::to_string(per_view.size()) +
+                " sets of constants for " + std::to_string(data.scenes.size()) + " views");
+  }
   ErrorTable table;
   Accumulator total;
   std::vector<Accumulator> scenes(data.scenes.size());
   for (std::size_t j = 0; j < data.albedos.size(); ++j) {
-    const Cubic theta = cubicAt(coeffs, data.albedos[j]);
     Accumulator albedo;
     for (std::size_t s = 0; s < data.scenes.size(); ++s) {
+      const Cubic theta = cubicAt(per_view[s], data.albedos[j]);
       for (std::size_t i = data.scenes[s].begin; i < data.scenes[s].end; ++i) {
         const double e = data.full.G[j][i] - evalCubic(theta, data.full.A[i]);
         albedo.add(e);
@@ -64,7 +67,7 @@ ErrorTable errorTable(const SweepData& data, const MultiBounceCoeffs& coeffs) {
         total.add(e);
       }
     }
-    table.per_albedo.push_back(albedo.row(rhoLabel(data.albedos[j]), data.albedos[j]));
+    table.per_albedo.push_back(albedo.row(formatNumber(data.albedos[j], "%.2f"), data.albedos[j]));
   }
   for (std::size_t s = 0; s < data.scenes.size(); ++s) {
     table.per_scene.push_back(scenes[s].row(data.scenes[s].name));

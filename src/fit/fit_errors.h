@@ -32,6 +32,9 @@ struct ErrorTable {
 };
 
 ErrorTable errorTable(const SweepData& data, const MultiBounceCoeffs& coeffs);
+// The same with constants per view (data.scenes[s] scored with per_view[s]): a held-out table
+// scores each view with the fit that left its scene out (fit_analysis.h).
+ErrorTable errorTable(const SweepData& data, const std::vector<MultiBounceCoeffs>& per_view);
 
 struct CurveDifference {
   double value = 0.0;  // max |G1 − G2|

@@ -214,6 +214,14 @@ json floorJson(const FitAnalysis& a) {
           {"per_scene", scenes}};
 }
 
+// What the fit's A was: the sweep's ray-traced A, or a screen-space estimator's Â (a profile).
+json inputJson(const AoInput& input, const fs::path& base) {
+  if (input.rayTraced()) return {{"A", "ray-traced"}};
+  return {{"A", "screen-space"},
+          {"estimator", input.estimator},
+          {"screen_ao", relativePath(input.screen_ao, base)}};
+}
+
 }  // namespace
 
 json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceCoeffs& shipped) {
@@ -259,6 +267,11 @@ json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceC
   out["scene_weights"] = weights;
   out["floor"] = floorJson(a);
   out["errors"] = {{"refit", errorJson(a.refit_errors)}, {"shipped", errorJson(a.shipped_errors)}};
+  if (a.held_out_errors) {
+    out["errors"]["held_out_by_scene"] = errorJson(*a.held_out_errors);
+    // Positive: the refit beats the shipped constants on scenes it was not fitted on.
+    out["errors"]["shipped_minus_held_out_rmse"] = a.shipped_errors.rmse - a.held_out_errors->rmse;
+  }
   out["shipped"] = {{"coeffs", coeffsJson(shipped)},
                     {"max_curve_difference",
                      {{"value", a.shipped_difference.value},
@@ -279,6 +292,7 @@ json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceC
                   {"bounces", a.data.bounces},
                   {"scenes", scenes},
                   {"points", a.data.points()}};
+  out["input"] = inputJson(a.input, fs::absolute(json_path).parent_path());
   out["version"] = GTBAKE_VERSION;
   return out;
 }

@@ -23,6 +23,12 @@ void printHeader(const char* command, const FitAnalysis& a) {
   std::printf("  weighting %s, open surface %s, EIV correction %s\n",
               weightingName(s.weighting).c_str(), s.constrain_open ? "constrained" : "free",
               s.eiv_correction ? "on" : "off");
+  if (a.input.rayTraced()) {
+    std::printf("  A: the sweep's ray-traced A\n");
+  } else {
+    std::printf("  A: the screen-space estimate of %s (%s), against path-traced G\n",
+                a.input.estimator.c_str(), a.input.screen_ao.string().c_str());
+  }
 }
 
 void printBand(const FitAnalysis& a, const char* name, const BandScore& score) {
@@ -38,6 +44,23 @@ void printBand(const FitAnalysis& a, const char* name, const BandScore& score) {
   std::printf("  Monte Carlo SE of G (another seed): max %.5f at A = %.3f, rho = %.2f\n",
               jk.mc_band_max.value, jk.mc_band_max.A, jk.mc_band_max.rho);
   std::printf("%s constants: %s\n", name, score.verdict.c_str());
+}
+
+// The header, the band and the verdict on `other` (the shipped or given constants).
+void printVerdict(const char* command, const FitAnalysis& a, const char* other) {
+  printHeader(command, a);
+  printBand(a, other, a.shipped_score);
+  std::printf("  max |G_refit - G_%s| = %.5f at A = %.3f, rho = %.3f\n", other,
+              a.shipped_difference.value, a.shipped_difference.A, a.shipped_difference.rho);
+}
+
+// RMSE of G: the refit on every scene, the refit held out by scene, and `other`'s constants.
+void printHeldOut(const FitAnalysis& a, const char* other) {
+  if (!a.held_out_errors) return;
+  std::printf(
+      "\nRMSE of G: refit %.5f, refit held out by scene (each scene scored by the fit without "
+      "it) %.5f, %s %.5f\n",
+      a.refit_errors.rmse, a.held_out_errors->rmse, other, a.shipped_errors.rmse);
 }
 
 void printCoefficients(const FitAnalysis& a, const MultiBounceCoeffs& other, const char* name) {
@@ -148,22 +171,17 @@ void printPerAlbedo(const MultiBounceFit& fit) {
 }  // namespace
 
 void printFitSummary(const FitAnalysis& a, const MultiBounceCoeffs& shipped) {
-  printHeader("fit", a);
-  printBand(a, "shipped", a.shipped_score);
-  std::printf("  max |G_refit - G_shipped| = %.5f at A = %.3f, rho = %.3f\n",
-              a.shipped_difference.value, a.shipped_difference.A, a.shipped_difference.rho);
+  printVerdict("fit", a, "shipped");
   printCoefficients(a, shipped, "shipped");
   printAlternatives(a);
   printErrorTables(a, a.refit_errors, a.shipped_errors, "refit", "shipped");
+  printHeldOut(a, "shipped");
   printLeaveOneOut(a);
   printPerAlbedo(a.fit);
 }
 
 void printValidateSummary(const FitAnalysis& a, const MultiBounceCoeffs& given) {
-  printHeader("validate", a);
-  printBand(a, "given", a.shipped_score);
-  std::printf("  max |G_given - G_refit| = %.5f at A = %.3f, rho = %.3f\n",
-              a.shipped_difference.value, a.shipped_difference.A, a.shipped_difference.rho);
+  printVerdict("validate", a, "given");
   // Layout kept for scripts (tests/cli parses the first five columns); the scene columns follow.
   const LinearFit& lin = a.fit.linear;
   const SceneJackknife& jk = a.jackknife;
@@ -178,6 +196,7 @@ void printValidateSummary(const FitAnalysis& a, const MultiBounceCoeffs& given) 
   }
   std::printf("SE: Monte Carlo (what another seed moves); SE scene: delete-one-scene jackknife\n");
   printErrorTables(a, a.shipped_errors, a.refit_errors, "given", "refit");
+  printHeldOut(a, "given");
 }
 
 }  // namespace gtbake

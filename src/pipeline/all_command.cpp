@@ -35,13 +35,46 @@ void banner(const char* stage, bool enabled) {
 
 // The seconds of the stages whose results carry no time of their own.
 struct StageTimes {
-  double scenes, fit, exporter, total;
+  double scenes, fit, profiles, exporter, total;
 };
+
+// One estimator's profile: Equation 10 refitted on its Â (docs/profiles.md).
+struct Profile {
+  std::string estimator;
+  FitResult fit;
+};
+
+// Screen-space A and bent normals from the sweep's G-buffer into <out>/screen_ao, then one
+// profile per estimator into <out>/profiles/<estimator>/ (fit.json and its report).
+ScreenAoResult screenAndProfiles(const AllOptions& options, int threads,
+                                 std::vector<Profile>* profiles, double* profile_seconds) {
+  banner("screen-ao", options.progress);
+  ScreenAoOptions screen_ao;
+  screen_ao.sweep = options.out;
+  screen_ao.out = options.out / "screen_ao";
+  screen_ao.threads = threads;
+  screen_ao.progress = options.progress;
+  const ScreenAoResult screened = runScreenAo(screen_ao);
+
+  banner("profiles", options.progress);
+  const auto t = std::chrono::steady_clock::now();
+  for (const std::string& estimator : screen_ao.estimators) {
+    FitOptions fit;
+    fit.sweep = options.out;
+    fit.out = options.out / "profiles" / estimator / "fit.json";
+    fit.input.estimator = estimator;
+    fit.input.screen_ao = screen_ao.out;
+    fit.progress = options.progress;
+    profiles->push_back({estimator, runFit(fit)});
+  }
+  *profile_seconds = secondsSince(t);
+  return screened;
+}
 
 void printSummary(const AllOptions& options, const SweepResult& swept, const FitResult& fitted,
                   const GtsoResult& baked, const EncodeResult& encoded,
                   const ValidateGtsoResult& validated, const ScreenAoResult& screened,
-                  const StageTimes& times) {
+                  const std::vector<Profile>& profiles, const StageTimes& times) {
   std::printf("\ngtbake all: summary (%s)\n", options.out.c_str());
   std::printf("  Equation 10      refit ± SE scenes (SE Monte Carlo)   paper     refit - paper\n");
   for (size_t i = 0; i < 6; ++i) {
@@ -62,11 +95,18 @@ void printSummary(const AllOptions& options, const SweepResult& swept, const Fit
       " (screen_ao/screen_ao.json)\n",
       screened.reference_rmse);
   std::printf(
-      "  time             scenes %.1f s, sweep %.1f s (%.1f Mrays/s), fit %.1f s, gtso %.1f s,"
-      " encode %.1f s, validate-gtso %.1f s, export %.1f s, screen-ao %.1f s; total %.1f s\n",
+      "  profiles         RMSE of G on the estimator's A: paper | refit held out by scene\n");
+  for (const Profile& p : profiles) {
+    std::printf("    %-16s %.4f | %.4f  (profiles/%s/fit.json)\n", p.estimator.c_str(),
+                p.fit.shipped_rmse, p.fit.held_out_rmse, p.estimator.c_str());
+  }
+  std::printf(
+      "  time             scenes %.1f s, sweep %.1f s (%.1f Mrays/s), fit %.1f s, screen-ao %.1f s,"
+      " profiles %.1f s, gtso %.1f s, encode %.1f s, validate-gtso %.1f s, export %.1f s;"
+      " total %.1f s\n",
       times.scenes, swept.seconds, swept.seconds > 0 ? swept.rays / swept.seconds * 1e-6 : 0.0,
-      times.fit, baked.seconds, encoded.seconds, validated.seconds, times.exporter,
-      screened.seconds, times.total);
+      times.fit, screened.seconds, times.profiles, baked.seconds, encoded.seconds,
+      validated.seconds, times.exporter, times.total);
 }
 
 // The scenes (the user's, or the built-in corpus written into <out>/scenes at its settings) and
@@ -119,6 +159,11 @@ void runAll(const AllOptions& options) {
   const FitResult fitted = runFit(fit);
   const double fit_seconds = secondsSince(t);
 
+  std::vector<Profile> profiles;
+  double profile_seconds = 0.0;
+  const ScreenAoResult screened =
+      screenAndProfiles(options, limit.threads(), &profiles, &profile_seconds);
+
   banner("gtso", options.progress);
   GtsoOptions gtso;
   gtso.out = options.out / "gtso";
@@ -153,16 +198,9 @@ void runAll(const AllOptions& options) {
   runExport(exporter);
   const double export_seconds = secondsSince(t);
 
-  banner("screen-ao", options.progress);
-  ScreenAoOptions screen_ao;
-  screen_ao.sweep = swept_dir;
-  screen_ao.out = options.out / "screen_ao";
-  screen_ao.threads = limit.threads();
-  screen_ao.progress = options.progress;
-  const ScreenAoResult screened = runScreenAo(screen_ao);
-
-  StageTimes times{scenes_seconds, fit_seconds, export_seconds, secondsSince(start)};
-  printSummary(options, swept, fitted, baked, encoded, validated, screened, times);
+  StageTimes times{scenes_seconds, fit_seconds, profile_seconds, export_seconds,
+                   secondsSince(start)};
+  printSummary(options, swept, fitted, baked, encoded, validated, screened, profiles, times);
 }
 
 }  // namespace gtbake

@@ -1,5 +1,5 @@
-// `gtbake all`: scenes → sweep → fit → gtso → encode → validate-gtso → export with defaults
-// (docs/index.md "Pipeline").
+// `gtbake all`: scenes → sweep → fit → screen-ao → profiles → gtso → encode → validate-gtso →
+// export with defaults (docs/index.md "Pipeline").
 #pragma once
 
 #include <cstdint>
@@ -20,9 +20,10 @@ struct AllOptions {
 
 // Layout of <out>: scenes/ (the built-in corpus, 12 types × 4 variants, generated only without
 // `scenes`), <scene>.exr
-// and sweep.json (the sweep), fit.json and report/ (the fit), gtso/ (float tables, gtso.json, slice
-// images), and the exported gtbake_tables.{h,hlsl,glsl} and gtso{3d,4d}.{dds,ktx2}. Prints a
-// summary of every figure.
+// and sweep.json (the sweep), fit.json and report/ (the fit), screen_ao/ (the screen-space
+// estimators), profiles/<estimator>/ (Equation 10 on each estimator's Â), gtso/ (float tables,
+// gtso.json, slice images), and the exported gtbake_tables.{h,hlsl,glsl} and
+// gtso{3d,4d}.{dds,ktx2}. Prints a summary of every figure.
 void runAll(const AllOptions& options);
 
 }  // namespace gtbake

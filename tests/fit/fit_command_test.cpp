@@ -1,7 +1,6 @@
 // runFit / runValidate end to end on sweep directories written with writeExr, and bad input.
 #include <gtest/gtest.h>
 
-#include <Eigen/Dense>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -48,38 +47,6 @@ json readJson(const fs::path& path) {
   return json::parse(readFile(path));
 }
 
-// The law's own two-stage fit, computed independently: per albedo a QR least-squares cubic on a
-// dense uniform grid of A, then a QR line through the coefficients.
-MultiBounceCoeffs cavityLawOwnFit() {
-  constexpr int kGrid = 20001;
-  Eigen::MatrixXd X(kGrid, 3);
-  for (int i = 0; i < kGrid; ++i) {
-    const double A = (i + 0.5) / kGrid;
-    X.row(i) << A * A * A, -A * A, A;
-  }
-  Eigen::MatrixXd coeffs(test::kAlbedos.size(), 3);
-  for (std::size_t j = 0; j < test::kAlbedos.size(); ++j) {
-    Eigen::VectorXd y(kGrid);
-    for (int i = 0; i < kGrid; ++i) {
-      const double A = (i + 0.5) / kGrid;
-      double g = 0.0;
-      for (int k = 0; k <= kBounces; ++k)
-        g += std::pow(test::kAlbedos[j], k) * test::cavityLaw(A, kBounces)[k];
-      y[i] = g;
-    }
-    coeffs.row(j) = X.colPivHouseholderQr().solve(y).transpose();
-  }
-  Eigen::MatrixXd R(test::kAlbedos.size(), 2);
-  for (std::size_t j = 0; j < test::kAlbedos.size(); ++j) R.row(j) << test::kAlbedos[j], 1.0;
-  MultiBounceCoeffs out;
-  for (int q = 0; q < 3; ++q) {
-    const Eigen::Vector2d line = R.colPivHouseholderQr().solve(coeffs.col(q));
-    out[2 * q] = line[0];
-    out[2 * q + 1] = line[1];
-  }
-  return out;
-}
-
 MultiBounceCoeffs linearFromJson(const json& j) {
   return {j["a1"], j["a0"], j["b1"], j["b0"], j["c1"], j["c0"]};
 }
@@ -99,7 +66,7 @@ TEST(FitCommand, CavityLawRefitMatchesItsOwnCubicWithinMonteCarloError) {
   const MultiBounceCoeffs refit = linearFromJson(doc["linear"]);
   for (int i = 0; i < 6; ++i) EXPECT_EQ(refit[i], result.linear[i]);
   const MultiBounceFit fit = fitMultiBounce(loadSweep(cavitySweep()));
-  const MultiBounceCoeffs law = cavityLawOwnFit();
+  const MultiBounceCoeffs law = test::cavityLawOwnFit(kBounces);
   double worst = 0.0;
   for (double A = 0.05; A <= 1.0; A += 0.05) {
     for (double rho = 0.1; rho <= 0.9001; rho += 0.1) {

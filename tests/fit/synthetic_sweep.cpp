@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -172,6 +173,36 @@ void writeWalkSweep(const fs::path& dir, const std::vector<std::string>& scenes,
   writeFileAtomically(dir / "sweep.json", doc.dump(2));
   files.push_back("sweep.json");
   sealOutputSet(dir, "sweep", files);  // readers require the manifest (output_set.h)
+}
+
+MultiBounceCoeffs cavityLawOwnFit(int bounces, const std::function<double(double)>& regressor) {
+  constexpr int kGrid = 20001;
+  const auto x = [&](double A) { return regressor ? regressor(A) : A; };
+  Eigen::MatrixXd X(kGrid, 3);
+  for (int i = 0; i < kGrid; ++i) {
+    const double v = x((i + 0.5) / kGrid);
+    X.row(i) << v * v * v, -v * v, v;
+  }
+  Eigen::MatrixXd coeffs(kAlbedos.size(), 3);
+  for (std::size_t j = 0; j < kAlbedos.size(); ++j) {
+    Eigen::VectorXd y(kGrid);
+    for (int i = 0; i < kGrid; ++i) {
+      const std::vector<double> p = cavityLaw((i + 0.5) / kGrid, bounces);
+      double g = 0.0;
+      for (int k = 0; k <= bounces; ++k) g += std::pow(kAlbedos[j], k) * p[k];
+      y[i] = g;
+    }
+    coeffs.row(j) = X.colPivHouseholderQr().solve(y).transpose();
+  }
+  Eigen::MatrixXd R(kAlbedos.size(), 2);
+  for (std::size_t j = 0; j < kAlbedos.size(); ++j) R.row(j) << kAlbedos[j], 1.0;
+  MultiBounceCoeffs out;
+  for (int q = 0; q < 3; ++q) {
+    const Eigen::Vector2d line = R.colPivHouseholderQr().solve(coeffs.col(q));
+    out[2 * q] = line[0];
+    out[2 * q + 1] = line[1];
+  }
+  return out;
 }
 
 namespace {

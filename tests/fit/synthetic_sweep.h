@@ -42,6 +42,13 @@ using EscapeLaw = std::function<std::vector<double>(double u)>;
 // The cavity law: p_k = A (1 − A)^k, so G_K = A Σ_{k≤K} (ρ(1 − A))^k.
 std::vector<double> cavityLaw(double A, int bounces);
 
+// The cavity law's own two-stage fit, computed independently of the fit code: per albedo a QR
+// least-squares cubic in x = regressor(A) on a dense uniform grid of A (the pixels of
+// writeWalkSweep sample A uniformly), then a QR line through the coefficients in ρ. The
+// identity regressor is the ray-traced fit's target; another one is what a fit on a biased
+// estimate Â = regressor(A) should find.
+MultiBounceCoeffs cavityLawOwnFit(int bounces, const std::function<double(double)>& regressor = {});
+
 // Writes dir/sweep.json and one EXR per scene: each pixel draws u = (pixel + 0.5)/pixels (mask 1
 // except the first row), p = law(u), then `spp` walks from that multinomial, even samples into
 // H0, odd into H1, full = the mean.
