@@ -266,6 +266,9 @@ Subcommand addExportCommand(CLI::App& app) {
   parser->add_option("--encode", options->encode, "Directory from gtbake encode (default: --out)");
   parser->add_option("--validate-gtso", options->validate_gtso,
                      "validate_gtso.json whose u (fitted to path-traced S) the header ships");
+  parser->add_option("--profiles", options->profiles,
+                     "Directory of engine profiles, <estimator>/fit.json from gtbake fit "
+                     "--estimator (docs/profiles.md)");
   return {parser, [options](const RunContext& context) {
             options->command_line = context.command_line;
             runExport(*options);

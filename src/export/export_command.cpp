@@ -72,6 +72,8 @@ ExportResult runExport(const ExportOptions& options) {
   const FitInput fit = readFitInput(options.fit);
   GtsoInput gtso = readGtsoInput(options.gtso);
   if (!options.validate_gtso.empty()) applyValidateGtsoU(options.validate_gtso, &gtso);
+  const std::vector<ProfileInput> profiles =
+      options.profiles.empty() ? std::vector<ProfileInput>{} : readProfiles(options.profiles);
   // The volumes `gtbake encode` wrote for these tables (their layouts and BC4 blocks).
   const ShippedVolumes volumes =
       readShippedVolumes(options.encode.empty() ? options.out : options.encode, gtso);
@@ -82,6 +84,7 @@ ExportResult runExport(const ExportOptions& options) {
   code.gtso = &gtso;
   code.bc4_3d = &bc4_3d;
   code.bc4_4d = &bc4_4d;
+  code.profiles = &profiles;
   code.layout_3d = volumes.t3.layout;
   code.layout_4d = volumes.t4.layout;
   code.volume_3d = volumes.t3.volume;
@@ -94,8 +97,10 @@ ExportResult runExport(const ExportOptions& options) {
   output.add("gtbake_tables.h", makeTablesHeader(code));
   output.add("gtbake_tables.hlsl", makeShaderInclude(code, ShaderLanguage::kHlsl));
   output.add("gtbake_tables.glsl", makeShaderInclude(code, ShaderLanguage::kGlsl));
-  output.setSettings({{"fit", relativePath(options.fit, options.out)},
-                      {"gtso", relativePath(options.gtso, options.out)}});
+  nlohmann::ordered_json settings = {{"fit", relativePath(options.fit, options.out)},
+                                     {"gtso", relativePath(options.gtso, options.out)}};
+  if (!options.profiles.empty()) settings["profiles"] = relativePath(options.profiles, options.out);
+  output.setSettings(settings);
   output.commit();
 
   const double seconds =

@@ -16,6 +16,9 @@ struct ExportOptions {
   // validate_gtso.json from `gtbake validate-gtso`: its u (fitted to path-traced S) is shipped
   // instead of gtso.json's table fit. Empty: the table fit.
   std::filesystem::path validate_gtso;
+  // The profiles of `gtbake fit --estimator` (<dir>/<estimator>/fit.json, docs/profiles.md),
+  // shipped as kMultiBounceProfiles. Empty: no profiles.
+  std::filesystem::path profiles;
   std::string command_line;  // recorded in the provenance blocks
 };
 

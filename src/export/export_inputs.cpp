@@ -1,7 +1,9 @@
 #include "export/export_inputs.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <regex>
 
 #include "common/atomic_file.h"
 #include "common/checked_math.h"
@@ -175,6 +177,49 @@ FitInput readFitInput(const std::filesystem::path& file) {
     in.linear_se[i] = finiteNumber(se, kCoeffNames[i], where + " linear_se");
   }
   return in;
+}
+
+std::vector<ProfileInput> readProfiles(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+    if (e.is_directory() && fs::is_regular_file(e.path() / manifestFileName("fit"))) {
+      names.push_back(e.path().filename().string());
+    }
+  }
+  if (ec) throw Error("cannot read the profiles directory " + dir.string() + ": " + ec.message());
+  std::sort(names.begin(), names.end());
+  static const std::regex kName("[a-z][a-z0-9-]{0,31}");
+  std::vector<ProfileInput> out;
+  for (const std::string& name : names) {
+    const fs::path file = dir / name / "fit.json";
+    if (!std::regex_match(name, kName)) {
+      throw Error(file.string() + ": a profile's estimator name must be lower-case letters, " +
+                  "digits and '-' (at most 32)");
+    }
+    const FitInput fit = readFitInput(file);
+    const std::string where = file.string();
+    const nlohmann::json& input = member(fit.json, "input", where);
+    if (!input.contains("estimator") || input["estimator"] != name) {
+      throw Error(where + ": not the profile of estimator '" + name +
+                  "' (fit.json /input/estimator; rerun `gtbake fit --estimator " + name + "`)");
+    }
+    const nlohmann::json& errors = member(fit.json, "errors", where);
+    ProfileInput p;
+    p.estimator = name;
+    p.linear = fit.linear;
+    p.rmse_paper =
+        finiteNumber(member(errors, "shipped", where), "rmse", where + " errors/shipped");
+    p.rmse_held_out = finiteNumber(member(errors, "held_out_by_scene", where), "rmse",
+                                   where + " errors/held_out_by_scene");
+    const nlohmann::json& jk = member(fit.json, "scene_jackknife", where);
+    if (jk.contains("band_max")) {
+      p.band_max = finiteNumber(jk["band_max"], "value", where + " scene_jackknife/band_max");
+    }
+    out.push_back(p);
+  }
+  return out;
 }
 
 void applyValidateGtsoU(const std::filesystem::path& file, GtsoInput* gtso) {

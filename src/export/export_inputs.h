@@ -49,8 +49,21 @@ struct FitInput {
   nlohmann::json json;                // fit.json verbatim (provenance)
 };
 
+// One engine profile (docs/profiles.md): Equation 10 refitted on a screen-space estimator's Â, as
+// `gtbake fit --estimator` wrote it into <profiles>/<estimator>/fit.json.
+struct ProfileInput {
+  std::string estimator;           // lower-case letters, digits and '-' (checked)
+  std::array<double, 6> linear{};  // a1, a0, b1, b0, c1, c0
+  double band_max = 0.0;           // largest scene-jackknife SE of G (0: no band)
+  double rmse_paper = 0.0;         // RMSE of G with the paper's constants on that Â
+  double rmse_held_out = 0.0;      // RMSE of G with the profile, each scene held out
+};
+
 GtsoInput readGtsoInput(const std::filesystem::path& dir);
 FitInput readFitInput(const std::filesystem::path& file);
+// Every <dir>/<estimator>/fit.json with a fit manifest, in name order; each must be a profile
+// (fit.json /input/estimator equal to its directory's name). Throws gtbake::Error.
+std::vector<ProfileInput> readProfiles(const std::filesystem::path& dir);
 
 // Takes u and u_interval from validate_gtso.json (`gtbake validate-gtso`) into `gtso`.
 void applyValidateGtsoU(const std::filesystem::path& file, GtsoInput* gtso);

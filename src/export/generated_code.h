@@ -9,6 +9,7 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "export/export_inputs.h"
 #include "runtime/gtso_runtime.h"
@@ -26,6 +27,7 @@ struct GeneratedCodeInput {
   const GtsoInput* gtso = nullptr;
   const Bc4Volume* bc4_3d = nullptr;
   const Bc4Volume* bc4_4d = nullptr;
+  const std::vector<ProfileInput>* profiles = nullptr;  // engine profiles (none: no table)
   // The texture layouts export chose (bc4_layout.h) and the volumes' extents in them.
   GtsoLayout layout_3d = kGtsoIdentityLayout, layout_4d = kGtsoIdentityLayout;
   std::array<int, 3> volume_3d{}, volume_4d{};
@@ -45,6 +47,9 @@ std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage langu
 // Shortest round-trip float literal: "%.9g" of the float, with a ".0" when it has no point or
 // exponent, so strtof gives back the same float.
 std::string floatLiteral(float value);
+
+// A profile's estimator as an identifier suffix ("gtao-runtime" -> "gtao_runtime").
+std::string profileIdentifier(const std::string& estimator);
 
 // The shared "// ..." provenance lines: command line, versions, samples, errors.
 std::string provenanceComment(const GeneratedCodeInput& in);

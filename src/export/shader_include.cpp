@@ -62,6 +62,23 @@ std::string closedFormConstants(const GeneratedCodeInput& in, const Dialect& d) 
   return o.str();
 }
 
+// One function per engine profile (docs/profiles.md), after the runtime template.
+std::string profileFunctions(const GeneratedCodeInput& in) {
+  if (in.profiles == nullptr || in.profiles->empty()) return "";
+  std::ostringstream o;
+  o << "\n// Engine profiles (docs/profiles.md): Equation 10 refitted on the A each screen-space\n"
+    << "// estimator computes. RMSE of G on that A: paper's constants | profile held out by "
+       "scene.\n";
+  for (const ProfileInput& p : *in.profiles) {
+    const auto& c = p.linear;
+    o << "// " << p.estimator << ": " << lit(p.rmse_paper) << " | " << lit(p.rmse_held_out) << "\n"
+      << "float multiBounce_" << profileIdentifier(p.estimator) << "(float A, float albedo) {\n"
+      << "  return gtsoMultiBounce(" << lit(c[0]) << ", " << lit(c[1]) << ", " << lit(c[2]) << ", "
+      << lit(c[3]) << ", " << lit(c[4]) << ", " << lit(c[5]) << ", A, albedo);\n}\n";
+  }
+  return o.str();
+}
+
 }  // namespace
 
 std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage language) {
@@ -107,7 +124,7 @@ std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage langu
     << "// (Filament, XeGTAO): the same cone.\n"
     << "float gtsoConeModelFromAlpha(float A, float cosBeta, float alpha) {\n"
     << "  return gtsoConeModel(A, cosBeta, sqrt(alpha));\n}\n"
-    << "\n#endif  // GTBAKE_TABLES_INCLUDED\n";
+    << profileFunctions(in) << "\n#endif  // GTBAKE_TABLES_INCLUDED\n";
   return o.str();
 }
 

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
@@ -140,6 +141,36 @@ void emitConstants(std::ostringstream& o, const GeneratedCodeInput& in) {
     << "inline constexpr float kGtso4DBC4Rmse = " << f(float(in.bc4_4d->rmse)) << ";\n\n";
 }
 
+// The engine profiles (docs/profiles.md): Equation 10 refitted on each estimator's Â.
+void emitProfiles(std::ostringstream& o, const GeneratedCodeInput& in) {
+  if (in.profiles == nullptr || in.profiles->empty()) return;
+  o << "// Engine profiles (docs/profiles.md): Equation 10 refitted on the A each screen-space\n"
+    << "// estimator computes, path-traced G as the target. Feed an engine's own estimate through\n"
+    << "// its estimator's profile: multiBounce(kMultiBounceProfiles[i], A, albedo). RMSE of G on\n"
+    << "// that estimator's A with the paper's constants and with the profile held out by scene\n"
+    << "// (each scene scored by the profile fitted without it); bandMax: the largest\n"
+    << "// scene-jackknife SE of the profile's G.\n"
+    << "struct GtbakeMultiBounceProfile {\n"
+    << "  const char* estimator;\n"
+    << "  float a[2], b[2], c[2];  // {slope, intercept} in rho, as kMultiBounceA/B/C\n"
+    << "  float rmsePaper, rmseHeldOut, bandMax;\n"
+    << "};\n"
+    << "inline constexpr int kMultiBounceProfileCount = " << in.profiles->size() << ";\n"
+    << "inline constexpr GtbakeMultiBounceProfile kMultiBounceProfiles[" << in.profiles->size()
+    << "] = {\n";
+  for (const ProfileInput& p : *in.profiles) {
+    const auto& c = p.linear;
+    o << "    {\"" << p.estimator << "\", {" << f(float(c[0])) << ", " << f(float(c[1])) << "}, {"
+      << f(float(c[2])) << ", " << f(float(c[3])) << "}, {" << f(float(c[4])) << ", "
+      << f(float(c[5])) << "}, " << f(float(p.rmse_paper)) << ", " << f(float(p.rmse_held_out))
+      << ", " << f(float(p.band_max)) << "},\n";
+  }
+  o << "};\n"
+    << "inline float multiBounce(const GtbakeMultiBounceProfile& p, float A, float albedo) {\n"
+    << "  return gtsoMultiBounce(p.a, p.b, p.c, A, albedo);\n"
+    << "}\n\n";
+}
+
 // The physical-input entry points: BC4 from the arrays above, and per-format variants reading
 // texels the caller loaded (gtso3d_r16.dds etc., x fastest) in the same layout.
 void emitEntryPoints(std::ostringstream& o) {
@@ -253,6 +284,12 @@ std::string floatLiteral(float value) {
   return s;
 }
 
+std::string profileIdentifier(const std::string& estimator) {
+  std::string id = estimator;
+  std::replace(id.begin(), id.end(), '-', '_');
+  return id;
+}
+
 namespace {
 
 // The cone aperture u's provenance lines: from validate_gtso.json (scene-level interval, law,
@@ -362,6 +399,7 @@ std::string makeTablesHeader(const GeneratedCodeInput& in) {
   emitBlocks(o, "kGtso3DBC4", *in.bc4_3d);
   emitBlocks(o, "kGtso4DBC4", *in.bc4_4d);
   emitEntryPoints(o);
+  emitProfiles(o, in);
   emitClosedForm(o, in);
   o << "}  // namespace gtbake\n";
   return o.str();

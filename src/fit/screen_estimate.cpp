@@ -1,5 +1,6 @@
 #include "fit/screen_estimate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -8,10 +9,15 @@
 #include "common/image_io.h"
 #include "common/input_limits.h"
 #include "common/output_set.h"
+#include "common/text_format.h"
 
 namespace gtbake {
 
 namespace {
+
+// Float rounding of an estimator's slice integrals may leave Â a few ulps outside [0, 1]
+// (1.00000012 on an open pixel); such values are clamped, anything farther is an error.
+constexpr float kEstimateRounding = 1e-5f;
 
 // screen_ao.json's images by name: the EXR file of each and the estimators it holds.
 struct ScreenAoSet {
@@ -49,12 +55,13 @@ std::vector<double> unmaskedEstimate(const ExrImage& image, const std::string& f
   std::vector<double> out;
   for (std::size_t p = 0; p < mask.size(); ++p) {
     if (!(mask[p] > 0.5f)) continue;
-    if (!(a[p] >= 0.0f && a[p] <= 1.0f)) {
-      throw Error(file + ": " + estimator + ".A is outside [0, 1] at an unmasked pixel (" +
+    if (!(a[p] >= -kEstimateRounding && a[p] <= 1.0f + kEstimateRounding)) {
+      throw Error(file + ": " + estimator + ".A = " + formatNumber(a[p], "%.9g") +
+                  " is outside [0, 1] at an unmasked pixel (" +
                   std::to_string(p % static_cast<std::size_t>(image.width)) + ", " +
                   std::to_string(p / static_cast<std::size_t>(image.width)) + ")");
     }
-    out.push_back(a[p]);
+    out.push_back(std::clamp(static_cast<double>(a[p]), 0.0, 1.0));
   }
   return out;
 }

@@ -25,8 +25,8 @@ struct AoInput {
 
 // Replaces A by the estimator's Â in `data` (loaded from the sweep that screen-ao read). Every
 // file is verified against the screen-ao manifest; an image the sweep has and screen-ao lacks, a
-// mask that differs from the sweep's, an estimator not in the set or a value outside [0, 1] is a
-// one-line gtbake::Error.
+// mask that differs from the sweep's, an estimator not in the set or a value outside [0, 1] (by
+// more than float rounding, 1e-5, which is clamped) is a one-line gtbake::Error.
 void useScreenEstimate(SweepData* data, const AoInput& input);
 
 }  // namespace gtbake

@@ -192,6 +192,7 @@ void runAll(const AllOptions& options) {
   exporter.gtso = gtso.out;
   exporter.encode = encode.out;
   exporter.validate_gtso = validated.json;
+  exporter.profiles = options.out / "profiles";
   exporter.out = options.out;
   exporter.command_line = options.command_line;
   t = std::chrono::steady_clock::now();

@@ -101,4 +101,31 @@ void writeFixture(const std::filesystem::path& dir) {
   sealOutputSet(dir, "fit", {"fit.json"});
 }
 
+std::array<double, 6> fixtureProfileCoeffs(int k) {
+  std::array<double, 6> c{};
+  for (int i = 0; i < 6; ++i) c[i] = kFixtureCoeffs[i] * (1.0 + 0.01 * (k + 1));
+  return c;
+}
+
+void writeProfileFixture(const std::filesystem::path& dir, const std::string& estimator, int k,
+                         const std::string& claimed) {
+  const std::filesystem::path d = dir / estimator;
+  std::filesystem::create_directories(d);
+  nlohmann::json fit;
+  const char* names[6] = {"a1", "a0", "b1", "b0", "c1", "c0"};
+  const std::array<double, 6> c = fixtureProfileCoeffs(k);
+  for (int i = 0; i < 6; ++i) {
+    fit["linear"][names[i]] = c[i];
+    fit["linear_se"][names[i]] = 0.001;
+  }
+  fit["errors"]["shipped"] = {{"rmse", kFixtureProfilePaperRmse}};
+  fit["errors"]["held_out_by_scene"] = {{"rmse", kFixtureProfileHeldOutRmse}};
+  fit["scene_jackknife"]["band_max"] = {{"value", 0.002}};
+  fit["input"] = {{"A", "screen-space"},
+                  {"estimator", claimed.empty() ? estimator : claimed},
+                  {"screen_ao", "../screen_ao"}};
+  std::ofstream(d / "fit.json") << fit.dump(2);
+  sealOutputSet(d, "fit", {"fit.json"});
+}
+
 }  // namespace gtbake::test

@@ -3,7 +3,9 @@
 // vocabulary's quantities (one axis runs from max to min).
 #pragma once
 
+#include <array>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace gtbake::test {
@@ -44,5 +46,15 @@ inline const std::vector<int> kFixtureLayout4D = {1, 2, 0};
 
 // Writes DIR/gtso/{gtso3d.f32, gtso4d.f32, gtso.json} and DIR/fit.json.
 void writeFixture(const std::filesystem::path& dir);
+
+// The fixture's engine profiles (docs/profiles.md): estimator names, their coefficients (the
+// fixture's, scaled by 1 + 0.01 (k + 1) for profile k) and their RMSEs.
+inline const char* const kFixtureProfiles[2] = {"gtao-runtime", "hbao"};
+std::array<double, 6> fixtureProfileCoeffs(int k);
+inline constexpr double kFixtureProfilePaperRmse = 0.05, kFixtureProfileHeldOutRmse = 0.03;
+// Writes DIR/<estimator>/fit.json (a `gtbake fit --estimator` result with its manifest) for
+// `estimator` with profile k's values; `claimed` is the estimator its /input names.
+void writeProfileFixture(const std::filesystem::path& dir, const std::string& estimator, int k,
+                         const std::string& claimed = "");
 
 }  // namespace gtbake::test

@@ -28,6 +28,10 @@ int main(int argc, char** argv) {
   options.gtso = dir / "gtso";
   options.out = dir / "out";
   options.command_line = "export_fixture_gen (test fixture)";
+  for (int k = 0; k < 2; ++k) {
+    gtbake::test::writeProfileFixture(dir / "profiles", gtbake::test::kFixtureProfiles[k], k);
+  }
+  options.profiles = dir / "profiles";
   gtbake::runExport(options);
   return 0;
 }

@@ -330,6 +330,27 @@ TEST_F(ExportTest, RejectsMissingCoefficient) {
   expectErrorAndNoOutput("c0");
 }
 
+// Profiles: one entry per <estimator>/fit.json in name order; a directory that is not the
+// profile it claims, or whose name cannot become an identifier, is refused with nothing written.
+TEST_F(ExportTest, ProfilesShipInNameOrderAndBadOnesAreRefused) {
+  test::writeProfileFixture(dir_ / "profiles", "hbao", 1);
+  test::writeProfileFixture(dir_ / "profiles", "gtao-runtime", 0);
+  fs::create_directories(dir_ / "profiles" / "notes");  // no fit manifest: not a profile
+  options_.profiles = dir_ / "profiles";
+  exportAll();
+  const std::string h = slurp(options_.out / "gtbake_tables.h");
+  EXPECT_NE(h.find("kMultiBounceProfileCount = 2;"), std::string::npos);
+  EXPECT_LT(h.find("{\"gtao-runtime\", "), h.find("{\"hbao\", "));
+  EXPECT_NE(slurp(options_.out / "gtbake_tables.glsl").find("float multiBounce_gtao_runtime("),
+            std::string::npos);
+  fs::remove_all(options_.out);
+  test::writeProfileFixture(dir_ / "profiles", "bitmask-cosine", 2, "hbao");
+  expectErrorAndNoOutput("not the profile of estimator 'bitmask-cosine'");
+  fs::remove_all(dir_ / "profiles" / "bitmask-cosine");
+  test::writeProfileFixture(dir_ / "profiles", "Bad\"name", 2);
+  expectErrorAndNoOutput("lower-case letters, digits and '-'");
+}
+
 TEST(FloatLiteral, RoundTripsExactly) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> uni(-10.0f, 10.0f);
@@ -369,6 +390,9 @@ TEST_F(ExportTest, ShaderIncludesCompile) {
       std::string(GTBAKE_GLSLANG).find("NOTFOUND") != std::string::npos) {
     GTEST_SKIP() << "glslangValidator not installed (apt-get install glslang-tools)";
   }
+  for (int k = 0; k < 2; ++k)
+    test::writeProfileFixture(dir_ / "profiles", test::kFixtureProfiles[k], k);
+  options_.profiles = dir_ / "profiles";
   exportAll();
   const std::string glsl =
       "#version 450\nlayout(local_size_x = 1) in;\n"
@@ -378,7 +402,7 @@ TEST_F(ExportTest, ShaderIncludesCompile) {
       slurp(options_.out / "gtbake_tables.glsl") +
       "void main() {\n  result[0] = gtso3DSample(t3, 0.5, 0.7, 0.3) + "
       "gtso4DSample(t4, 0.5, 0.7, 0.3, 0.9) + multiBounce(0.5, 0.7) + "
-      "gtsoConeModel(0.5, 0.7, 0.3);\n}\n";
+      "gtsoConeModel(0.5, 0.7, 0.3) + multiBounce_gtao_runtime(0.5, 0.7);\n}\n";
   std::ofstream(dir_ / "check.comp") << glsl;
   const std::string hlsl = slurp(options_.out / "gtbake_tables.hlsl") +
                            "Texture3D<float> t3 : register(t0);\nTexture3D<float> t4 : "
@@ -386,7 +410,8 @@ TEST_F(ExportTest, ShaderIncludesCompile) {
                            "RWStructuredBuffer<float> result : register(u0);\n"
                            "[numthreads(1, 1, 1)] void main() {\n  result[0] = gtso3DSample(t3, "
                            "s, 0.5, 0.7, 0.3) + gtso4DSample(t4, s, 0.5, 0.7, 0.3, 0.9) + "
-                           "multiBounce(0.5, 0.7) + gtsoConeModel(0.5, 0.7, 0.3);\n}\n";
+                           "multiBounce(0.5, 0.7) + gtsoConeModel(0.5, 0.7, 0.3) + "
+                           "multiBounce_hbao(0.5, 0.7);\n}\n";
   std::ofstream(dir_ / "check.hlsl") << hlsl;
   const std::string tool = GTBAKE_GLSLANG;
   const std::string g = tool + " -V -S comp -o " + (dir_ / "check_glsl.spv").string() + " " +

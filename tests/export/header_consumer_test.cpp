@@ -210,6 +210,25 @@ TEST(GeneratedHeader, MultiBounceIsEquation10) {
     }
 }
 
+// The engine profiles: names in order, each one's Equation 10 with its own coefficients, and the
+// RMSEs it was shipped with.
+TEST(GeneratedHeader, ProfilesAreEquation10WithTheirOwnConstants) {
+  ASSERT_EQ(gtbake::kMultiBounceProfileCount, 2);
+  for (int p = 0; p < 2; ++p) {
+    const gtbake::GtbakeMultiBounceProfile& profile = gtbake::kMultiBounceProfiles[p];
+    EXPECT_STREQ(profile.estimator, gtbake::test::kFixtureProfiles[p]);
+    EXPECT_FLOAT_EQ(profile.rmsePaper, float(gtbake::test::kFixtureProfilePaperRmse));
+    EXPECT_FLOAT_EQ(profile.rmseHeldOut, float(gtbake::test::kFixtureProfileHeldOutRmse));
+    const std::array<double, 6> k = gtbake::test::fixtureProfileCoeffs(p);
+    for (double rho = 0.1; rho < 0.95; rho += 0.2)
+      for (double A = 0.0; A <= 1.0; A += 0.125) {
+        const double a = k[0] * rho + k[1], b = k[2] * rho + k[3], c = k[4] * rho + k[5];
+        const double g = std::max(A, a * A * A * A - b * A * A + c * A);
+        EXPECT_NEAR(gtbake::multiBounce(profile, float(A), float(rho)), g, 2e-6) << p << " " << A;
+      }
+  }
+}
+
 TEST(GeneratedHeader, CapIntersectionMatchesMonteCarlo) {
   std::mt19937_64 rng(99);
   std::uniform_real_distribution<double> uni(0.0, 1.0);
