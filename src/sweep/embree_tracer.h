@@ -125,6 +125,20 @@ class EmbreeTracer {
 // An Embree ray over [0, tfar] with no hit yet.
 RTCRayHit makeRayHit(const Ray& ray, float tfar);
 
+// A segment in a ray slot whose constant fields (tnear, time, mask, id, flags, instID) are set:
+// origin, direction, [0, tfar], no hit yet; everything else as makeRayHit left it.
+inline void setRay(RTCRayHit* rh, float ox, float oy, float oz, float dx, float dy, float dz,
+                   float tfar) {
+  rh->ray.org_x = ox;
+  rh->ray.org_y = oy;
+  rh->ray.org_z = oz;
+  rh->ray.dir_x = dx;
+  rh->ray.dir_y = dy;
+  rh->ray.dir_z = dz;
+  rh->ray.tfar = tfar;
+  rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
+}
+
 // The primary ray of pixel (i, j) of a width×height image (docs/sweep.md §1, scene.h conventions):
 // through the image-plane point ((i + 0.5)/width, (j + 0.5)/height), j = 0 the top row, aspect
 // width/height.

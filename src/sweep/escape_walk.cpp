@@ -179,19 +179,6 @@ void nextSegments(WalkScratch* w, int m) {
                      w->direction[0].data(), w->direction[1].data(), w->direction[2].data());
 }
 
-// A segment in a ray slot whose constant fields (tnear, time, mask, id, flags, instID) are set:
-// origin, direction, [0, tfar], no hit yet; everything else as makeRayHit.
-void setRay(RTCRayHit* rh, float ox, float oy, float oz, float dx, float dy, float dz, float tfar) {
-  rh->ray.org_x = ox;
-  rh->ray.org_y = oy;
-  rh->ray.org_z = oz;
-  rh->ray.dir_x = dx;
-  rh->ray.dir_y = dy;
-  rh->ray.dir_z = dz;
-  rh->ray.tfar = tfar;
-  rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
-}
-
 // Walk after walk, one rtcIntersect1 / rtcOccluded1 per segment. The first segments, which share
 // one origin and basis, are made for all walks at once as in the stream traversal; later ones
 // through surfaceHit, offsetOrigin and WalkSampler (the same kernels, so the same rays).

@@ -113,16 +113,6 @@ GTBAKE_AVX2_CLONES void specularKernel(int m, const VndfFrame& f, const float t[
   }
 }
 
-void setRay(RTCRayHit* rh, const float o[3], float dx, float dy, float dz, float tfar) {
-  rh->ray.org_x = o[0];
-  rh->ray.org_y = o[1];
-  rh->ray.org_z = o[2];
-  rh->ray.dir_x = dx;
-  rh->ray.dir_y = dy;
-  rh->ray.dir_z = dz;
-  rh->ray.tfar = tfar;
-}
-
 }  // namespace
 
 std::uint64_t traceSpecular(const EmbreeTracer& tracer, const SurfaceHit& start, const float wo[3],
@@ -150,8 +140,8 @@ std::uint64_t traceSpecular(const EmbreeTracer& tracer, const SurfaceHit& start,
     if (r == 0.0) {
       // Mirror: ωr = 2(n·ωo)n − ωo, weight 1, the same value in both halves.
       const float d = 2.0f * wo_local[2];
-      setRay(&rays[0], origin, d * n[0] - wo[0], d * n[1] - wo[1], d * n[2] - wo[2],
-             settings.radius);
+      setRay(&rays[0], origin[0], origin[1], origin[2], d * n[0] - wo[0], d * n[1] - wo[1],
+             d * n[2] - wo[2], settings.radius);
       tracer.occludedStream(rays, 1);
       ++traced;
       const double v = rays[0].ray.tfar >= 0.0f ? 1.0 : 0.0;
@@ -173,8 +163,8 @@ std::uint64_t traceSpecular(const EmbreeTracer& tracer, const SurfaceHit& start,
     int m = 0;
     for (int i = 0; i < spp; ++i) {
       if (!(w->weight[i] > 0.0f)) continue;  // below the horizon: adds 0 to both sums
-      setRay(&rays[m], origin, w->direction[0][i], w->direction[1][i], w->direction[2][i],
-             settings.radius);
+      setRay(&rays[m], origin[0], origin[1], origin[2], w->direction[0][i], w->direction[1][i],
+             w->direction[2][i], settings.radius);
       w->traced[m] = i;
       ++m;
     }
