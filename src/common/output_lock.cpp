@@ -147,6 +147,7 @@ OutputLock::OutputLock(const fs::path& dir) {
     throw Error("cannot write an output set at " + real_.string() + ": name a directory below it");
   }
   refuseNonDirectory(real_);
+  refuseLockedAncestors(real_, dir);  // before creating anything; again once locked (the race)
   ensureDirectory(real_.parent_path());
   lock_file_ = lockFileOf(real_).string();
   {
