@@ -109,7 +109,7 @@ TEST(SweepSet, FailedRerunKeepsTheEarlierSweepUsable) {
   EXPECT_EQ(readBytes(out / "box_a.exr"), before);
   EXPECT_EQ(loadSweep(out).points(), 2u * 40 * 40);
   for (const auto& e : fs::directory_iterator(out)) {
-    EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos) << e.path();
+    EXPECT_EQ(e.path().string().find(".gtbake-"), std::string::npos) << e.path();
   }
 }
 
