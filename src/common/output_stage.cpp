@@ -211,6 +211,10 @@ void StagedDirectory::sync() const {
 
 void StagedDirectory::switchIn() {
   std::error_code ec;
+  // A working directory inside the directory would be left in the old tree: follow the switch.
+  const fs::path cwd = fs::current_path(ec);
+  const fs::path inside = ec ? fs::path() : cwd.lexically_relative(dir_);
+  const bool follow = !inside.empty() && *inside.begin() != "..";
   int result = ::renameat2(AT_FDCWD, tree_.c_str(), AT_FDCWD, dir_.c_str(), RENAME_EXCHANGE);
   if (result != 0 && errno == ENOENT && !fs::exists(fs::symlink_status(dir_, ec))) {
     result = ::renameat2(AT_FDCWD, tree_.c_str(), AT_FDCWD, dir_.c_str(), RENAME_NOREPLACE);
@@ -220,6 +224,10 @@ void StagedDirectory::switchIn() {
                 std::strerror(errno) + " (the previous set is untouched)");
   }
   testKillPoint("commit-exchanged");
+  if (follow && ::chdir(cwd.c_str()) != 0) {
+    throw Error("cannot enter " + cwd.string() +
+                " again after switching it: " + std::strerror(errno));
+  }
   syncDirectory(dir_.parent_path());
   fs::remove_all(container_, ec);
   if (ec) {

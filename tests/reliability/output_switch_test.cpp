@@ -163,6 +163,21 @@ TEST(OutputSet, SymlinkedDirectoryIsWrittenThroughAndStaysALink) {
   EXPECT_EQ(gtbakeLeftovers(root.path() / "real"), std::vector<std::string>{});
 }
 
+// `--out .`: the process's working directory is the one switched; it follows the switch, so
+// relative paths written afterwards land in the new directory, not in the removed old tree.
+TEST(OutputSet, AWorkingDirectoryInsideFollowsTheSwitch) {
+  TempDir root("cwd");
+  const fs::path dir = root.path() / "out";
+  fs::create_directories(dir / "sub");
+  const fs::path before = fs::current_path();
+  fs::current_path(dir / "sub");
+  writeSet("..", "demo", "new");
+  spit("after.txt", "written after the switch");
+  fs::current_path(before);
+  EXPECT_EQ(readBytes(dir / "sub" / "after.txt"), "written after the switch");
+  EXPECT_EQ(setIn(dir), "new");
+}
+
 TEST(OutputSet, AMountPointIsRefusedBeforeAnythingIsWritten) {
   TempDir root("mountpoint");
   const fs::path mount = root.path() / "mnt";
