@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <system_error>
 #include <vector>
@@ -46,12 +47,9 @@ long stagePid(const std::string& name) {
 // Field 22 of /proc/<pid>/stat (clock ticks since boot), or "" if unknown: with the pid it
 // names one process, so a reused pid is told apart.
 std::string processStartTime(long pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");  // size 0: read as a stream
   std::string stat;
-  try {
-    stat = readRegularFile("/proc/" + std::to_string(pid) + "/stat");
-  } catch (const Error&) {
-    return "";
-  }
+  std::getline(in, stat);
   std::size_t at = stat.rfind(')');
   if (at == std::string::npos) return "";
   for (int field = 2; field < 22 && at != std::string::npos; ++field) at = stat.find(' ', at + 1);

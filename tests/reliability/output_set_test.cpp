@@ -227,6 +227,24 @@ TEST(Signals, OnlyMarkedStagesOfDeadProcessesAreRemoved) {
   EXPECT_EQ(readBytes(user / "keep.txt"), "the user's");
 }
 
+// A marked stage whose pid is running again, but as a process started at another time (a reused
+// pid), is stale; the marker's start time tells them apart.
+TEST(Signals, AStageOfAReusedPidIsStale) {
+  TempDir root("reused_pid");
+  const fs::path dir = root.path() / "out";
+  const std::string live = std::to_string(::getppid());
+  const fs::path stage = root.path() / (".out.gtbake-stage-" + live + "-0");
+  fs::create_directories(stage / "tree");
+  spit(stage / "gtbake-stage.json",
+       R"({"tool":"gtbake","pid":)" + live + R"(,"start":"1","dir":")" + dir.string() + "\"}");
+  {
+    OutputSet set(dir, "demo");
+    set.add("a.txt", "a");
+    set.commit();
+  }
+  EXPECT_FALSE(fs::exists(stage));
+}
+
 // Two writers of one directory: the second is refused at once, naming the directory and the pid
 // of the first, and writes nothing; a writer inside it is refused too; the first one succeeds.
 TEST(OutputSet, ASecondWriterGetsTheLockErrorAndTheFirstSucceeds) {
