@@ -1,5 +1,6 @@
 #include "common/atomic_file.h"
 
+#include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -23,6 +24,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
+constexpr const char* kTemporaryInfix = ".gtbake-tmp-";
+
 // Temporary paths of this process for the signal handler: fixed slots, so the handler neither
 // allocates nor locks (unlink and rmdir are async-signal-safe).
 constexpr int kTemporarySlots = 512;
@@ -35,11 +38,35 @@ std::array<TemporarySlot, kTemporarySlots> g_temporaries;
 std::mutex g_temporaries_mutex;
 std::once_flag g_handlers_installed;
 
+// Removes the file or directory tree `name` (relative to `parent_fd`) with async-signal-safe
+// calls only (unlinkat, openat, getdents64), at most kMaxDepth directories deep.
+constexpr int kMaxDepth = 32;
+void removeTreeAt(int parent_fd, const char* name, int depth) {
+  if (::unlinkat(parent_fd, name, 0) == 0 || depth > kMaxDepth) return;
+  const int fd = ::openat(parent_fd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return;
+  alignas(8) char buffer[2048];
+  for (int pass = 0; pass < 4 && ::unlinkat(parent_fd, name, AT_REMOVEDIR) != 0; ++pass) {
+    ::lseek(fd, 0, SEEK_SET);
+    ssize_t n = 0;
+    while ((n = ::getdents64(fd, buffer, sizeof(buffer))) > 0) {
+      for (ssize_t at = 0; at < n;) {
+        const auto* entry = reinterpret_cast<const struct dirent64*>(buffer + at);
+        at += entry->d_reclen;
+        const char* child = entry->d_name;
+        if (child[0] == '.' && (child[1] == '\0' || (child[1] == '.' && child[2] == '\0'))) {
+          continue;
+        }
+        removeTreeAt(fd, child, depth + 1);
+      }
+    }
+  }
+  ::close(fd);
+}
+
 extern "C" void removeTemporariesAndDie(int signal_number) {
   for (TemporarySlot& slot : g_temporaries) {
-    if (slot.used.load(std::memory_order_acquire)) {
-      if (::unlink(slot.path) != 0) ::rmdir(slot.path);
-    }
+    if (slot.used.load(std::memory_order_acquire)) removeTreeAt(AT_FDCWD, slot.path, 0);
   }
   ::signal(signal_number, SIG_DFL);
   ::raise(signal_number);
@@ -59,8 +86,35 @@ void installHandlers() {
 
 fs::path temporaryFor(const fs::path& final_path) {
   fs::path temp = final_path;
-  temp += ".tmp-" + std::to_string(::getpid());
+  temp += kTemporaryInfix + std::to_string(::getpid());
   return temp;
+}
+
+// The pid of a single-file temporary's name ("<name>.gtbake-tmp-<pid>"), or -1.
+long temporaryPid(const std::string& name) {
+  const std::size_t at = name.rfind(kTemporaryInfix);
+  if (at == std::string::npos || at == 0) return -1;
+  const std::string digits = name.substr(at + std::strlen(kTemporaryInfix));
+  if (digits.empty() || digits.size() > 9 ||
+      digits.find_first_not_of("0123456789") != std::string::npos) {
+    return -1;
+  }
+  return std::stol(digits);
+}
+
+const char* specialFileKind(const fs::file_status& status) {
+  switch (status.type()) {
+    case fs::file_type::fifo:
+      return "a FIFO (named pipe)";
+    case fs::file_type::socket:
+      return "a socket";
+    case fs::file_type::character:
+      return "a character device";
+    case fs::file_type::block:
+      return "a block device";
+    default:
+      return nullptr;
+  }
 }
 
 }  // namespace
@@ -89,6 +143,7 @@ void unregisterTemporary(int slot) {
 
 AtomicOutput::AtomicOutput(fs::path final_path)
     : final_(std::move(final_path)), temp_(temporaryFor(final_)) {
+  refuseSpecialFile(final_, "output");
   slot_ = registerTemporary(temp_);
 }
 
@@ -144,9 +199,39 @@ void writeFileAtomically(const fs::path& path, std::string_view bytes) {
   output.commit();
 }
 
+void refuseSpecialFile(const fs::path& path, const std::string& what) {
+  std::error_code ec;
+  const char* kind = specialFileKind(fs::status(path, ec));
+  if (kind == nullptr) return;
+  throw Error(what + " " + path.string() + " is " + kind +
+              ", not a file or directory gtbake may replace; name another path");
+}
+
+void syncDirectory(const fs::path& dir) {
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) throw Error("cannot open " + dir.string() + ": " + std::strerror(errno));
+  const int result = ::fsync(fd);
+  const int error = errno;
+  ::close(fd);
+  if (result != 0 && error != EINVAL) {
+    throw Error("cannot sync " + dir.string() + ": " + std::strerror(error));
+  }
+}
+
+bool processIsRunning(long pid) {
+  if (pid <= 0) return false;
+  return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
+}
+
+void testKillPoint(const char* point) {
+  const char* at = std::getenv("GTBAKE_TEST_KILL_AT");
+  if (at != nullptr && std::strcmp(at, point) == 0) ::raise(SIGKILL);
+}
+
 void ensureDirectory(const fs::path& dir) {
   std::error_code ec;
   if (fs::is_directory(dir, ec)) return;
+  refuseSpecialFile(dir, "output directory");
   if (fs::exists(dir, ec)) throw Error(dir.string() + " exists and is not a directory");
   fs::create_directories(dir, ec);
   if (ec) throw Error("cannot create directory " + dir.string() + ": " + ec.message());
@@ -165,23 +250,17 @@ std::vector<fs::path> cleanStaleTemporaries(const fs::path& dir) {
   std::vector<fs::path> removed;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    const std::size_t at = name.rfind(".tmp-");
-    if (at == std::string::npos) continue;
-    const std::string digits = name.substr(at + 5);
-    if (digits.empty() || digits.size() > 9 ||
-        digits.find_first_not_of("0123456789") != std::string::npos) {
-      continue;
-    }
-    const long pid = std::stol(digits);
+    const long pid = temporaryPid(entry.path().filename().string());
+    std::error_code type_error;
+    if (pid < 0 || !entry.is_regular_file(type_error) || entry.is_symlink(type_error)) continue;
     if (pid == static_cast<long>(::getpid())) continue;
-    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM) {
+    if (processIsRunning(pid)) {
       std::fprintf(stderr, "gtbake: note: leaving %s (process %ld is still running)\n",
                    entry.path().c_str(), pid);
       continue;
     }
     std::error_code remove_error;
-    fs::remove_all(entry.path(), remove_error);
+    fs::remove(entry.path(), remove_error);
     if (!remove_error) {
       std::fprintf(stderr, "gtbake: note: removed %s left by an interrupted run\n",
                    entry.path().c_str());
@@ -189,6 +268,11 @@ std::vector<fs::path> cleanStaleTemporaries(const fs::path& dir) {
     }
   }
   return removed;
+}
+
+bool isStaleTemporary(const fs::path& path) {
+  const long pid = temporaryPid(path.filename().string());
+  return pid >= 0 && pid != static_cast<long>(::getpid()) && !processIsRunning(pid);
 }
 
 }  // namespace gtbake

@@ -1,14 +1,17 @@
-// Outputs that are never left half-written.
+// Single files that are never left half-written (docs/limits.md "Output sets").
 //
-// Every file gtbake writes goes first to "<name>.tmp-<pid>" in the same directory, is written with
-// checked write(2) calls and fsync(2), and is renamed over the final name only once complete
-// (rename(2) is atomic within one file system). A run that fails leaves any earlier good file
-// where it stood and removes its temporary file on the way out (exceptions unwind through
-// AtomicOutput's destructor); SIGINT, SIGTERM and SIGHUP remove every temporary file of the
-// process before it dies. Whole sets of files are committed by OutputSet (output_set.h).
+// A file gtbake writes on its own (a sweep tile, shard.json, a PNG or EXR outside a set) goes first
+// to "<name>.gtbake-tmp-<pid>" in the same directory, is written with checked write(2) calls and
+// fsync(2), and is renamed over the final name only once complete (rename(2) is atomic within one
+// file system). A run that fails leaves any earlier good file where it stood and removes its
+// temporary file on the way out (exceptions unwind through AtomicOutput's destructor); SIGINT,
+// SIGTERM and SIGHUP remove every temporary file of the process before it dies. A FIFO, socket or
+// device node is never replaced. Whole sets of files switch together through OutputSet
+// (output_set.h), which stages them in a directory beside the output directory instead.
 //
-// Test hook: when the environment variable GTBAKE_TEST_FAIL_WRITE is set, a write whose final
-// file name contains its value fails half-way as a full disk would (ENOSPC).
+// Test hooks: when the environment variable GTBAKE_TEST_FAIL_WRITE is set, a write whose final
+// file name contains its value fails half-way as a full disk would (ENOSPC);
+// GTBAKE_TEST_KILL_AT=<point> makes testKillPoint(<point>) kill the process with SIGKILL.
 #pragma once
 
 #include <filesystem>
@@ -62,9 +65,25 @@ std::string readFile(const std::filesystem::path& path);
 int registerTemporary(const std::filesystem::path& path);
 void unregisterTemporary(int slot);
 
-// Removes "*.tmp-<pid>" files and directories in `dir` left by a gtbake process that no longer
+// Removes the regular files "*.gtbake-tmp-<pid>" in `dir` left by a gtbake process that no longer
 // runs, printing one line per file on stderr; temporaries of a live process are left alone and
-// reported. Returns the removed paths.
+// reported, and no other name is touched (a user's "thesis.tmp-4242" stays). Returns the removed
+// paths.
 std::vector<std::filesystem::path> cleanStaleTemporaries(const std::filesystem::path& dir);
+// True when `path` is named as a single-file temporary of a process that no longer runs.
+bool isStaleTemporary(const std::filesystem::path& path);
+
+// Throws gtbake::Error "<what> <path> is a FIFO (named pipe), ..." when `path` exists (through
+// symlinks) and is a FIFO, socket or device node; anything else passes.
+void refuseSpecialFile(const std::filesystem::path& path, const std::string& what);
+
+// fsync(2) of a directory, so the names created in it are durable. Throws gtbake::Error.
+void syncDirectory(const std::filesystem::path& dir);
+
+// True when process `pid` exists (also when it belongs to another user).
+bool processIsRunning(long pid);
+
+// The GTBAKE_TEST_KILL_AT hook: SIGKILLs the process when the variable equals `point`.
+void testKillPoint(const char* point);
 
 }  // namespace gtbake

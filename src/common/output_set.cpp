@@ -2,11 +2,17 @@
 
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
+
+#include <set>
 #include <system_error>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/input_limits.h"
+#include "common/output_lock.h"
+#include "common/output_stage.h"
 #include "common/sha256.h"
 #include "gtbake_version.h"
 
@@ -31,9 +37,9 @@ OutputManifest emptyManifest(const fs::path& dir, const std::string& command,
   return manifest;
 }
 
-// Writes dir/<command>.manifest.json: command, version, settings, then every file's name, size
+// The text of <command>.manifest.json: command, version, settings, then every file's name, size
 // and SHA-256 (the layout readOutputSet parses).
-void writeManifest(const OutputManifest& manifest) {
+std::string manifestText(const OutputManifest& manifest) {
   nlohmann::ordered_json files = nlohmann::ordered_json::array();
   for (const OutputFile& f : manifest.files) {
     files.push_back({{"name", f.name}, {"size", f.size}, {"sha256", f.sha256}});
@@ -43,7 +49,17 @@ void writeManifest(const OutputManifest& manifest) {
   doc["gtbake_version"] = manifest.gtbake_version;
   doc["settings"] = manifest.settings;
   doc["files"] = std::move(files);
-  writeFileAtomically(manifest.dir / manifestFileName(manifest.command), doc.dump(2) + "\n");
+  return doc.dump(2) + "\n";
+}
+
+// The names of the previous set of `command` in `real_dir` and its manifest (what a commit leaves
+// out of the new tree), relative to the directory.
+std::set<std::string> previousSet(const fs::path& real_dir, const std::string& command) {
+  std::set<std::string> names;
+  for (const fs::path& path : outputSetPaths(real_dir, command)) {
+    names.insert(path.lexically_relative(real_dir).generic_string());
+  }
+  return names;
 }
 
 }  // namespace
@@ -79,21 +95,14 @@ std::string OutputManifest::readVerified(const std::string& name) const {
 
 OutputSet::OutputSet(fs::path dir, std::string command)
     : dir_(std::move(dir)), command_(std::move(command)) {
-  ensureDirectory(dir_);
-  cleanStaleTemporaries(dir_);
+  lock_ = std::make_unique<OutputLock>(dir_);
+  ensureDirectory(lock_->realDir());
+  stage_ = std::make_unique<StagedDirectory>(lock_->realDir());
 }
 
-OutputSet::~OutputSet() {
-  for (const Staged& s : staged_) {
-    if (!committed_) {
-      std::error_code ignored;
-      fs::remove(s.temp, ignored);
-    }
-    unregisterTemporary(s.slot);
-  }
-}
+OutputSet::~OutputSet() = default;
 
-void OutputSet::add(const std::string& name, std::string_view bytes) {
+fs::path OutputSet::checkName(const std::string& name) const {
   if (committed_) throw Error("internal: output set " + dir_.string() + " already committed");
   const fs::path final_path = fileInsideDirectory(dir_, name, "output set " + dir_.string());
   for (const Staged& s : staged_) {
@@ -102,32 +111,65 @@ void OutputSet::add(const std::string& name, std::string_view bytes) {
   if (name == manifestFileName(command_)) {
     throw Error("internal: " + name + " is the manifest's own name");
   }
-  if (final_path.has_parent_path()) ensureDirectory(final_path.parent_path());
-  Staged staged;
-  staged.file = {name, bytes.size(), sha256Hex(bytes)};
-  staged.temp = final_path;
-  staged.temp += ".tmp-" + std::to_string(::getpid());
-  staged.slot = registerTemporary(staged.temp);
-  staged_.push_back(staged);
-  writeBytesChecked(staged.temp, bytes, final_path);
+  std::error_code ec;
+  if (fs::is_directory(fs::symlink_status(final_path, ec))) {
+    throw Error("cannot write " + final_path.string() + ": a directory of that name is in the way");
+  }
+  for (fs::path up = fs::path(name).parent_path(); !up.empty(); up = up.parent_path()) {
+    const fs::file_status status = fs::symlink_status(dir_ / up, ec);
+    if (fs::exists(status) && !fs::is_directory(status)) {
+      throw Error("cannot write " + final_path.string() + ": " + (dir_ / up).string() +
+                  " is in the way and is not a directory");
+    }
+  }
+  return final_path;
+}
+
+void OutputSet::add(const std::string& name, std::string_view bytes) {
+  const fs::path final_path = checkName(name);
+  const fs::path staged = stage_->tree() / name;
+  if (fs::path(name).has_parent_path()) ensureDirectory(staged.parent_path());
+  staged_.push_back({{name, bytes.size(), sha256Hex(bytes)}, false});
+  writeBytesChecked(staged, bytes, final_path);
+}
+
+void OutputSet::adopt(const std::string& name) {
+  checkName(name);
+  staged_.push_back({{name, 0, ""}, true});
 }
 
 OutputManifest OutputSet::commit() {
-  const fs::path manifest_path = dir_ / manifestFileName(command_);
-  std::error_code ec;
-  fs::remove(manifest_path, ec);
-  if (ec) throw Error("cannot replace " + manifest_path.string() + ": " + ec.message());
-  OutputManifest manifest = emptyManifest(dir_, command_, settings_);
-  for (const Staged& s : staged_) {
-    fs::rename(s.temp, dir_ / s.file.name, ec);
-    if (ec) {
-      throw Error("cannot write " + (dir_ / s.file.name).string() + ": " + ec.message() +
-                  " (the output set in " + dir_.string() + " is incomplete; rerun)");
+  const fs::path& real = lock_->realDir();
+  const NestedLocks nested(real);  // writers inside the directory finish first
+  testKillPoint("commit-start");
+  for (Staged& s : staged_) {
+    if (!s.adopted) continue;
+    const fs::path staged = stage_->tree() / s.file.name;
+    ensureDirectory(staged.parent_path());
+    const fs::path live = fileInsideDirectory(real, s.file.name, "output set " + dir_.string());
+    if (::link(live.c_str(), staged.c_str()) != 0) {
+      throw Error("cannot add " + (dir_ / s.file.name).string() +
+                  " to the output set: " + std::strerror(errno));
     }
-    manifest.files.push_back(s.file);
+    const std::string bytes = readRegularFile(staged);
+    s.file.size = bytes.size();
+    s.file.sha256 = sha256Hex(bytes);
   }
+  const std::set<std::string> previous = previousSet(real, command_);
+  stage_->replicate([&](const fs::path& live, const std::string& relative) {
+    return previous.count(relative) != 0 || nested.took(live) || isStaleTemporary(live);
+  });
+  testKillPoint("commit-linked");
+  OutputManifest manifest = emptyManifest(dir_, command_, settings_);
+  for (const Staged& s : staged_) manifest.files.push_back(s.file);
+  const std::string name = manifestFileName(command_);
+  writeBytesChecked(stage_->tree() / name, manifestText(manifest), dir_ / name);
+  testKillPoint("commit-manifest");
+  stage_->sync();
+  testKillPoint("commit-synced");
+  stage_->switchIn();
   committed_ = true;
-  writeManifest(manifest);
+  testKillPoint("commit-done");
   return manifest;
 }
 
@@ -176,15 +218,10 @@ OutputManifest readOutputSet(const fs::path& dir, const std::string& command) {
 OutputManifest sealOutputSet(const fs::path& dir, const std::string& command,
                              const std::vector<std::string>& names,
                              nlohmann::ordered_json settings) {
-  const fs::path manifest_path = dir / manifestFileName(command);
-  OutputManifest manifest = emptyManifest(dir, command, std::move(settings));
-  for (const std::string& name : names) {
-    const std::string bytes =
-        readRegularFile(fileInsideDirectory(dir, name, manifest_path.string()));
-    manifest.files.push_back({name, bytes.size(), sha256Hex(bytes)});
-  }
-  writeManifest(manifest);
-  return manifest;
+  OutputSet set(dir, command);
+  for (const std::string& name : names) set.adopt(name);
+  set.setSettings(std::move(settings));
+  return set.commit();
 }
 
 OutputManifest resealOutputSet(const fs::path& dir, const std::string& command) {
@@ -228,6 +265,7 @@ namespace gtbake {
 
 void checkOutputFile(const fs::path& out, const std::string& option,
                      const std::vector<fs::path>& inputs) {
+  refuseSpecialFile(out, option);
   std::error_code ec;
   if (fs::is_directory(out, ec) || out.filename().empty() || out.filename() == "." ||
       out.filename() == "..") {

@@ -7,6 +7,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/output_lock.h"
 #include "common/output_set.h"
 #include "common/threads.h"
 #include "encode/bc4_layout.h"
@@ -87,6 +88,7 @@ void printSummary(const EncodeOptions& options, const GtsoInput& gtso, const Gts
 EncodeResult runEncode(const EncodeOptions& options) {
   if (options.gtso.empty()) throw Error("encode: --gtso DIR is required");
   if (options.out.empty()) throw Error("encode: --out DIR is required");
+  const OutputLock lock(options.out);  // for the whole run (output_lock.h)
   const auto start = std::chrono::steady_clock::now();
   const GtsoInput gtso = readGtsoInput(options.gtso);
   const ThreadLimit limit(options.threads);

@@ -8,6 +8,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/output_lock.h"
 #include "common/output_set.h"
 #include "encode/bc4_layout.h"
 #include "encode/shipped_volumes.h"
@@ -68,6 +69,7 @@ ExportResult runExport(const ExportOptions& options) {
   if (options.fit.empty()) throw Error("export: --fit FILE.json is required");
   if (options.gtso.empty()) throw Error("export: --gtso DIR is required");
   if (options.out.empty()) throw Error("export: --out DIR is required");
+  const OutputLock lock(options.out);  // for the whole run (output_lock.h)
   const auto start = std::chrono::steady_clock::now();
   const FitInput fit = readFitInput(options.fit);
   GtsoInput gtso = readGtsoInput(options.gtso);

@@ -7,6 +7,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/output_lock.h"
 #include "common/output_set.h"
 #include "common/progress.h"
 #include "fit/fit_outputs.h"
@@ -39,12 +40,13 @@ FitResult runFit(const FitOptions& options) {
     }
   }
   checkOutputFile(options.out, "--out", inputs);
+  const fs::path out_dir =
+      options.out.parent_path().empty() ? fs::path(".") : options.out.parent_path();
+  const OutputLock lock(out_dir);  // for the whole run (output_lock.h)
   // Stages: the analysis, the report, fit.json.
   Progress bar("fit", kAnalysisStages + 2, options.progress);
   const FitAnalysis a =
       analyzeSweep(options.sweep, settingsOf(options), options.shipped, &bar, options.input);
-  const fs::path out_dir =
-      options.out.parent_path().empty() ? fs::path(".") : options.out.parent_path();
   ensureDirectory(out_dir);
   const fs::path report_dir = options.report ? *options.report : out_dir / "report";
   // The report is part of the fit set when it lies inside out_dir (gtbake all: luts/report/);

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "common/atomic_file.h"
+#include "common/output_lock.h"
 #include "common/threads.h"
 #include "encode/encode_command.h"
 #include "export/export_command.h"
@@ -141,6 +142,7 @@ SweepResult sweepScenes(const AllOptions& options, int threads, double* scenes_s
 }  // namespace
 
 void runAll(const AllOptions& options) {
+  const OutputLock lock(options.out);  // every stage writes inside it (output_lock.h)
   ensureDirectory(options.out);
   const ThreadLimit limit(options.threads);
   const auto start = std::chrono::steady_clock::now();

@@ -2,8 +2,9 @@
 // a second node whose matrix holds its basis and position exactly, one double-sided white
 // material, all in <name>.gltf (JSON, keys sorted, so the bytes are a pure function of the
 // scene) and <name>.bin. Both are encoded in memory (tinygltf serializes the JSON to a stream;
-// the buffer is ours) and written through the checked atomic writer, .bin first, so a failed
-// write (disk full) is an error and a reader never sees a .gltf whose buffer is missing or stale.
+// the buffer is ours); `gtbake scenes` stages them in its output set, writeGltfScene writes them
+// through the checked atomic writer, .bin first, so a failed write (disk full) is an error and a
+// reader never sees a .gltf whose buffer is missing or stale.
 #include <tiny_gltf.h>
 
 #include <cstring>
@@ -139,14 +140,7 @@ tinygltf::Model buildModel(const Scene& scene, const std::string& bin_name) {
 
 }  // namespace
 
-void writeGltfScene(const std::filesystem::path& path, const Scene& scene) {
-  namespace fs = std::filesystem;
-  if (path.extension() != ".gltf") {
-    throw Error(path.string() + ": the scene must be written as .gltf (JSON plus .bin)");
-  }
-  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  ensureDirectory(dir);
-  const std::string stem = path.stem().string();
+GltfFiles encodeGltfScene(const std::string& stem, const Scene& scene) {
   tinygltf::Model model = buildModel(scene, stem + ".bin");
   // The buffer leaves the model: tinygltf's stream writer would embed it as base64; the JSON
   // entry pointing at the .bin is put back below.
@@ -156,13 +150,24 @@ void writeGltfScene(const std::filesystem::path& path, const Scene& scene) {
   tinygltf::TinyGLTF writer;
   if (!writer.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/true,
                                      /*writeBinary=*/false)) {
-    throw Error(path.string() + ": cannot encode the glTF");
+    throw Error(stem + ".gltf: cannot encode the glTF");
   }
   nlohmann::json doc = nlohmann::json::parse(stream.str());
   doc["buffers"] = nlohmann::json::array({{{"byteLength", bin.size()}, {"uri", stem + ".bin"}}});
-  writeFileAtomically(dir / (stem + ".bin"),
-                      std::string_view(reinterpret_cast<const char*>(bin.data()), bin.size()));
-  writeFileAtomically(path, doc.dump(2) + "\n");
+  return {doc.dump(2) + "\n", std::string(reinterpret_cast<const char*>(bin.data()), bin.size())};
+}
+
+void writeGltfScene(const std::filesystem::path& path, const Scene& scene) {
+  namespace fs = std::filesystem;
+  if (path.extension() != ".gltf") {
+    throw Error(path.string() + ": the scene must be written as .gltf (JSON plus .bin)");
+  }
+  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  ensureDirectory(dir);
+  const std::string stem = path.stem().string();
+  const GltfFiles files = encodeGltfScene(stem, scene);
+  writeFileAtomically(dir / (stem + ".bin"), files.bin);
+  writeFileAtomically(path, files.gltf);
 }
 
 }  // namespace gtbake

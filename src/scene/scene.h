@@ -36,6 +36,14 @@ struct Scene {
 // found. Throws gtbake::Error with a one-line reason for anything unsupported.
 Scene readGltfScene(const std::filesystem::path& path);
 
+// The bytes of `scene` written as <stem>.gltf: the JSON text (its buffer uri is <stem>.bin) and
+// the buffer.
+struct GltfFiles {
+  std::string gltf;
+  std::string bin;
+};
+GltfFiles encodeGltfScene(const std::string& stem, const Scene& scene);
+
 // Writes `scene` as <path> (.gltf, JSON) plus <path minus extension>.bin, atomically.
 void writeGltfScene(const std::filesystem::path& path, const Scene& scene);
 

@@ -5,8 +5,8 @@
 #include <Eigen/Core>
 #include <cstdio>
 
-#include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/output_set.h"
 #include "common/progress.h"
 #include "scene/procedural_scenes.h"
 #include "scene/scene.h"
@@ -22,8 +22,9 @@ std::vector<std::filesystem::path> runScenes(const ScenesOptions& options) {
   if (options.variants < 1 || options.variants > kMaxVariants) {
     throw Error("--variants must be in [1, " + std::to_string(kMaxVariants) + "]");
   }
-  ensureDirectory(options.out);
-  cleanStaleTemporaries(options.out);             // left by a killed run (atomic_file.h)
+  // Every scene's .gltf and .bin switch in as one set (output_set.h): a failed run keeps the
+  // previous corpus whole.
+  OutputSet set(options.out, "scenes");
   std::vector<std::pair<std::string, int>> list;  // (type, variant); variant −1: classic
   for (const std::string& type : options.classic ? sceneTypeNames() : corpusTypeNames()) {
     for (int v = 0; v < (options.classic ? 1 : options.variants); ++v) {
@@ -37,7 +38,9 @@ std::vector<std::filesystem::path> runScenes(const ScenesOptions& options) {
                                     : makeCorpusScene(type, variant, options.seed);
     const std::string& name = scene.name;
     const std::filesystem::path path = options.out / (name + ".gltf");
-    writeGltfScene(path, scene);
+    const GltfFiles files = encodeGltfScene(name, scene);
+    set.add(name + ".bin", files.bin);
+    set.add(name + ".gltf", files.gltf);
     written.push_back(path);
     progress.add(1);
     // Bounding box of the geometry near the features (|x|, |z| < 100 m), and of everything.
@@ -57,6 +60,9 @@ std::vector<std::filesystem::path> runScenes(const ScenesOptions& options) {
         name.c_str(), scene.triangles.size(), scene.positions.size(), lo.x(), lo.y(), lo.z(),
         hi.x(), hi.y(), hi.z(), near_lo.y(), near_hi.y(), path.string().c_str());
   }
+  set.setSettings(
+      {{"seed", options.seed}, {"variants", options.variants}, {"classic", options.classic}});
+  set.commit();
   progress.finish();
   return written;
 }

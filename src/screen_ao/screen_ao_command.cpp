@@ -6,6 +6,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/output_lock.h"
 #include "common/output_set.h"
 #include "common/progress.h"
 #include "common/threads.h"
@@ -69,6 +70,7 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
   if (o.out.empty()) throw Error("no output directory given: pass --out DIR");
   if (o.estimators.empty()) throw Error("--estimators lists no estimator");
   validateSettings(o.settings);
+  const OutputLock lock(o.out);  // for the whole run (output_lock.h)
   const ThreadLimit threads(o.threads);
   const SweepImages sweep = readSweepImages(o.sweep);
   OutputSet output(o.out, "screen_ao");

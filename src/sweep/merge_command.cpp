@@ -8,6 +8,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/output_lock.h"
 #include "sweep/shard_manifest.h"
 #include "sweep/sweep_output.h"
 
@@ -115,6 +116,9 @@ std::vector<int> checkCoverage(const std::vector<Shard>& shards, const TilePlan&
 
 SweepResult runMerge(const MergeOptions& options) {
   const std::vector<Shard> shards = readShards(options);
+  std::error_code ec;
+  const bool existed = fs::exists(options.out, ec);
+  const OutputLock lock(options.out);  // for the whole run (output_lock.h)
   checkOneSweep(shards);
   const ShardManifest& first = shards.front().manifest;
   const SweepIdentity& id = first.identity;
@@ -142,8 +146,6 @@ SweepResult runMerge(const MergeOptions& options) {
   }
   std::printf("), %zu tiles of %zu scenes -> %s\n", plan.tiles.size(), id.scenes.size(),
               options.out.c_str());
-  std::error_code ec;
-  const bool existed = fs::exists(options.out, ec);
   try {
     // Each tile file is checked against its shard's SHA-256 as it is read; the outputs are one
     // output set, so a corrupt tile found half-way leaves nothing behind.

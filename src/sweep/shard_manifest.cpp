@@ -1,6 +1,5 @@
 #include "sweep/shard_manifest.h"
 
-#include "common/atomic_file.h"
 #include "common/error.h"
 
 namespace gtbake {
@@ -48,10 +47,12 @@ void writeShardManifest(const fs::path& dir, const ShardManifest& manifest, cons
   j["tiles"] = manifest.tiles;
   j["threads"] = manifest.threads;
   j["seconds"] = manifest.seconds;
-  writeFileAtomically(dir / "shard.json", j.dump(2) + "\n");
-  std::vector<std::string> names = {"shard.json"};
-  for (int t : manifest.tiles) names.push_back(tilePath(id, plan, t));
-  sealOutputSet(dir, kShardSet, names, id.settings);
+  // shard.json and the tiles switch in as one set (output_set.h); the tiles are already in place.
+  OutputSet set(dir, kShardSet);
+  set.add("shard.json", j.dump(2) + "\n");
+  for (int t : manifest.tiles) set.adopt(tilePath(id, plan, t));
+  set.setSettings(id.settings);
+  set.commit();
 }
 
 void removeShardManifest(const fs::path& dir) {

@@ -23,6 +23,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/output_lock.h"
 #include "common/progress.h"
 #include "common/text_format.h"
 #include "common/threads.h"
@@ -301,9 +302,9 @@ fs::path openTileDirectory(const SweepOptions& o, const SweepIdentity& id) {
                   "run without --resume to start over");
     }
     std::fprintf(stderr, "sweep: removing the tiles of another sweep in %s\n", dir.c_str());
+    removeShardManifest(o.out);  // first: a shard set never lists tiles that are gone
     fs::remove_all(dir, ec);
     if (ec) throw Error("cannot remove " + dir.string() + ": " + ec.message());
-    removeShardManifest(o.out);
   }
   ensureDirectory(dir);
   if (!fs::exists(key_file, ec)) writeFileAtomically(key_file, id.key + "\n");
@@ -456,6 +457,7 @@ SweepResult runSweep(const SweepOptions& options) {
   const TilePlan plan = planTiles(static_cast<int>(inputs.views.size()), options.width,
                                   options.height, sharded ? options.shards : 1);
   const std::vector<int> mine = plan.tilesOfShard(sharded ? options.shard : 0);
+  const OutputLock lock(options.out);  // tiles, shard and sweep sets alike (output_lock.h)
   ensureWritableDirectory(options.out);
   const fs::path dir = openTileDirectory(options, id);
 

@@ -16,6 +16,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/output_lock.h"
 #include "common/output_set.h"
 #include "gtbake_version.h"
 #include "sweep/escape_image.h"
@@ -461,6 +462,7 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   }
   const auto start = std::chrono::steady_clock::now();
   const fs::path out = options.out.empty() ? options.luts : options.out;
+  const OutputLock lock(out);  // for the whole run (output_lock.h)
   // Read and compute everything before writing anything.
   const Analysis a = analyse(options);
   Json json;

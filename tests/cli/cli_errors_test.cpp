@@ -91,7 +91,7 @@ TEST(Cli, ScenesReproduceCommittedData) {
     EXPECT_EQ(readBytes(entry.path()), readBytes(other)) << other << " differs";
     ++compared;
   }
-  EXPECT_EQ(compared, 14u);  // seven scenes, .gltf + .bin each
+  EXPECT_EQ(compared, 15u);  // seven scenes, .gltf + .bin each, and scenes.manifest.json
 }
 
 // A run killed mid-way must not damage the good file that was already there.

@@ -1,12 +1,15 @@
 // The reliability rules of docs/limits.md through the real binary: one line on stderr, a non-zero
 // exit, nothing written; and the library-level ones (.glb scene directories, holed ground).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cstring>
 #include <nlohmann/json.hpp>
 
 #include "../cli/cli_harness.h"
 #include "common/error.h"
+#include "common/output_lock.h"
 #include "common/output_set.h"
 #include "reliability_util.h"
 #include "scene/procedural_scenes.h"
@@ -169,6 +172,45 @@ TEST(SceneDirectories, SweepRefusesASceneWithNoUnmaskedPixel) {
     EXPECT_NE(std::string(e.what()).find("no pixel sees geometry"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(o.out / "sweep.manifest.json"));
+}
+
+// --out naming a FIFO (a directory option or a file option) is one line, and the FIFO stays.
+TEST(CliReliability, FifoOutputsAreRefused) {
+  TempDir dir("cli_fifo");
+  const fs::path fifo = dir.path() / "pipe";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  expectOneLineError("scenes --classic --out " + fifo.string(), "is a FIFO (named pipe)");
+  expectOneLineError("gtso --out " + fifo.string(), "is a FIFO (named pipe)");
+  expectOneLineError("fit --sweep " + sweepDir().string() + " --out " + fifo.string(),
+                     "is a FIFO (named pipe)");
+  EXPECT_EQ(fs::status(fifo).type(), fs::file_type::fifo);
+}
+
+// While another process writes a directory, gtbake refuses it with one line naming the directory
+// and that pid, and creates nothing.
+TEST(CliReliability, ASecondWriterIsRefusedWithOneLine) {
+  TempDir dir("cli_locked");
+  const fs::path out = dir.path() / "scenes";
+  const OutputLock held(out);
+  expectOneLineError("scenes --classic --out " + out.string(),
+                     out.string() + " is being written by another gtbake (pid " +
+                         std::to_string(::getpid()) + ")");
+  expectOneLineError("gtso --out " + (out / "gtso").string(), "is being written by another");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// A failed `gtbake scenes` (a full disk half-way) leaves the previous corpus whole.
+TEST(CliReliability, FailedScenesRunKeepsTheOldCorpus) {
+  TempDir dir("cli_scenes_fail");
+  const fs::path out = dir.path() / "scenes";
+  ASSERT_EQ(test::runGtbake("scenes --classic --quiet --out " + out.string()).exit_code, 0);
+  const std::string terrain = readBytes(out / "terrain.bin");
+  {
+    const test::ScopedEnv fail("GTBAKE_TEST_FAIL_WRITE", "wells");
+    expectOneLineError("scenes --classic --seed 7 --out " + out.string(), "No space left");
+  }
+  verifyOutputSet(readOutputSet(out, "scenes"));
+  EXPECT_EQ(readBytes(out / "terrain.bin"), terrain);
 }
 
 TEST(SceneDirectories, HoledGroundPreconditionIsAGtbakeError) {

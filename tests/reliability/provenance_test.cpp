@@ -109,7 +109,7 @@ TEST(SweepSet, FailedRerunKeepsTheEarlierSweepUsable) {
   EXPECT_EQ(readBytes(out / "box_a.exr"), before);
   EXPECT_EQ(loadSweep(out).points(), 2u * 40 * 40);
   for (const auto& e : fs::directory_iterator(out)) {
-    EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos) << e.path();
+    EXPECT_EQ(e.path().string().find(".gtbake-"), std::string::npos) << e.path();
   }
 }
 
@@ -355,15 +355,26 @@ TEST(GtsoBounds, SamplesAndSizeAreBoundedBeforeWork) {
   EXPECT_FALSE(fs::exists(g.out));
 }
 
-TEST(ScenesWrite, InjectedFailureOnTheBufferIsAnErrorAndKeepsOldFiles) {
+// A failed run (a full disk on the last buffer) leaves the previous corpus whole: every file of
+// it, the seeded clutter and terrain included, matches its manifest, and no new file appears.
+TEST(ScenesWrite, InjectedFailureLeavesTheOldCorpusWhole) {
   TempDir dir("scenes_fail");
   runScenes({dir.path(), 1, false, true});
-  const std::string bin = readBytes(dir.path() / "wells.bin");
-  const std::string gltf = readBytes(dir.path() / "wells.gltf");
+  const OutputManifest before = readOutputSet(dir.path(), "scenes");
+  std::vector<std::string> bytes;
+  for (const OutputFile& f : before.files) bytes.push_back(readBytes(dir.path() / f.name));
   const ScopedEnv fail("GTBAKE_TEST_FAIL_WRITE", "wells.bin");
   EXPECT_ERROR(runScenes({dir.path(), 2, false, true}), "No space left");
-  EXPECT_EQ(readBytes(dir.path() / "wells.bin"), bin);
-  EXPECT_EQ(readBytes(dir.path() / "wells.gltf"), gltf);
+  const OutputManifest after = readOutputSet(dir.path(), "scenes");
+  verifyOutputSet(after);
+  ASSERT_EQ(after.files.size(), before.files.size());
+  for (std::size_t k = 0; k < before.files.size(); ++k) {
+    EXPECT_EQ(readBytes(dir.path() / before.files[k].name), bytes[k]) << before.files[k].name;
+  }
+  EXPECT_EQ(after.settings["seed"], 1);
+  std::size_t entries = 0;
+  for (const auto& e : fs::directory_iterator(dir.path())) entries += e.exists() ? 1 : 0;
+  EXPECT_EQ(entries, before.files.size() + 1);  // the files and the manifest, nothing else
 }
 
 TEST(ScenesWrite, StaleTemporariesOfAKilledRunAreRemoved) {
@@ -371,10 +382,12 @@ TEST(ScenesWrite, StaleTemporariesOfAKilledRunAreRemoved) {
   const pid_t child = ::fork();
   if (child == 0) std::_Exit(0);
   ::waitpid(child, nullptr, 0);
-  const fs::path stale = dir.path() / ("cavity.gltf.tmp-" + std::to_string(child));
+  const fs::path stale = dir.path() / ("cavity.gltf.gtbake-tmp-" + std::to_string(child));
   spit(stale, "{");
+  spit(dir.path() / "thesis.tmp-4242", "the user's");
   runScenes({dir.path(), 1, false, true});
   EXPECT_FALSE(fs::exists(stale));
+  EXPECT_EQ(readBytes(dir.path() / "thesis.tmp-4242"), "the user's");
 }
 
 TEST(ScenesWrite, FullTmpfsIsAnError) {
@@ -387,10 +400,10 @@ TEST(ScenesWrite, FullTmpfsIsAnError) {
     fs::path p;
     ~Unmount() { (void)!std::system(("umount " + p.string()).c_str()); }
   } unmount{mount};
-  EXPECT_ERROR(runScenes({mount, 1, false, true}), "cannot write");
-  for (const auto& e : fs::directory_iterator(mount)) {
-    EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos) << e.path();
-    EXPECT_GT(fs::file_size(e.path()), 0u) << e.path();
+  EXPECT_ERROR(runScenes({mount / "scenes", 1, false, true}), "cannot write");
+  for (const auto& e : fs::recursive_directory_iterator(mount)) {
+    EXPECT_EQ(e.path().string().find(".gtbake-"), std::string::npos) << e.path();
+    EXPECT_FALSE(e.is_regular_file()) << e.path();  // nothing half-written is left
   }
 }
 

@@ -39,7 +39,7 @@ TEST(GltfRoundTrip, EveryProceduralSceneReadsBackIdentical) {
   // No temporary files or directories are left behind.
   std::size_t entries = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
-    EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
+    EXPECT_EQ(entry.path().string().find(".gtbake-"), std::string::npos) << entry.path();
     ++entries;
   }
   EXPECT_EQ(entries, 2 * scenes.size());

@@ -164,7 +164,7 @@ TEST_F(SweepCommand, ChannelsJsonAndHalves) {
   EXPECT_TRUE(json["totals"]["rays_per_second"].is_number());
   EXPECT_TRUE(fs::exists(o.out / "spheres_G050.png"));
   for (const auto& entry : fs::directory_iterator(o.out)) {
-    EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
+    EXPECT_EQ(entry.path().string().find(".gtbake-"), std::string::npos) << entry.path();
   }
 }
 
