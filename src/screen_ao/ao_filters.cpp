@@ -68,14 +68,20 @@ double depthEdgeWeight(double z1, double z2) {
 }
 
 Rgba8Image bilateralBlur(const GBuffer& g, const Rgba8Image& in) {
+  double gauss[2 * kBlurRadius + 1][2 * kBlurRadius + 1];  // the spatial weights, once
+  for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) {
+    for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) {
+      gauss[dy + kBlurRadius][dx + kBlurRadius] =
+          std::exp(-(dx * dx + dy * dy) / (2.0 * kBlurSigma * kBlurSigma));
+    }
+  }
   Rgba8Image out(in.size(), {0, 0, 0, 0});
   forEachPixel(g, [&](int i, int j, std::size_t p) {
     double sum[4] = {0.0, 0.0, 0.0, 0.0};
     double total = 0.0;
     for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) {
       for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) {
-        const double w = std::exp(-(dx * dx + dy * dy) / (2.0 * kBlurSigma * kBlurSigma)) *
-                         pathWeight(g, i, j, dx, dy);
+        const double w = gauss[dy + kBlurRadius][dx + kBlurRadius] * pathWeight(g, i, j, dx, dy);
         if (!(w > 0.0)) continue;
         const auto& c = in[static_cast<std::size_t>(j + dy) * g.width + (i + dx)];
         for (int k = 0; k < 4; ++k) sum[k] += w * c[k] / 255.0;
