@@ -23,10 +23,15 @@ class SectorMap {
         weights_(weights),
         below_(arcIntegral(n - 0.5 * kPi, n)),
         open_(below_ + arcIntegral(n + 0.5 * kPi, n)) {}
-  double coordinate(double theta) const {
-    const double t = std::clamp(theta, n_ - 0.5 * kPi, n_ + 0.5 * kPi);
-    if (weights_ == SectorWeights::kUniform) return (t - n_ + 0.5 * kPi) / kPi;
-    return cosineCoordinate(angleOf(t));
+  double coordinate(double theta) const { return coordinate(angleOf(theta)); }
+  // The same for an angle with its sine and cosine (clamped to the hemisphere, where
+  // sin(n ∓ π/2) = ∓cos n and cos(n ∓ π/2) = ±sin n).
+  double coordinate(const Angle& theta) const {
+    Angle t = theta;
+    if (t.a < n_ - 0.5 * kPi) t = {n_ - 0.5 * kPi, -cos_n_, sin_n_};
+    if (t.a > n_ + 0.5 * kPi) t = {n_ + 0.5 * kPi, cos_n_, -sin_n_};
+    if (weights_ == SectorWeights::kUniform) return (t.a - n_ + 0.5 * kPi) / kPi;
+    return cosineCoordinate(t);
   }
   // The inverse: Newton on C from the uniform guess, kept inside a shrinking bracket (bisection
   // when a step leaves it), to 1e-10 in u.
@@ -73,6 +78,12 @@ void bentOver(double a, double b, const Slice& slice, double* t0, double* t1) {
   *t1 = sb * b1 - sa * a1;
 }
 
+// The slice angle sign·acos(c) on a side, with its sine and cosine.
+Angle sliceAngle(double c, double sign) {
+  const double cc = std::clamp(c, -1.0, 1.0);
+  return {sign * std::acos(cc), sign * std::sqrt(1.0 - cc * cc), cc};
+}
+
 // One slice's 32 sectors from both sides' samples.
 std::uint32_t sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
                         const Eigen::Vector3d& v, const Slice& slice, const SectorMap& map,
@@ -91,9 +102,8 @@ std::uint32_t sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x
       const double length = front.norm();
       if (length > s.radius || !(length > 0.0)) continue;
       const Eigen::Vector3d back = front - s.thickness * v;
-      const double theta_f = sign * std::acos(std::clamp(front.dot(v) / length, -1.0, 1.0));
-      const double theta_b = sign * std::acos(std::clamp(back.normalized().dot(v), -1.0, 1.0));
-      bits |= sectorBits(map.coordinate(theta_f), map.coordinate(theta_b));
+      bits |= sectorBits(map.coordinate(sliceAngle(front.dot(v) / length, sign)),
+                         map.coordinate(sliceAngle(back.normalized().dot(v), sign)));
     }
   }
   return bits;
