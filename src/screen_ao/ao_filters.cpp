@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace gtbake {
 
@@ -35,24 +36,39 @@ bool inside(const GBuffer& g, int i, int j) {
          g.mask[static_cast<std::size_t>(j) * g.width + i] != 0;
 }
 
-double depthAt(const GBuffer& g, int i, int j) {
-  return g.depth[static_cast<std::size_t>(j) * g.width + i];
+// The depth edge weight between each pixel and its right (and lower) neighbour, 0 where that
+// neighbour is off the image or masked: the blur's path products read these.
+struct EdgeWeights {
+  std::vector<double> right;
+  std::vector<double> down;
+};
+
+EdgeWeights edgeWeights(const GBuffer& g) {
+  EdgeWeights e{std::vector<double>(g.pixels(), 0.0), std::vector<double>(g.pixels(), 0.0)};
+  for (int j = 0; j < g.height; ++j) {
+    for (int i = 0; i < g.width; ++i) {
+      const std::size_t p = static_cast<std::size_t>(j) * g.width + i;
+      if (inside(g, i + 1, j)) e.right[p] = depthEdgeWeight(g.depth[p], g.depth[p + 1]);
+      if (inside(g, i, j + 1)) e.down[p] = depthEdgeWeight(g.depth[p], g.depth[p + g.width]);
+    }
+  }
+  return e;
 }
 
 // Product of the edge weights from (i, j) to (i + dx, j + dy): horizontal leg, then vertical.
-double pathWeight(const GBuffer& g, int i, int j, int dx, int dy) {
+double pathWeight(const GBuffer& g, const EdgeWeights& e, int i, int j, int dx, int dy) {
   double w = 1.0;
   const int sx = dx < 0 ? -1 : 1;
   const int sy = dy < 0 ? -1 : 1;
   int x = i;
   for (int k = 0; k < std::abs(dx); ++k, x += sx) {
     if (!inside(g, x + sx, j)) return 0.0;
-    w *= depthEdgeWeight(depthAt(g, x, j), depthAt(g, x + sx, j));
+    w *= e.right[static_cast<std::size_t>(j) * g.width + std::min(x, x + sx)];
   }
   int y = j;
   for (int k = 0; k < std::abs(dy); ++k, y += sy) {
     if (!inside(g, x, y + sy)) return 0.0;
-    w *= depthEdgeWeight(depthAt(g, x, y), depthAt(g, x, y + sy));
+    w *= e.down[static_cast<std::size_t>(std::min(y, y + sy)) * g.width + x];
   }
   return w;
 }
@@ -68,14 +84,22 @@ double depthEdgeWeight(double z1, double z2) {
 }
 
 Rgba8Image bilateralBlur(const GBuffer& g, const Rgba8Image& in) {
+  double gauss[2 * kBlurRadius + 1][2 * kBlurRadius + 1];  // the spatial weights, once
+  for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) {
+    for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) {
+      gauss[dy + kBlurRadius][dx + kBlurRadius] =
+          std::exp(-(dx * dx + dy * dy) / (2.0 * kBlurSigma * kBlurSigma));
+    }
+  }
+  const EdgeWeights edges = edgeWeights(g);
   Rgba8Image out(in.size(), {0, 0, 0, 0});
   forEachPixel(g, [&](int i, int j, std::size_t p) {
     double sum[4] = {0.0, 0.0, 0.0, 0.0};
     double total = 0.0;
     for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) {
       for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) {
-        const double w = std::exp(-(dx * dx + dy * dy) / (2.0 * kBlurSigma * kBlurSigma)) *
-                         pathWeight(g, i, j, dx, dy);
+        const double w =
+            gauss[dy + kBlurRadius][dx + kBlurRadius] * pathWeight(g, edges, i, j, dx, dy);
         if (!(w > 0.0)) continue;
         const auto& c = in[static_cast<std::size_t>(j + dy) * g.width + (i + dx)];
         for (int k = 0; k < 4; ++k) sum[k] += w * c[k] / 255.0;

@@ -90,7 +90,7 @@ void makeViewSpace(GBuffer* g) {
   const std::size_t pixels = g->pixels();
   g->position.assign(3 * pixels, 0.0f);
   g->view_normal.assign(3 * pixels, 0.0f);
-  g->texels.assign(pixels, Texel{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0.0f, 0u});
+  g->texels.assign(pixels, Texel{{0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 0.0f, 0.0f});
   for (int j = 0; j < g->height; ++j) {
     for (int i = 0; i < g->width; ++i) {
       const std::size_t p = static_cast<std::size_t>(j) * g->width + i;
@@ -106,7 +106,8 @@ void makeViewSpace(GBuffer* g) {
         g->view_normal[3 * p + c] = t.normal[c] = static_cast<float>(n[c]);
       }
       t.depth = g->depth[p];
-      t.valid = 1u;
+      t.plane = static_cast<float>(
+          n.dot(Eigen::Vector3d(t.position[0], t.position[1], t.position[2]).cast<double>()));
     }
   }
 }

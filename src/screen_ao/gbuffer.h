@@ -25,8 +25,8 @@ namespace gtbake {
 struct Texel {
   float position[3];
   float normal[3];
-  float depth;
-  std::uint32_t valid;  // the mask
+  float depth;  // Z, 0 where masked
+  float plane;  // N·T, the tangent plane's offset
 };
 
 struct GBuffer {

@@ -3,9 +3,10 @@
 #include <tbb/parallel_for.h>
 
 #include <string>
+#include <vector>
 
 #include "common/error.h"
-#include "screen_ao/slice_geometry.h"
+#include "screen_ao/horizon_search.h"
 
 namespace gtbake {
 
@@ -14,42 +15,88 @@ void validate(const GtaoReferenceSettings& s) {
     throw Error("gtao-reference: radius must be a positive finite distance in metres");
   }
   if (s.slices < 1 || s.slices > 1024) throw Error("gtao-reference: slices must be in [1, 1024]");
-  if (s.steps_per_pixel < 1 || s.steps_per_pixel > 64) {
-    throw Error("gtao-reference: steps_per_pixel must be in [1, 64]");
+  if (!(s.refine_tolerance > 0.0) || !std::isfinite(s.refine_tolerance)) {
+    throw Error("gtao-reference: refine_tolerance must be a positive finite number");
+  }
+  if (s.refine_levels < 0 || s.refine_levels > 16) {
+    throw Error("gtao-reference: refine_levels must be in [0, 16]");
   }
 }
 
+namespace {
+
+// One direction's terms: its side's visibility |N'|·arc(h) and bent-normal part |N'|(t0 o + t1 V).
+struct DirectionTerms {
+  double visibility = 0.0;
+  Eigen::Vector3d bent = Eigen::Vector3d::Zero();
+};
+
+class ReferencePixel {
+ public:
+  ReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSettings& s)
+      : g_(g), i_(i), j_(j), s_(s) {
+    const std::size_t p = static_cast<std::size_t>(j) * g.width + i;
+    x_ = viewPosition(g, p);
+    v_ = -x_.normalized();
+    normal_ = viewNormal(g, p);
+  }
+
+  // ∫ over φ ∈ [0, 2π) of the direction terms: the trapezoid rule on the base grid, each interval
+  // bisected while its jump is large (docs/screen_ao.md, "gtao-reference").
+  DirectionTerms integrate() const {
+    const int count = 2 * s_.slices;
+    const double step = 2.0 * kPi / count;
+    std::vector<DirectionTerms> base(count);
+    for (int k = 0; k < count; ++k) base[k] = at(step * (k + 0.5));
+    DirectionTerms sum;
+    for (int k = 0; k < count; ++k) {
+      refine(step * (k + 0.5), step, base[k], base[(k + 1) % count], s_.refine_levels, &sum);
+    }
+    return sum;
+  }
+
+ private:
+  // Direction φ: side 1 of the slice at ψ = φ for φ < π, side 0 of the slice at ψ = φ − π.
+  DirectionTerms at(double phi) const {
+    const int side = phi < kPi ? 1 : 0;
+    const Slice slice = makeViewSlice(g_, x_, v_, normal_, side == 1 ? phi : phi - kPi);
+    // The hemisphere's end, cos(n ∓ π/2): horizonOf clamps any lower horizon to it.
+    const double floor_cos = side == 0 ? slice.sin_n : -slice.sin_n;
+    const Angle h = horizonOf(
+        exactHorizonCos(g_, i_, j_, x_, v_, slice, side, s_.radius, floor_cos), side, slice);
+    DirectionTerms d;
+    d.visibility = slice.projected_length * arcIntegral(h, slice.sin_n, slice.cos_n);
+    double t0 = 0.0;
+    double t1 = 0.0;
+    addBentSide(h, slice.sin_n, slice.cos_n, &t0, &t1);
+    d.bent = slice.projected_length * (t0 * slice.o + t1 * v_);
+    return d;
+  }
+  void refine(double a, double width, const DirectionTerms& fa, const DirectionTerms& fb,
+              int levels, DirectionTerms* sum) const {
+    if (levels == 0 || width * std::abs(fb.visibility - fa.visibility) <= s_.refine_tolerance) {
+      sum->visibility += 0.5 * width * (fa.visibility + fb.visibility);
+      sum->bent += 0.5 * width * (fa.bent + fb.bent);
+      return;
+    }
+    const DirectionTerms mid = at(a + 0.5 * width);
+    refine(a, 0.5 * width, fa, mid, levels - 1, sum);
+    refine(a + 0.5 * width, 0.5 * width, mid, fb, levels - 1, sum);
+  }
+
+  const GBuffer& g_;
+  int i_, j_;
+  const GtaoReferenceSettings& s_;
+  Eigen::Vector3d x_, v_, normal_;
+};
+
+}  // namespace
+
 void gtaoReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSettings& s, double* a,
                         Eigen::Vector3d* bent) {
-  const std::size_t p = static_cast<std::size_t>(j) * g.width + i;
-  const Eigen::Vector3d x = viewPosition(g, p);
-  const Eigen::Vector3d v = -x.normalized();
-  const Eigen::Vector3d normal = viewNormal(g, p);
-  const double radius_px = s.radius * g.pixelsPerMetre(g.depth[p]);
-  const double radius2 = s.radius * s.radius;
-  double visibility = 0.0;
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (int k = 0; k < s.slices; ++k) {
-    const Slice slice = makeViewSlice(g, x, v, normal, kPi * (k + 0.5) / s.slices);
-    double h[2];
-    for (int side = 0; side < 2; ++side) {
-      const double sign = side == 0 ? -1.0 : 1.0;
-      double horizon_cos = -1.0;
-      forEachCrossedTexel(i + 0.5, j + 0.5, sign * slice.omega.x(), -sign * slice.omega.y(),
-                          radius_px, s.steps_per_pixel, [&](double sx, double sy) {
-                            Eigen::Vector3d sample;
-                            if (!texelPlanePoint(g, sx, sy, &sample)) return;
-                            const Eigen::Vector3d d = sample - x;
-                            const double length2 = d.squaredNorm();
-                            if (length2 > radius2 || !(length2 > 0.0)) return;
-                            horizon_cos = std::max(horizon_cos, d.dot(v) / std::sqrt(length2));
-                          });
-      h[side] = horizonAngle(horizon_cos, side, slice.n);
-    }
-    accumulateSlice(slice, h, v, &visibility, &sum);
-  }
-  *a = visibility / s.slices;
-  *bent = sum;
+  const DirectionTerms sum = ReferencePixel(g, i, j, s).integrate();
+  *a = sum.visibility / kPi;  // A = (1/π) ∫_0^π |N'| â dψ = (1/π) ∫_0^2π (one side's term) dφ
+  *bent = sum.bent;
 }
 
 AoEstimate gtaoReference(const GBuffer& g, const GtaoReferenceSettings& s) {
@@ -69,7 +116,8 @@ ReferenceConvergence referenceConvergence(const std::vector<const GBuffer*>& ima
   c.settings = s;
   c.doubled = s;
   c.doubled.slices *= 2;
-  c.doubled.steps_per_pixel *= 2;
+  c.doubled.refine_tolerance *= 0.5;
+  c.doubled.refine_levels += 1;
   double sum = 0.0;
   for (const GBuffer* g : images) {
     const int rows = (g->height + kConvergenceStride - 1) / kConvergenceStride;

@@ -1,7 +1,8 @@
 // `gtao-reference`: GTAO as the paper (Eqs. 5–8) and the technical memo (Alg. 1, 2) define it,
-// run to convergence: evenly spaced slices, horizons from every texel the slice's line crosses
-// within the radius, the
-// analytic cosine-weighted slice integral with the projected-normal term, Alg. 2's bent normal
+// run to convergence: exact horizons (exactHorizonCos: every texel the slice's line crosses within
+// the radius, each at its highest valid point), the analytic cosine-weighted slice integral with
+// the projected-normal term and Alg. 2's bent normal, integrated over the directions about V by
+// the trapezoid rule on 2·slices even directions, bisected where a horizon jumps
 // (docs/screen_ao.md, "gtao-reference").
 #pragma once
 
@@ -13,10 +14,12 @@ namespace gtbake {
 
 struct GtaoReferenceSettings {
   double radius = 1.0;  // metres: samples farther from P than this are ignored
-  int slices = 16;      // φ_s = π(s + ½)/slices
-  // Samples per texel the side's line crosses within the projected radius (forEachCrossedTexel):
-  // every texel along the line is visited.
-  int steps_per_pixel = 1;
+  int slices = 32;      // base grid: 2·slices directions φ_k = π(k + ½)/slices about V
+  // An interval [a, b] of directions is bisected while (b − a)·|F(b) − F(a)| exceeds this (F the
+  // direction's visibility term, so a jump of F inside costs at most half of it), at most
+  // refine_levels times.
+  double refine_tolerance = 0.008;
+  int refine_levels = 8;
 };
 
 // Throws gtbake::Error naming the bad setting.
@@ -32,8 +35,9 @@ void gtaoReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSetti
 
 namespace gtbake {
 
-// Convergence evidence: Â at s and at twice the slices and steps, on every 8th pixel of every 8th
-// row of every image (1 in 64 of the pixels, where unmasked).
+// Convergence evidence: Â at s and at the doubled discretisation (twice the slices, half the
+// refine tolerance, one more refine level; the horizon search itself is exact), on every 8th pixel
+// of every 8th row of every image (1 in 64 of the pixels, where unmasked).
 struct ReferenceConvergence {
   GtaoReferenceSettings settings;
   GtaoReferenceSettings doubled;

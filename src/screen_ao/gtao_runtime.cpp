@@ -104,14 +104,15 @@ void gtaoRuntimePixel(const GBuffer& g, int i, int j, int frame, const GtaoRunti
   double visibility = 0.0;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (int d = 0; d < s.directions; ++d) {
-    const Slice slice = makeSlice(v, normal, kPi * (d + base_noise) / s.directions);
-    double h[2];
+    const Slice slice =
+        sliceAlong(g, x, v, normal, tangentDirection(v, kPi * (d + base_noise) / s.directions));
+    Angle h[2];
     for (int side = 0; side < 2; ++side) {
       const double sign = side == 0 ? -1.0 : 1.0;
-      const double low_cos = std::cos(slice.n + sign * 0.5 * kPi);
+      const double low_cos = side == 0 ? slice.sin_n : -slice.sin_n;  // cos(n ± π/2)
       const double c =
           sideHorizonCos(g, i, j, x, v, slice.omega, sign, low_cos, radius_px, step_noise, s);
-      h[side] = horizonAngle(c, side, slice.n);
+      h[side] = horizonOf(c, side, slice);
     }
     accumulateSlice(slice, h, v, &visibility, &sum);
   }

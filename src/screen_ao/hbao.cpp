@@ -65,7 +65,7 @@ void hbaoPixel(const GBuffer& g, int i, int j, std::size_t p, const HbaoSettings
     const Slice slice = makeSlice(v, normal, theta);
     double t0 = 0.0;
     double t1 = 0.0;
-    bentIntegrals(0.0, horizonAngle(sin_h, 1, slice.n), slice.n, &t0, &t1);
+    addBentSide(horizonOf(sin_h, 1, slice), slice.sin_n, slice.cos_n, &t0, &t1);
     sum += slice.projected_length * (t0 * slice.o + t1 * v);
   }
   *a = 1.0 - occlusion / s.directions;

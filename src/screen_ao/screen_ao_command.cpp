@@ -1,5 +1,7 @@
 #include "screen_ao/screen_ao_command.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -120,11 +122,15 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
     json["convergence"] = convergenceJson(c);
   }
 
-  for (std::size_t k = 0; k < sweep.images.size(); ++k) {
+  // The EXRs encoded in parallel (each into its own slot), added in order.
+  std::vector<std::string> exrs(sweep.images.size());
+  tbb::parallel_for(std::size_t(0), sweep.images.size(), [&](std::size_t k) {
     std::vector<AoEstimate> per_image;
     for (const auto& e : estimates) per_image.push_back(e[k]);
-    output.add(sweep.images[k].name + ".exr",
-               screenAoExr(sweep.images[k], o.estimators, per_image));
+    exrs[k] = screenAoExr(sweep.images[k], o.estimators, per_image);
+  });
+  for (std::size_t k = 0; k < sweep.images.size(); ++k) {
+    output.add(sweep.images[k].name + ".exr", exrs[k]);
   }
   stageReport(&output, sweep.images, runs, estimates);
   result.seconds = secondsSince(start);

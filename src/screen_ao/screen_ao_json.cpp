@@ -9,7 +9,10 @@ nlohmann::ordered_json orNull(std::size_t pixels, double value) {
 }
 
 nlohmann::ordered_json referenceSettingsJson(const GtaoReferenceSettings& s) {
-  return {{"radius", s.radius}, {"slices", s.slices}, {"steps_per_pixel", s.steps_per_pixel}};
+  return {{"radius", s.radius},
+          {"slices", s.slices},
+          {"refine_tolerance", s.refine_tolerance},
+          {"refine_levels", s.refine_levels}};
 }
 
 }  // namespace

@@ -122,10 +122,12 @@ void applySetting(ScreenAoSettings* s, const std::string& text) {
       s->reference.radius = parseNumber(value, text);
     } else if (key == "slices") {
       s->reference.slices = parseInteger(value, text);
-    } else if (key == "steps_per_pixel") {
-      s->reference.steps_per_pixel = parseInteger(value, text);
+    } else if (key == "refine_tolerance") {
+      s->reference.refine_tolerance = parseNumber(value, text);
+    } else if (key == "refine_levels") {
+      s->reference.refine_levels = parseInteger(value, text);
     } else {
-      unknownKey(estimator, key, "radius, slices, steps_per_pixel");
+      unknownKey(estimator, key, "radius, slices, refine_tolerance, refine_levels");
     }
   } else if (estimator == "gtao-runtime") {
     applyRuntime(&s->runtime, key, value, text);
@@ -161,7 +163,8 @@ nlohmann::ordered_json settingsJson(const ScreenAoSettings& s, const std::string
   if (estimator == "gtao-reference") {
     j = {{"radius", s.reference.radius},
          {"slices", s.reference.slices},
-         {"steps_per_pixel", s.reference.steps_per_pixel}};
+         {"refine_tolerance", s.reference.refine_tolerance},
+         {"refine_levels", s.reference.refine_levels}};
   } else if (estimator == "gtao-runtime") {
     const GtaoRuntimeSettings& r = s.runtime;
     j = {{"radius", r.radius},

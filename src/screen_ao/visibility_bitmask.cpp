@@ -18,15 +18,20 @@ class SectorMap {
  public:
   SectorMap(double n, SectorWeights weights)
       : n_(n),
+        sin_n_(std::sin(n)),
+        cos_n_(std::cos(n)),
         weights_(weights),
         below_(arcIntegral(n - 0.5 * kPi, n)),
         open_(below_ + arcIntegral(n + 0.5 * kPi, n)) {}
-  double coordinate(double theta) const {
-    const double t = std::clamp(theta, n_ - 0.5 * kPi, n_ + 0.5 * kPi);
-    if (weights_ == SectorWeights::kUniform) return (t - n_ + 0.5 * kPi) / kPi;
-    // ∫ from n − π/2 to θ of cos(x − n)|sin x| dx (arcIntegral is the signed mass from 0).
-    const double mass = t <= 0.0 ? below_ - arcIntegral(t, n_) : below_ + arcIntegral(t, n_);
-    return std::clamp(mass / open_, 0.0, 1.0);
+  double coordinate(double theta) const { return coordinate(angleOf(theta)); }
+  // The same for an angle with its sine and cosine (clamped to the hemisphere, where
+  // sin(n ∓ π/2) = ∓cos n and cos(n ∓ π/2) = ±sin n).
+  double coordinate(const Angle& theta) const {
+    Angle t = theta;
+    if (t.a < n_ - 0.5 * kPi) t = {n_ - 0.5 * kPi, -cos_n_, sin_n_};
+    if (t.a > n_ + 0.5 * kPi) t = {n_ + 0.5 * kPi, cos_n_, -sin_n_};
+    if (weights_ == SectorWeights::kUniform) return (t.a - n_ + 0.5 * kPi) / kPi;
+    return cosineCoordinate(t);
   }
   // The inverse: Newton on C from the uniform guess, kept inside a shrinking bracket (bisection
   // when a step leaves it), to 1e-10 in u.
@@ -36,10 +41,11 @@ class SectorMap {
     double t = lo + kPi * u;
     if (weights_ == SectorWeights::kUniform) return t;
     for (int k = 0; k < 32; ++k) {
-      const double f = coordinate(t) - u;
+      const Angle a = angleOf(t);
+      const double f = cosineCoordinate(a) - u;
       if (std::abs(f) < 1e-10) break;
       (f < 0.0 ? lo : hi) = t;
-      const double slope = std::cos(t - n_) * std::abs(std::sin(t)) / open_;
+      const double slope = (a.c * cos_n_ + a.s * sin_n_) * std::abs(a.s) / open_;
       const double next = slope > 0.0 ? t - f / slope : lo - 1.0;
       t = next > lo && next < hi ? next : 0.5 * (lo + hi);
     }
@@ -48,21 +54,34 @@ class SectorMap {
   double openMass() const { return open_; }
 
  private:
-  double n_;
+  // ∫ from n − π/2 to θ of cos(x − n)|sin x| dx over the open mass, θ within the hemisphere
+  // (arcIntegral is the signed mass from 0).
+  double cosineCoordinate(const Angle& t) const {
+    const double arc = arcIntegral(t, sin_n_, cos_n_);
+    return std::clamp((t.a <= 0.0 ? below_ - arc : below_ + arc) / open_, 0.0, 1.0);
+  }
+
+  double n_, sin_n_, cos_n_;
   SectorWeights weights_;
   double below_;
   double open_;
 };
 
 // ∫ over [θa, θb] of cos(θ − n)|sin θ| (sin θ, cos θ) dθ: differences of Alg. 2's one-side terms.
-void bentOver(double a, double b, double n, double* t0, double* t1) {
+void bentOver(double a, double b, const Slice& slice, double* t0, double* t1) {
   double a0 = 0.0, a1 = 0.0, b0 = 0.0, b1 = 0.0;
-  bentIntegrals(0.0, a, n, &a0, &a1);
-  bentIntegrals(0.0, b, n, &b0, &b1);
+  addBentSide(angleOf(a), slice.sin_n, slice.cos_n, &a0, &a1);  // = bentIntegrals(0, a)
+  addBentSide(angleOf(b), slice.sin_n, slice.cos_n, &b0, &b1);
   const double sa = a < 0.0 ? -1.0 : 1.0;  // bentIntegrals(0, h) is the mass over [h, 0] for h < 0
   const double sb = b < 0.0 ? -1.0 : 1.0;
   *t0 = sb * b0 - sa * a0;
   *t1 = sb * b1 - sa * a1;
+}
+
+// The slice angle sign·acos(c) on a side, with its sine and cosine.
+Angle sliceAngle(double c, double sign) {
+  const double cc = std::clamp(c, -1.0, 1.0);
+  return {sign * std::acos(cc), sign * std::sqrt(1.0 - cc * cc), cc};
 }
 
 // One slice's 32 sectors from both sides' samples.
@@ -83,9 +102,8 @@ std::uint32_t sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x
       const double length = front.norm();
       if (length > s.radius || !(length > 0.0)) continue;
       const Eigen::Vector3d back = front - s.thickness * v;
-      const double theta_f = sign * std::acos(std::clamp(front.dot(v) / length, -1.0, 1.0));
-      const double theta_b = sign * std::acos(std::clamp(back.normalized().dot(v), -1.0, 1.0));
-      bits |= sectorBits(map.coordinate(theta_f), map.coordinate(theta_b));
+      bits |= sectorBits(map.coordinate(sliceAngle(front.dot(v) / length, sign)),
+                         map.coordinate(sliceAngle(back.normalized().dot(v), sign)));
     }
   }
   return bits;
@@ -117,7 +135,7 @@ void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSe
       double t0 = 0.0;
       double t1 = 0.0;
       bentOver(map.angle(static_cast<double>(run) / kSectors),
-               map.angle(static_cast<double>(end) / kSectors), slice.n, &t0, &t1);
+               map.angle(static_cast<double>(end) / kSectors), slice, &t0, &t1);
       sum += slice.projected_length * (t0 * slice.o + t1 * v);
       run = end;
     }

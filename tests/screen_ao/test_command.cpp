@@ -94,12 +94,21 @@ TEST_F(ScreenAoCommand, RejectsBadInput) {
   bad = options(swept, "c");
   bad.settings.reference.radius = -1.0;
   expectOneLineError(bad, "radius");
+  bad = options(swept, "d");
+  applySetting(&bad.settings, "gtao-reference.refine_levels=17");
+  expectOneLineError(bad, "refine_levels");
+  bad = options(swept, "e");
+  applySetting(&bad.settings, "gtao-reference.refine_tolerance=0");
+  expectOneLineError(bad, "refine_tolerance");
   EXPECT_THROW(parseEstimatorList("gtao,hbao"), Error);
   EXPECT_THROW(parseEstimatorList("hbao,hbao"), Error);
   ScreenAoSettings s;
   EXPECT_THROW(applySetting(&s, "hbao.directions=two"), Error);
   EXPECT_THROW(applySetting(&s, "hbao.thickness=1"), Error);
   EXPECT_THROW(applySetting(&s, "ssao.radius=1"), Error);
+  EXPECT_THROW(applySetting(&s, "gtao-reference.steps_per_pixel=2"), Error);  // the search is exact
+  applySetting(&s, "gtao-reference.refine_tolerance=0.004");
+  EXPECT_EQ(s.reference.refine_tolerance, 0.004);
   EXPECT_THROW(applySetting(&s, "radius=1"), Error);
   applySetting(&s, "all.radius=0.5");
   EXPECT_EQ(s.bitmask_cosine.radius, 0.5);

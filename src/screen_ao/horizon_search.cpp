@@ -1,0 +1,199 @@
+#include "screen_ao/horizon_search.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace gtbake {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// One side's search: the slice line's rays r(t) = r0 + t·r1 (view space, z = −1) at image
+// parameter t, and the running horizon as key = cos·|cos| (monotone in cos, no square root).
+class SideSearch {
+ public:
+  SideSearch(const Eigen::Vector3d& x, const Eigen::Vector3d& v, const Eigen::Vector3d& r0,
+             const Eigen::Vector3d& r1, double radius, double reach, double floor_cos)
+      : x_(x),
+        v_(v),
+        r0_(r0),
+        r1_(r1),
+        radius2_(radius * radius),
+        reach_(reach),
+        key_(floor_cos * std::abs(floor_cos)) {}
+
+  double horizonCos() const { return std::copysign(std::sqrt(std::abs(key_)), key_); }
+
+  // Raises the horizon to the texel's highest sample on [ta, tb]; true if it rose. Along the
+  // segment the surface is at most three straight pieces (near face, plane, far face of the
+  // slab), split where the plane's depth k/d crosses a face.
+  bool visit(const Texel& texel, double ta, double tb) {
+    k_ = texel.normal[0] * static_cast<double>(texel.position[0]) +
+         texel.normal[1] * static_cast<double>(texel.position[1]) +
+         texel.normal[2] * static_cast<double>(texel.position[2]);
+    const Eigen::Vector3d n(texel.normal[0], texel.normal[1], texel.normal[2]);
+    alpha_ = n.dot(r0_);
+    beta_ = n.dot(r1_);
+    near_ = texel.depth * (1.0 - reach_);
+    far_ = texel.depth * (1.0 + reach_);
+    const double before = key_;
+    // Common case: the plane is in front and inside the slab at both ends, hence in between.
+    const double da = alpha_ + ta * beta_;
+    const double db = alpha_ + tb * beta_;
+    const double za = k_ / da;
+    const double zb = k_ / db;
+    if (za >= near_ && za <= far_ && zb >= near_ && zb <= far_) {
+      piece(za * (r0_ + ta * r1_), zb * (r0_ + tb * r1_));
+      return key_ > before;
+    }
+    double ts[4] = {ta, tb, tb, tb};
+    int count = 1;
+    if (beta_ != 0.0) {
+      for (const double face : {near_, far_}) {
+        const double t = (k_ / face - alpha_) / beta_;
+        if (t > ta && t < tb) ts[count++] = t;
+      }
+      if (count == 3 && ts[2] < ts[1]) std::swap(ts[1], ts[2]);
+    }
+    ts[count++] = tb;
+    Eigen::Vector3d a = point(ts[0]);
+    for (int m = 1; m < count; ++m) {
+      const Eigen::Vector3d b = point(ts[m]);
+      piece(a, b);
+      a = b;
+    }
+    return key_ > before;
+  }
+
+ private:
+  Eigen::Vector3d point(double t) const {
+    const Eigen::Vector3d r = r0_ + t * r1_;
+    const double d = alpha_ + t * beta_;
+    return std::clamp(k_ * d > 0.0 ? k_ / d : kInf, near_, far_) * r;
+  }
+  // The straight piece from a to b within the radius ball: its highest point is an end of the
+  // part inside the ball (the angle seen from P is monotone along a line).
+  void piece(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    const Eigen::Vector3d ua = a - x_;
+    const Eigen::Vector3d ub = b - x_;
+    const double aa = ua.squaredNorm();
+    const double bb = ub.squaredNorm();
+    if (aa <= radius2_ && bb <= radius2_) {
+      raise(ua, aa);
+      raise(ub, bb);
+      return;
+    }
+    const Eigen::Vector3d w = ub - ua;  // |ua + s w|² ≤ R², s ∈ [0, 1]
+    const double ww = w.squaredNorm();
+    const double uw = ua.dot(w);
+    const double disc = uw * uw - ww * (aa - radius2_);
+    if (!(disc > 0.0) || !(ww > 0.0)) return;
+    const double root = std::sqrt(disc);
+    const double s0 = std::max(0.0, (-uw - root) / ww);
+    const double s1 = std::min(1.0, (-uw + root) / ww);
+    if (!(s0 <= s1)) return;
+    const Eigen::Vector3d u0 = ua + s0 * w;
+    const Eigen::Vector3d u1 = ua + s1 * w;
+    raise(u0, u0.squaredNorm());
+    raise(u1, u1.squaredNorm());
+  }
+  // The sample at S = P + u: cos = u·v/|u|, compared as cos·|cos| without a division.
+  void raise(const Eigen::Vector3d& u, double uu) {
+    const double uv = u.dot(v_);
+    if (uv * std::abs(uv) > key_ * uu && uu > 0.0) key_ = uv * std::abs(uv) / uu;
+  }
+
+  Eigen::Vector3d x_, v_, r0_, r1_;
+  double radius2_, reach_;
+  double key_;
+  double k_ = 0.0, alpha_ = 0.0, beta_ = 0.0, near_ = 0.0, far_ = 0.0;  // the current texel
+};
+
+// Whether texel t lies in the plane of the pixel's own texel (the same normal, the offset within
+// 10⁻⁶): its samples lie on P's tangent plane, at or below the tangent horizon (the floor), so the
+// search skips it, the pixel's own texel included.
+bool coplanar(const Texel& t, const Texel& self) {
+  return t.normal[0] == self.normal[0] && t.normal[1] == self.normal[1] &&
+         t.normal[2] == self.normal[2] &&
+         std::abs(t.plane - self.plane) <= 1e-6f * std::abs(self.plane);
+}
+
+// Image parameter at which the line (x0, y0) + t(dx, dy) leaves the image.
+double imageExit(const GBuffer& g, double x0, double y0, double dx, double dy) {
+  double t = kInf;
+  if (dx > 0.0) t = std::min(t, (g.width - x0) / dx);
+  if (dx < 0.0) t = std::min(t, -x0 / dx);
+  if (dy > 0.0) t = std::min(t, (g.height - y0) / dy);
+  if (dy < 0.0) t = std::min(t, -y0 / dy);
+  return t;
+}
+
+}  // namespace
+
+double exactHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
+                       const Eigen::Vector3d& v, const Slice& slice, int side, double radius,
+                       double floor_cos) {
+  const double sign = side == 0 ? -1.0 : 1.0;
+  const double dx = sign * slice.omega.x();
+  const double dy = -sign * slice.omega.y();  // image rows grow downwards
+  const double x0 = i + 0.5;
+  const double y0 = j + 0.5;
+  const double kx = 2.0 * g.tan_half * g.aspect / g.width;
+  const double ky = 2.0 * g.tan_half / g.height;
+  const Eigen::Vector3d r0(kx * x0 - g.tan_half * g.aspect, g.tan_half - ky * y0, -1.0);
+  const Eigen::Vector3d r1(kx * dx, -ky * dy, 0.0);
+  const Eigen::Vector3d o = sign * slice.o;
+  const double distance = x.norm();
+  // Where the rays stop reaching a point of the ball above cos c: the ray through the ball's point
+  // at angle acos(c) from V towards o, or through its tangent point (cos = R/|P|) for lower c.
+  const auto reach = [&](double c) {
+    if (!(distance > radius)) return kInf;
+    const double q = std::max(c, radius / distance);
+    const Eigen::Vector3d point = x + radius * (std::sqrt(1.0 - q * q) * o + q * v);
+    if (!(point.z() < 0.0)) return kInf;
+    const Eigen::Vector2d s = g.project(point);
+    return (s.x() - x0) * dx + (s.y() - y0) * dy;
+  };
+  SideSearch search(x, v, r0, r1, radius, slabReach(g), floor_cos);
+  double length = std::min(imageExit(g, x0, y0, dx, dy), reach(floor_cos));
+
+  // Amanatides–Woo over the texels the line crosses, from the pixel's own outwards.
+  const Texel& self = g.texels[static_cast<std::size_t>(j) * g.width + i];
+  // Texels whose slab lies wholly outside the ball's depths [Z − R, Z + R] have no sample in it.
+  const double reach_depth = slabReach(g);
+  const double nearest = (self.depth - radius) / (1.0 + reach_depth);
+  const double farthest = (self.depth + radius) / (1.0 - reach_depth);
+  int fx = i;
+  int fy = j;
+  const int step_x = dx > 0.0 ? 1 : -1;
+  const int step_y = dy > 0.0 ? 1 : -1;
+  const double delta_x = dx != 0.0 ? 1.0 / std::abs(dx) : kInf;
+  const double delta_y = dy != 0.0 ? 1.0 / std::abs(dy) : kInf;
+  double next_x = dx != 0.0 ? 0.5 * delta_x : kInf;
+  double next_y = dy != 0.0 ? 0.5 * delta_y : kInf;
+  double enter = 0.0;
+  while (enter < length) {
+    const double exit = std::min({next_x, next_y, length});
+    if (fx >= 0 && fy >= 0 && fx < g.width && fy < g.height) {
+      const Texel& texel = g.texels[static_cast<std::size_t>(fy) * g.width + fx];
+      if (texel.depth > nearest && texel.depth < farthest && texel.depth > 0.0f &&
+          !coplanar(texel, self) && search.visit(texel, enter, exit)) {
+        length = std::min(length, reach(search.horizonCos()));
+      }
+    }
+    if (next_x < next_y) {
+      fx += step_x;
+      enter = next_x;
+      next_x += delta_x;
+    } else {
+      fy += step_y;
+      enter = next_y;
+      next_y += delta_y;
+    }
+  }
+  return search.horizonCos();
+}
+
+}  // namespace gtbake
