@@ -24,6 +24,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/progress.h"
+#include "common/text_escape.h"
 #include "common/threads.h"
 #include "gtbake_version.h"
 #include "scene/auto_camera.h"
@@ -42,8 +43,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int kMaxSpp = 1 << 20;  // keeps counts in uint32 and a pixel's walks < 1 s
-constexpr int kMaxBounces = 16;   // ρ^17 ≤ 0.9^17 ≈ 0.17 of p_17: beyond that nobody asks
+constexpr int kMaxSpp = kMaxSweepSpp;  // common/input_limits.h
+constexpr int kMaxBounces = kMaxSweepBounces;
 
 bool isGltf(const fs::path& path) {
   const std::string ext = path.extension().string();
@@ -98,6 +99,8 @@ std::vector<fs::path> resolveSceneFiles(const std::vector<fs::path>& inputs) {
       std::vector<fs::path> found;
       for (const auto& entry : fs::directory_iterator(input, ec)) {
         if (entry.is_regular_file() && isGltf(entry.path())) {
+          requireUtf8(entry.path().filename().string(),
+                      "a scene file name in " + input.string());  // docs/limits.md §Paths
           found.push_back(entry.path());
         }
       }
@@ -144,7 +147,8 @@ struct SweepView {
 
 struct SweepInputs {
   std::vector<fs::path> files;
-  std::vector<Scene> scenes;  // per file; name = the stem, type as read ("" = none)
+  std::vector<Scene> scenes;        // per file; name = the stem, type as read ("" = none)
+  std::vector<std::string> sha256;  // per file: GltfReadInfo::input_sha256
   std::vector<SweepView> views;
 };
 
@@ -162,6 +166,7 @@ SweepInputs loadScenes(const std::vector<fs::path>& files, const SweepOptions& o
     read.camera = auto_views > 0 ? "" : o.camera;
     read.allow_no_camera = true;
     in.scenes.push_back(readGltfScene(file, read, &info));
+    in.sha256.push_back(info.input_sha256);
     Scene& scene = in.scenes.back();
     scene.name = file.stem().string();
     if (scene.triangles.empty()) throw Error("scene " + file.string() + " has no triangles");
@@ -231,14 +236,12 @@ SweepIdentity describeSweep(const SweepOptions& o, const SweepInputs& in) {
       {"gtbake.specular_roughness", specularRoughnessList(o.specular_roughness)},
       {"gtbake.specular_spp", std::to_string(o.specular_roughness.empty() ? 0 : o.specular_spp)},
       {"gtbake.gbuffer_radii", gbufferRadiusList(o.gbuffer_radii)}};
-  std::vector<std::string> sha256;
-  for (const fs::path& file : in.files) sha256.push_back(sceneSha256(file));
   for (const SweepView& v : in.views) {
     const Scene& scene = in.scenes[v.scene];
     id.scenes.push_back(v.name);
     id.view_scene.push_back(scene.name);
     id.view_type.push_back(scene.type.empty() ? scene.name : scene.type);
-    id.scene_sha256.push_back(sha256[v.scene]);
+    id.scene_sha256.push_back(in.sha256[v.scene]);
     id.scene_triangles.push_back(scene.triangles.size());
     id.scene_cameras.push_back(cameraJson(v.camera));
   }

@@ -7,6 +7,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/sha256.h"
+#include "common/text_escape.h"
 
 namespace gtbake {
 
@@ -122,7 +123,7 @@ TileData decodeTile(std::string_view bytes, const std::string& file) {
 std::string tileFileName(const std::string& scene, int index) {
   char number[16];
   std::snprintf(number, sizeof(number), "%05d", index);
-  return scene + "." + number + ".tile";
+  return fileSlug(scene) + "." + number + ".tile";  // docs/limits.md §Names in outputs
 }
 
 void writeTile(const std::filesystem::path& path, const TileData& tile) {
