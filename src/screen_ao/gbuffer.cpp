@@ -5,6 +5,7 @@
 
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/input_limits.h"
 #include "common/output_set.h"
 #include "sweep/camera_json.h"
 
@@ -31,8 +32,8 @@ SweepImage readImage(const OutputManifest& files, const nlohmann::json& entry,
     image.name = entry.at("name").get<std::string>();
     image.group = entry.contains("scene") ? entry.at("scene").get<std::string>() : image.name;
     const std::string file = entry.at("file").get<std::string>();
-    const int width = entry.at("width").get<int>();
-    const int height = entry.at("height").get<int>();
+    const int width = static_cast<int>(jsonInteger(entry, "width", 1, kMaxImageSide, where));
+    const int height = static_cast<int>(jsonInteger(entry, "height", 1, kMaxImageSide, where));
     if (!entry.contains("camera")) {
       throw Error(where + " entry " + image.name +
                   " has no camera (sweep it again with this gtbake)");
@@ -145,12 +146,7 @@ GBuffer gbufferFromChannels(int width, int height, const PerspectiveCamera& came
 SweepImages readSweepImages(const std::filesystem::path& dir) {
   const OutputManifest files = readOutputSet(dir, "sweep");
   const std::string where = (dir / "sweep.json").string();
-  nlohmann::json json;
-  try {
-    json = nlohmann::json::parse(files.readVerified("sweep.json"));
-  } catch (const nlohmann::json::exception&) {
-    throw Error(where + " is not valid JSON");
-  }
+  const nlohmann::json json = parseJsonText(files.readVerified("sweep.json"), where);
   SweepImages result;
   result.sweep_version = json.value("gtbake_version", std::string());
   if (!json.contains("scenes") || !json["scenes"].is_array() || json["scenes"].empty()) {
