@@ -8,6 +8,7 @@
 #include "common/error.h"
 #include "common/output_set.h"
 #include "common/progress.h"
+#include "common/text_escape.h"
 #include "common/threads.h"
 #include "gtbake_version.h"
 #include "screen_ao/gbuffer.h"
@@ -102,7 +103,7 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
   for (const SweepImage& image : sweep.images) {
     json["images"].push_back({{"name", image.name},
                               {"scene", image.group},
-                              {"file", image.name + ".exr"},
+                              {"file", fileSlug(image.name) + ".exr"},
                               {"width", image.gbuffer.width},
                               {"height", image.gbuffer.height}});
   }
@@ -121,7 +122,7 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
   for (std::size_t k = 0; k < sweep.images.size(); ++k) {
     std::vector<AoEstimate> per_image;
     for (const auto& e : estimates) per_image.push_back(e[k]);
-    output.add(sweep.images[k].name + ".exr",
+    output.add(fileSlug(sweep.images[k].name) + ".exr",
                screenAoExr(sweep.images[k], o.estimators, per_image));
   }
   stageReport(&output, sweep.images, runs, estimates);
