@@ -96,11 +96,20 @@ SweepJson readSweepJson(const fs::path& dir) {
       settings["albedos"].size() < 2) {
     throw Error(where + ": settings 'albedos' must list at least two albedos");
   }
+  std::set<std::string> channels;
   for (const json& rho : settings["albedos"]) {
     if (!rho.is_number() || !(rho.get<double>() > 0.0 && rho.get<double>() <= 1.0)) {
       throw Error(where + ": every albedo must be a number in (0, 1]");
     }
-    out.albedos.push_back(rho.get<double>());
+    // Each albedo is the value its G### channel names, once (a nudged or repeated list would be
+    // fitted at albedos the sweep never traced; docs/limits.md §Values).
+    const double value = rho.get<double>();
+    if (std::round(value * 100.0) / 100.0 != value ||
+        !channels.insert(albedoChannel(value)).second) {
+      throw Error(where + ": albedos must be distinct hundredths (the G### channels), got " +
+                  settings["albedos"].dump());
+    }
+    out.albedos.push_back(value);
   }
   if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty()) {
     throw Error(where + ": 'scenes' must be a non-empty array");

@@ -236,20 +236,25 @@ void writeSlice(OutputSet& output, const std::string& name, const std::vector<fl
 // Bounds on a run's cost (docs/limits.md "Bounded work and memory"), in seconds of one core, each
 // term measured and scaled by cells^2 (96 cells = 1): the bake (8.8 s at size 32, scaled by
 // size^4 and the reference factor), the end-to-end error (0.012 s per lobe and seed at size 4,
-// the costliest size per lobe) and the texel check with the closed-form fit (12 s at size 4).
+// the costliest size per lobe), the closed-form fit (0.0025 s per training lobe) and the texel
+// check (7 s at size 4).
 // The memory estimate is three float copies of the 4D table.
 constexpr double kDefaultBakeSeconds = 8.8;
 constexpr double kErrorLobeSeconds = 0.012;
-constexpr double kFixedSeconds = 12.0;
+constexpr double kClosedFormLobeSeconds = 0.0025;
+constexpr double kFixedSeconds = 7.0;
 inline constexpr Limit kMaxGtsoSeconds{"GTBAKE_MAX_GTSO_SECONDS", 3600, "estimated seconds"};
 inline constexpr Limit kMaxGtsoBytes{"GTBAKE_MAX_GTSO_BYTES", 8'000'000'000, "estimated bytes"};
 
 void checkGtsoCost(const GtsoOptions& o, int cells) {
   const int size = o.size;
   const double c2 = std::pow(cells / 96.0, 2);
+  const int closed_form_lobes =
+      o.closed_form_lobes != 0 ? o.closed_form_lobes : gtso::kClosedFormTrainLobes;
   const double seconds = c2 * (kDefaultBakeSeconds * std::pow(size / 32.0, 4) *
                                    (1.0 + o.reference_factor * o.reference_factor) +
-                               kErrorLobeSeconds * o.error_lobes * o.error_seeds + kFixedSeconds);
+                               kErrorLobeSeconds * o.error_lobes * o.error_seeds +
+                               kClosedFormLobeSeconds * closed_form_lobes + kFixedSeconds);
   const std::string what = "gtso --size " + std::to_string(size) + " with " +
                            std::to_string(cells) + " cells per lobe and " +
                            std::to_string(o.error_lobes) + " x " + std::to_string(o.error_seeds) +

@@ -68,6 +68,19 @@ TEST(ValueBounds, FitRefusesProbabilitiesOutsideTheirRange) {
   EXPECT_ERROR(loadSweep(sweep), "above 1");
 }
 
+TEST(ValueBounds, FitRefusesAlbedoListsItWasNotTracedWith) {
+  TempDir dir("bounds_albedos");
+  const fs::path sweep = dir.path() / "s";
+  runSweep(fixture().options(sweep));
+  const std::string good = readBytes(sweep / "sweep.json");
+  for (const json& list : {json{0.1, 0.2, 0.3, 0.4, 0.5000001, 0.7, 0.9},
+                           json{0.1, 0.2, 0.3, 0.4, 0.5, 0.5, 0.7, 0.9}}) {
+    editJson(sweep, "sweep.json", "sweep", [&](json& d) { d["settings"]["albedos"] = list; });
+    EXPECT_ERROR(loadSweep(sweep), "albedos must be distinct hundredths");
+    spit(sweep / "sweep.json", good);
+  }
+}
+
 TEST(ValueBounds, SweepAndShardSizesAreBounded) {
   TempDir dir("bounds_sizes");
   const fs::path sweep = dir.path() / "s";
@@ -161,6 +174,13 @@ TEST(ValueBounds, ExportRefusesConstantsThatAreNotFiniteFloats) {
   EXPECT_NE(e.exportWith(noEdit, [](json& d) { d["closed_form"]["coefficients"][3] = -1e300; })
                 .find("closed_form.coefficients"),
             std::string::npos);
+  // A layout axis that get<int>() would wrap to 0.
+  const std::string encode = readBytes(e.out / "encode.json");
+  editJson(e.out, "encode.json", "encode",
+           [](json& d) { d["layouts"]["3d"]["chosen"]["axis"][0] = 4294967296ll; });
+  EXPECT_NE(e.exportWith(noEdit, noEdit).find("not three table axes"), std::string::npos);
+  spit(e.out / "encode.json", encode);
+  resealOutputSet(e.out, "encode");
   // A table name that would end the comment it is quoted in and inject code.
   EXPECT_NE(
       e.exportWith(noEdit,
