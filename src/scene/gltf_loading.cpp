@@ -52,7 +52,8 @@ std::string tinygltfDecode(const std::string& uri) {
 
 std::string expandFilePath(const std::string& path, void* user) {
   const auto* access = static_cast<const FileAccess*>(user);
-  const std::string prefix = access->base.string() + "/";
+  std::string prefix = access->base.string();  // as tinygltf's JoinPath joins it
+  if (prefix.empty() || prefix.back() != '/') prefix += '/';
   if (path.rfind(prefix, 0) != 0) return path;
   const std::string tail = path.substr(prefix.size());
   for (const auto& [resolved, buffer] : access->buffers) {

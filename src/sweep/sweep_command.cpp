@@ -99,8 +99,6 @@ std::vector<fs::path> resolveSceneFiles(const std::vector<fs::path>& inputs) {
       std::vector<fs::path> found;
       for (const auto& entry : fs::directory_iterator(input, ec)) {
         if (entry.is_regular_file() && isGltf(entry.path())) {
-          requireUtf8(entry.path().filename().string(),
-                      "a scene file name in " + input.string());  // docs/limits.md §Paths
           found.push_back(entry.path());
         }
       }
@@ -118,6 +116,7 @@ std::vector<fs::path> resolveSceneFiles(const std::vector<fs::path>& inputs) {
   }
   std::set<std::string> names;
   for (const fs::path& f : files) {
+    requireUtf8(f.string(), "a scene path");  // sweep.json records it (docs/limits.md §Paths)
     if (!names.insert(f.stem().string()).second) {
       throw Error("two scenes are named '" + f.stem().string() + "' (" + f.string() +
                   "); outputs are named by file stem");
