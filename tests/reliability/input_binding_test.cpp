@@ -15,6 +15,7 @@
 #include "reliability_fixtures.h"
 #include "scene/gltf_reader.h"
 #include "sweep/merge_command.h"
+#include "sweep/shard_manifest.h"
 
 namespace gtbake {
 namespace {
@@ -98,6 +99,30 @@ TEST(InputBinding, MergeRefusesAShardWhoseGlbBufferChanged) {
   m.out = dir.path() / "merged";
   EXPECT_ERROR(runMerge(m), "contents of scene");
   EXPECT_FALSE(fs::exists(dir.path() / "merged" / "sweep.json"));
+}
+
+TEST(InputBinding, ResumeRefusesTilesTracedFromAnotherBuffer) {
+  TempDir dir("binding_resume");
+  const json doc = writeBox(dir.path() / "scenes");
+  fs::remove(dir.path() / "scenes" / "box.gltf");
+  writeGlb(dir.path() / "scenes" / "box.glb", doc);
+  SweepOptions o;
+  o.scenes = {dir.path() / "scenes" / "box.glb"};
+  o.out = dir.path() / "out";
+  o.spp = 2;
+  o.width = o.height = 16;
+  o.threads = 1;
+  o.progress = false;
+  {
+    // The tiles are checkpointed, then writing the outputs fails: the sweep can be resumed.
+    const test::ScopedEnv fail("GTBAKE_TEST_FAIL_WRITE", "box.exr");
+    EXPECT_ERROR(runSweep(o), "No space left");
+  }
+  ASSERT_TRUE(fs::exists(o.out / kTileDirectory));
+  nudgeBuffer(dir.path() / "scenes" / "box.bin");
+  o.resume = true;
+  EXPECT_ERROR(runSweep(o), "cannot resume");
+  EXPECT_FALSE(fs::exists(o.out / "sweep.json"));
 }
 
 TEST(InputBinding, PercentEncodedUrisNameTheirFiles) {
