@@ -25,6 +25,23 @@ const std::vector<float>& need(const std::map<std::string, std::vector<float>>& 
   return it->second;
 }
 
+// The ray-traced truth as read, checked at every unmasked pixel (docs/limits.md §Values): A and
+// every A_R in [0, 1], the bent normal finite.
+void checkTruth(const SweepImage& image, const std::string& file) {
+  const GBuffer& g = image.gbuffer;
+  const auto unit = [](float v) { return v >= 0.0f && v <= 1.0f; };
+  for (std::size_t p = 0; p < g.pixels(); ++p) {
+    if (g.mask[p] == 0) continue;
+    bool ok = unit(image.truth.a[p]);
+    for (const auto& [name, values] : image.truth.a_at_radius) ok = ok && unit(values[p]);
+    for (int c = 0; c < 3; ++c) ok = ok && std::isfinite(image.truth.bent[3 * p + c]);
+    if (!ok) {
+      throw Error(file + ": A or A_R outside [0, 1], or a non-finite BN, at pixel (" +
+                  std::to_string(p % g.width) + ", " + std::to_string(p / g.width) + ")");
+    }
+  }
+}
+
 SweepImage readImage(const OutputManifest& files, const nlohmann::json& entry,
                      const std::string& where) {
   SweepImage image;
@@ -53,6 +70,7 @@ SweepImage readImage(const OutputManifest& files, const nlohmann::json& entry,
     for (const auto& [name, values] : exr.channels) {
       if (name.rfind("A_R", 0) == 0) image.truth.a_at_radius[name] = values;
     }
+    checkTruth(image, file);
   } catch (const nlohmann::json::exception& e) {
     throw Error(where + ": malformed scenes[] entry (" + e.what() + ")");
   }

@@ -13,6 +13,7 @@
 #include "common/image_io.h"
 #include "fit/sweep_data.h"
 #include "reliability_fixtures.h"
+#include "screen_ao/gbuffer.h"
 #include "sweep/shard_manifest.h"
 #include "validate_gtso/specular_sweep.h"
 
@@ -66,6 +67,15 @@ TEST(ValueBounds, FitRefusesProbabilitiesOutsideTheirRange) {
   editPixel(sweep, "box_b.exr", "A", 0.6f);
   editPixel(sweep, "box_b.exr", "P1", 0.6f);
   EXPECT_ERROR(loadSweep(sweep), "above 1");
+}
+
+TEST(ValueBounds, ScreenAoRefusesTruthOutsideItsRange) {
+  TempDir dir("bounds_screen_ao");
+  const fs::path sweep = dir.path() / "s";
+  runSweep(fixture().options(sweep));
+  EXPECT_EQ(readSweepImages(sweep).images.size(), 2u);
+  editPixel(sweep, "box_b.exr", "A", -0.5f);
+  EXPECT_ERROR(readSweepImages(sweep), "A or A_R outside [0, 1]");
 }
 
 TEST(ValueBounds, FitRefusesAlbedoListsItWasNotTracedWith) {
