@@ -16,16 +16,18 @@ namespace {
 constexpr int kBlocksPerLine = 4;  // uint64 literals per line of the generated arrays
 
 // Text for a // comment in C++, HLSL and GLSL: printable ASCII only, so nothing can end the
-// comment (a line break) or splice the next line into it (a trailing backslash); line breaks
-// become spaces, a backslash '/', any other byte '?' (docs/limits.md §Names in outputs).
+// comment (a line break) or splice the next line into it (a trailing backslash, or the trigraph
+// "??/"); line breaks become spaces, a backslash '/', any other byte and a '?' after a '?' '_'
+// (docs/limits.md §Names in outputs).
 std::string oneLine(std::string text) {
-  for (char& c : text) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    char& c = text[i];
     if (c == '\n' || c == '\r' || c == '\t') {
       c = ' ';
     } else if (c == '\\') {
       c = '/';
-    } else if (c < 0x20 || c > 0x7E) {
-      c = '?';
+    } else if (c < 0x20 || c > 0x7E || (c == '?' && i > 0 && text[i - 1] == '?')) {
+      c = '_';
     }
   }
   return text;

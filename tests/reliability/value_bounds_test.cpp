@@ -163,7 +163,8 @@ struct ExportEdits {
   bool headerCompiles() const {
     std::ofstream(out / "consumer.cpp") << "#include \"gtbake_tables.h\"\n"
                                         << "float f() { return gtbake::kConeApertureU; }\n";
-    const std::string cmd = std::string(GTBAKE_TEST_CXX) + " -std=c++17 -fsyntax-only -I" +
+    const std::string cmd = std::string(GTBAKE_TEST_CXX) +
+                            " -std=c++17 -fsyntax-only -Wall -Wextra -Wpedantic -Werror -I" +
                             out.string() + " " + (out / "consumer.cpp").string() + " 2>&1";
     return std::system(cmd.c_str()) == 0;
   }
@@ -222,6 +223,10 @@ TEST(ValueBounds, GeneratedHeaderCompilesAcrossTheBounds) {
           d["cone"]["u"] = std::min(value(true), 0.999);
           d["cone"]["u_se"] = std::min(value(true), 1e6);
           for (auto& c : d["closed_form"]["coefficients"]) c = std::min(value(false), 1e6);
+          // Strings the provenance comments quote: none may end the comment or splice a line.
+          d["roughness_convention"] = "r_p\\";
+          d["texel_rule"] = "a\r#error injected\r\\";
+          d["cone"]["convention"] = "*/ ?\?/ \u2028 \\";
         });
     EXPECT_EQ(error, "");
     EXPECT_TRUE(e.headerCompiles()) << "round " << round;
