@@ -217,6 +217,20 @@ TEST(InputBinding, NonUtf8SceneFileNamesAreRefusedWithOneLine) {
   EXPECT_FALSE(fs::exists(o.out / "sweep.json"));
 }
 
+TEST(ReaderBounds, SetFilesOfAnotherSizeAreRefusedUnread) {
+  TempDir dir("set_size");
+  spit(dir.path() / "a.dds", "volume");
+  const OutputManifest set = sealOutputSet(dir.path(), "encode", {"a.dds"});
+  fs::remove(dir.path() / "a.dds");
+  sparseFile(dir.path() / "a.dds", 3'900'000'000);  // a 3.9 GB sparse file in its place
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_ERROR(set.readVerified("a.dds"), "does not match encode.manifest.json (3900000000 bytes");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
+  fs::remove(dir.path() / "a.dds");
+  ASSERT_EQ(::mkfifo((dir.path() / "a.dds").c_str(), 0600), 0);
+  EXPECT_ERROR(set.readVerified("a.dds"), "not a regular file");
+}
+
 TEST(ReaderBounds, JsonDepthCannotBeRaisedPastWhatTheParsersSurvive) {
   TempDir dir("json_depth");
   const int ceiling = static_cast<int>(kMaxJsonDepth.ceiling);
