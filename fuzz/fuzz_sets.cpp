@@ -3,15 +3,20 @@
 // checks (not just the manifest's hash) are exercised:
 //   0 shard.json (readShardManifest)          1 a checkpointed tile (decodeTile)
 //   2 validate_gtso.json (applyValidateGtsoU)  3 sweep.json of a specular sweep (readSpecularSweep)
-// Seeds come from a real two-shard sweep of a closed box. Anything but a gtbake::Error is a bug.
+//   4 encode.json (readShippedVolumes, beside the volumes of a tiny gtso + encode)
+// Seeds come from real runs: a two-shard sweep of a closed box, gtso at size 4 and its encode.
+// Anything but a gtbake::Error is a bug.
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/output_set.h"
+#include "encode/encode_command.h"
+#include "encode/shipped_volumes.h"
 #include "export/export_inputs.h"
 #include "fuzz_target.h"
+#include "gtso/gtso_command.h"
 #include "scene/procedural_scenes.h"
 #include "support/test_scenes.h"
 #include "sweep/shard_manifest.h"
@@ -45,9 +50,34 @@ const fs::path& fixtures() {
     o.out = root / "shard";
     runSweep(o);
     ensureDirectory(root / "validate");
+    GtsoOptions g;
+    g.out = root / "gtso";
+    g.size = 4;
+    g.lobe_cells = 8;
+    g.error_lobes = 16;
+    g.error_seeds = 1;
+    g.closed_form_lobes = 64;
+    g.threads = 1;
+    g.progress = false;
+    runGtso(g);
+    EncodeOptions e;
+    e.gtso = g.out;
+    e.out = root / "encode";
+    e.threads = 1;
+    e.progress = false;
+    e.layout_lobes = 16;
+    runEncode(e);
     return root;
   }();
   return dir;
+}
+
+// Reseals the set `command` of `dir` over the files it lists (one just rewritten with the
+// fuzzed bytes).
+void reseal(const fs::path& dir, const std::string& command) {
+  std::vector<std::string> names;
+  for (const OutputFile& f : readOutputSet(dir, command).files) names.push_back(f.name);
+  sealOutputSet(dir, command, names);
 }
 
 // The one tile of the shard's set.
@@ -66,7 +96,8 @@ std::vector<std::string> seeds() {
   return {std::string(1, '\0') + readFile(dir / "shard" / "shard.json"),
           std::string(1, '\1') + readFile(dir / "shard" / tileName()),
           std::string(1, '\2') + validate.dump(),
-          std::string(1, '\3') + readFile(dir / "sweep" / "sweep.json")};
+          std::string(1, '\3') + readFile(dir / "sweep" / "sweep.json"),
+          std::string(1, '\4') + readFile(dir / "encode" / "encode.json")};
 }
 
 }  // namespace gtbake::fuzz
@@ -78,7 +109,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const fs::path& dir = fuzz::fixtures();
   const std::string_view doc(reinterpret_cast<const char*>(data) + 1, size - 1);
   try {
-    switch (data[0] % 4) {
+    switch (data[0] % 5) {
       case 0: {
         const std::string tile = fuzz::tileName();
         writeFileAtomically(dir / "shard" / "shard.json", doc);
@@ -96,16 +127,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         applyValidateGtsoU(dir / "validate" / "validate_gtso.json", &gtso);
         break;
       }
-      default: {
-        std::vector<std::string> names;
-        for (const OutputFile& f : readOutputSet(dir / "sweep", "sweep").files) {
-          names.push_back(f.name);
-        }
+      case 3:
         writeFileAtomically(dir / "sweep" / "sweep.json", doc);
-        sealOutputSet(dir / "sweep", "sweep", names);
+        fuzz::reseal(dir / "sweep", "sweep");
         readSpecularSweep(dir / "sweep");
         break;
-      }
+      default:
+        writeFileAtomically(dir / "encode" / "encode.json", doc);
+        fuzz::reseal(dir / "encode", "encode");
+        readShippedVolumes(dir / "encode", readGtsoInput(dir / "gtso"));
+        break;
     }
   } catch (const Error&) {
   }
