@@ -39,7 +39,7 @@ struct FileAccess {
   fs::path base;  // canonical directory of the glTF
   bool allow_outside = false;
   std::map<std::string, ExternalBuffer> buffers;  // by resolved path (base / decoded uri)
-  std::string record;                             // one line per file read (inputHash)
+  std::string record;  // one line per file read, hashed into the scene's input_sha256
 };
 
 // tinygltf's own uri decoding (dlib::urldecode) also turns '+' into a space, which RFC 3986 does
