@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "common/text_escape.h"
 #include "encode/encode_command.h"
 #include "export/export_command.h"
 #include "fit/fit_command.h"
@@ -404,6 +405,16 @@ int main(int argc, char** argv) {
   google::InitGoogleLogging(argv[0]);
   FLAGS_minloglevel = google::GLOG_FATAL;
   FLAGS_logtostderr = true;
+  // Paths and names end up in JSON, which must be UTF-8 (docs/limits.md §Paths).
+  for (int i = 1; i < argc; ++i) {
+    if (!isValidUtf8(argv[i])) {
+      std::fprintf(stderr,
+                   "gtbake: error: argument %d is not valid UTF-8 (gtbake records paths in JSON; "
+                   "rename the file)\n",
+                   i);
+      return kExitError;
+    }
+  }
   if (const std::optional<int> exit_code = parseCommandLine(app, argc, argv)) return *exit_code;
   return runSelectedSubcommand(subcommands, {!quiet, joinArguments(argc, argv)});
 }

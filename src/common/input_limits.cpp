@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -25,6 +26,10 @@ std::uint64_t limitValue(const Limit& limit) {
   if (errno != 0 || *end != '\0' || value == 0 || text[0] == '-') {
     throw Error(std::string(limit.env) + " must be a positive integer, got '" + text + "'");
   }
+  if (value > limit.ceiling) {
+    throw Error(std::string(limit.env) + " must be at most " + std::to_string(limit.ceiling) +
+                " (what the readers survive, docs/limits.md), got " + text);
+  }
   return value;
 }
 
@@ -36,6 +41,10 @@ void checkLimit(const Limit& limit, std::uint64_t value, const std::string& what
 }
 
 std::string readRegularFile(const fs::path& path) {
+  return readRegularFile(path, UINT64_MAX);
+}
+
+std::string readRegularFile(const fs::path& path, std::uint64_t max_bytes) {
   // O_NONBLOCK: opening a FIFO with no writer must not block; fstat then refuses it.
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
@@ -50,6 +59,10 @@ std::string readRegularFile(const fs::path& path) {
   const auto size = static_cast<std::uint64_t>(st.st_size);
   try {
     checkLimit(kMaxInputBytes, size, path.string());
+    if (size > max_bytes) {
+      throw Error(path.string() + ": " + std::to_string(size) + " bytes, more than the " +
+                  std::to_string(max_bytes) + " expected");
+    }
   } catch (...) {
     ::close(fd);
     throw;
@@ -95,8 +108,7 @@ int jsonNestingDepth(std::string_view text, int stop_at) {
 }
 
 nlohmann::json parseJsonText(std::string_view text, const std::string& where) {
-  const auto max_depth =
-      static_cast<int>(std::min<std::uint64_t>(limitValue(kMaxJsonDepth), 1 << 20));
+  const auto max_depth = static_cast<int>(limitValue(kMaxJsonDepth));
   if (jsonNestingDepth(text, max_depth) > max_depth) {
     throw Error(where + ": JSON nested deeper than " + std::to_string(max_depth) + " levels (set " +
                 kMaxJsonDepth.env + " to raise the limit)");
@@ -133,6 +145,22 @@ std::int64_t jsonInteger(const nlohmann::json& object, const char* key, std::int
   }
   if (!ok)
     throw Error(where + ": '" + key + "' must be an integer in " + range + ", got " + v.dump());
+  return value;
+}
+
+double jsonNumber(const nlohmann::json& object, const char* key, double lo, double hi,
+                  const std::string& where) {
+  char range[80];
+  std::snprintf(range, sizeof(range), "[%.9g, %.9g]", lo, hi);
+  if (!object.is_object() || !object.contains(key)) {
+    throw Error(where + ": missing number '" + key + "' (expected in " + range + ")");
+  }
+  const nlohmann::json& v = object.at(key);
+  const double value = v.is_number() ? v.get<double>() : NAN;
+  if (!(std::isfinite(value) && value >= lo && value <= hi)) {
+    throw Error(where + ": '" + key + "' must be a finite number in " + range + ", got " +
+                v.dump());
+  }
   return value;
 }
 

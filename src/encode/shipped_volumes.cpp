@@ -14,9 +14,16 @@ namespace fs = std::filesystem;
 GtsoLayout readLayout(const nlohmann::json& j, const char* table, const std::string& where) {
   try {
     const auto& axis = j.at("layouts").at(table).at("chosen").at("axis");
+    // Integers 0..2 as written: get<int>() would wrap 4294967296 to 0 (docs/limits.md §Values).
+    for (int k = 0; k < 3; ++k) {
+      if (!axis.at(k).is_number_integer() || axis.at(k).get<std::int64_t>() < 0 ||
+          axis.at(k).get<std::int64_t>() > 2 || axis.size() != 3) {
+        throw Error("not three table axes 0, 1, 2");
+      }
+    }
     GtsoLayout l{{axis.at(0).get<int>(), axis.at(1).get<int>(), axis.at(2).get<int>()}};
     int seen = 0;
-    for (int k : l.axis) seen |= (k >= 0 && k < 3) ? 1 << k : 8;
+    for (int k : l.axis) seen |= 1 << k;
     if (seen != 7) throw Error("not a permutation of the table axes");
     return l;
   } catch (const std::exception& e) {

@@ -10,6 +10,7 @@
 #include "common/error.h"
 #include "common/input_limits.h"
 #include "common/output_set.h"
+#include "common/text_escape.h"
 #include "runtime/gtso_runtime.h"
 
 namespace gtbake {
@@ -37,12 +38,12 @@ const nlohmann::json& member(const nlohmann::json& j, const std::string& key,
   return j.at(key);
 }
 
-double finiteNumber(const nlohmann::json& j, const std::string& key, const std::string& where) {
-  const nlohmann::json& v = member(j, key, where);
-  if (!v.is_number() || !std::isfinite(v.get<double>())) {
-    throw Error(where + ": \"" + key + "\" must be a finite number");
-  }
-  return v.get<double>();
+// A constant the generated code ships, or a standard error of one: finite and at most
+// kMaxShippedMagnitude in size, so it prints as a finite float literal (docs/limits.md §Values).
+double shippedNumber(const nlohmann::json& j, const std::string& key, const std::string& where,
+                     bool non_negative = false) {
+  return jsonNumber(j, key.c_str(), non_negative ? 0.0 : -kMaxShippedMagnitude,
+                    kMaxShippedMagnitude, where);
 }
 
 GtsoTable readTable(const OutputManifest& set, const nlohmann::json& tables, const std::string& key,
@@ -55,6 +56,12 @@ GtsoTable readTable(const OutputManifest& set, const nlohmann::json& tables, con
   const nlohmann::json& file = member(t, "file", where);
   if (!file.is_string()) throw Error(where + ": \"file\" must be a string");
   table.file = file.get<std::string>();
+  // The name reaches the generated code's comments: only a plain file name (docs/limits.md
+  // §Names in outputs).
+  if (fileSlug(table.file) != table.file) {
+    throw Error(where + ": \"file\" must be a plain file name of [A-Za-z0-9_.-], got " +
+                file.dump());
+  }
   const nlohmann::json& dims = member(t, "dims", where);
   if (!dims.is_array() || static_cast<int>(dims.size()) != rank) {
     throw Error(where + ": \"dims\" must list " + std::to_string(rank) + " sizes");
@@ -120,7 +127,7 @@ GtsoTable readTable(const OutputManifest& set, const nlohmann::json& tables, con
 void checkAxisConstants(const nlohmann::json& j, const std::string& where) {
   const nlohmann::json& c = member(j, "axis_constants", where);
   for (const auto& [key, macro, value] : kGtsoAxisConstants) {
-    if (finiteNumber(c, key, where + " axis_constants") != value) {
+    if (shippedNumber(c, key, where + " axis_constants") != value) {
       throw Error(where + ": axis_constants." + key +
                   " differs from this gtbake's runtime lookup (" + std::to_string(value) +
                   "); re-run `gtbake gtso`");
@@ -144,8 +151,8 @@ GtsoInput readGtsoInput(const std::filesystem::path& dir) {
   in.table3d = readTable(set, tables, "3d", 3);
   in.table4d = readTable(set, tables, "4d", 4);
   const nlohmann::json& cone = member(in.json, "cone", where);
-  in.u = finiteNumber(cone, "u", where + " cone");
-  in.u_se = finiteNumber(cone, "u_se", where + " cone");
+  in.u = shippedNumber(cone, "u", where + " cone");
+  in.u_se = shippedNumber(cone, "u_se", where + " cone", true);
   if (!(in.u > 0.0 && in.u < 1.0)) throw Error(where + ": cone.u must lie in (0, 1)");
   const nlohmann::json& closedForm = member(in.json, "closed_form", where);
   const nlohmann::json& coeffs = member(closedForm, "coefficients", where + " closed_form");
@@ -155,9 +162,10 @@ GtsoInput readGtsoInput(const std::filesystem::path& dir) {
                 " numbers (the form of this gtbake's runtime); re-run `gtbake gtso`");
   }
   for (const auto& c : coeffs) {
-    if (!c.is_number() || !std::isfinite(c.get<double>()) ||
-        !std::isfinite(static_cast<float>(c.get<double>()))) {
-      throw Error(where + ": closed_form.coefficients must be finite float numbers");
+    if (!c.is_number() || !(std::abs(c.get<double>()) <= kMaxShippedMagnitude)) {
+      throw Error(where +
+                  ": closed_form.coefficients must be finite numbers of magnitude at most " +
+                  std::to_string(static_cast<int>(kMaxShippedMagnitude)));
     }
     in.s3_closed_form.push_back(c.get<double>());
   }
@@ -173,8 +181,8 @@ FitInput readFitInput(const std::filesystem::path& file) {
   const nlohmann::json& linear = member(in.json, "linear", where);
   const nlohmann::json& se = member(in.json, "linear_se", where);
   for (int i = 0; i < 6; ++i) {
-    in.linear[i] = finiteNumber(linear, kCoeffNames[i], where + " linear");
-    in.linear_se[i] = finiteNumber(se, kCoeffNames[i], where + " linear_se");
+    in.linear[i] = shippedNumber(linear, kCoeffNames[i], where + " linear");
+    in.linear_se[i] = shippedNumber(se, kCoeffNames[i], where + " linear_se", true);
   }
   return in;
 }
@@ -227,7 +235,7 @@ void applyValidateGtsoU(const std::filesystem::path& file, GtsoInput* gtso) {
   const std::filesystem::path dir = file.has_parent_path() ? file.parent_path() : ".";
   const nlohmann::json j = parseJson(readOutputSet(dir, "validate_gtso"), file.filename().string());
   const std::string where = file.string();
-  const double u = finiteNumber(j, "u", where);
+  const double u = shippedNumber(j, "u", where);
   const nlohmann::json& interval = member(j, "u_interval", where);
   if (!interval.is_array() || interval.size() != 2 || !interval[0].is_number() ||
       !interval[1].is_number()) {
@@ -241,7 +249,7 @@ void applyValidateGtsoU(const std::filesystem::path& file, GtsoInput* gtso) {
   gtso->u = u;
   // The scene-level SE (delete-one-scene jackknife, validate_gtso.json u_scene_interval); files
   // without it carry no standard error.
-  gtso->u_se = j.contains("u_se") ? finiteNumber(j, "u_se", where) : 0.0;
+  gtso->u_se = j.contains("u_se") ? shippedNumber(j, "u_se", where, true) : 0.0;
   gtso->u_low = low;
   gtso->u_high = high;
   gtso->validate_gtso = j;

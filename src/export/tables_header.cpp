@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <sstream>
@@ -15,9 +16,21 @@ namespace {
 
 constexpr int kBlocksPerLine = 4;  // uint64 literals per line of the generated arrays
 
-// Text for a // comment: line breaks become spaces.
+// Text for a // comment in C++, HLSL and GLSL: printable ASCII only, so nothing can end the
+// comment (a line break) or splice the next line into it (a trailing backslash, or the trigraph
+// "??/"); line breaks become spaces, a backslash '/', any other byte and a '?' after a '?' '_'
+// (docs/limits.md §Names in outputs).
 std::string oneLine(std::string text) {
-  for (char& c : text) c = (c == '\n' || c == '\r') ? ' ' : c;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    char& c = text[i];
+    if (c == '\n' || c == '\r' || c == '\t') {
+      c = ' ';
+    } else if (c == '\\') {
+      c = '/';
+    } else if (c < 0x20 || c > 0x7E || (c == '?' && i > 0 && text[i - 1] == '?')) {
+      c = '_';
+    }
+  }
   return text;
 }
 
@@ -277,6 +290,8 @@ void emitClosedForm(std::ostringstream& o, const GeneratedCodeInput& in) {
 }  // namespace
 
 std::string floatLiteral(float value) {
+  // The readers bound every shipped number (export_inputs.cpp); this keeps the header compiling.
+  if (!std::isfinite(value)) throw Error("internal: a non-finite constant reached generated code");
   char buf[40];
   std::snprintf(buf, sizeof(buf), "%.9g", static_cast<double>(value));
   std::string s = buf;
@@ -354,7 +369,7 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
   for (const GtsoTable* t : {&in.gtso->table3d, &in.gtso->table4d}) {
     const std::string reference_error = jsonAt(t->meta, {"max_abs_error_vs_reference"});
     const char* key = t == &in.gtso->table3d ? "3d" : "4d";
-    o << "//   " << t->file << ": lobe-grid rectangles "
+    o << "//   " << oneLine(t->file) << ": lobe-grid rectangles "
       << jsonAt(t->meta, {"lobe_grid_rectangles"}) << ", max |S - reference| "
       << (reference_error == "null" ? "over all texels not measured by this run" : reference_error)
       << "; sampled texel check vs 16x reference: max "

@@ -7,6 +7,7 @@
 
 #include "common/atomic_file.h"
 #include "common/output_set.h"
+#include "common/text_escape.h"
 #include "fit/svg_plot.h"
 #include "gtbake_version.h"
 
@@ -66,7 +67,7 @@ class Figures {
   Figures(OutputSet& set, std::string prefix) : set_(set), prefix_(std::move(prefix)) {}
   void add(const std::string& name, const SvgPlot& plot) {
     set_.add(prefix_ + name, plot.str());
-    html_ += "<img src='" + name + "' alt='" + name + "'>\n";
+    html_ += "<img src='" + escapeHtml(name) + "' alt='" + escapeHtml(name) + "'>\n";
   }
   void heading(const std::string& text) { html_ += text; }
   std::string html() const { return html_; }
@@ -202,7 +203,7 @@ void figure6(const FitAnalysis& a, Figures& figures) {
   figures.heading(
       "<h2>Figure 6: A vs G per scene, every albedo, with the per-albedo cubics</h2>\n");
   for (const SweepScene& scene : a.data.scenes) {
-    SvgPlot plot(0, 1, 0, 1, scene.name, "A (ambient occlusion)", "G (multi-bounce)");
+    SvgPlot plot(0, 1, 0, 1, escapeHtml(scene.name), "A (ambient occlusion)", "G (multi-bounce)");
     const std::size_t stride =
         std::max<std::size_t>(1, (scene.end - scene.begin) / kScatterPerScene);
     for (std::size_t j = 0; j < M; ++j) {
@@ -216,7 +217,7 @@ void figure6(const FitAnalysis& a, Figures& figures) {
     for (std::size_t j = 0; j < M; ++j) curveOf(plot, a.fit.per_albedo[j].theta, "#000", false);
     plot.legendBottomRight(1);
     plot.legend("per-albedo cubic (all scenes)", "#000");
-    figures.add("fig6_" + scene.name + ".svg", plot);
+    figures.add("fig6_" + fileSlug(scene.name) + ".svg", plot);
   }
 }
 
@@ -232,9 +233,9 @@ std::string headline(const FitAnalysis& a) {
         " scenes). Monte Carlo SE of G (another seed): largest " +
         formatNumber(jk.mc_band_max.value, "%.5f") + ".";
   } else {
-    html += jk.message + ".";
+    html += escapeHtml(jk.message) + ".";
   }
-  html += "</p>\n<p><b>Shipped constants: " + a.shipped_score.verdict +
+  html += "</p>\n<p><b>Shipped constants: " + escapeHtml(a.shipped_score.verdict) +
           ".</b> Largest |G<sub>refit</sub> &minus; G<sub>shipped</sub>|: " +
           curveDistance(a.shipped_difference) + ".</p>\n";
   return html;
@@ -311,7 +312,7 @@ std::string errorTables(const FitAnalysis& a) {
   }
   for (std::size_t k = 0; k < r.per_scene.size(); ++k) {
     rows.push_back(
-        {r.per_scene[k].label, formatNumber(r.per_scene[k].rmse, "%.5f"),
+        {escapeHtml(r.per_scene[k].label), formatNumber(r.per_scene[k].rmse, "%.5f"),
          formatNumber(a.floor.per_scene[k].floor, "%.5f"),
          formatNumber(r.per_scene[k].max_abs, "%.5f"), formatNumber(s.per_scene[k].rmse, "%.5f"),
          formatNumber(s.per_scene[k].max_abs, "%.5f"), std::to_string(a.scene_weights[k].points),
@@ -353,10 +354,12 @@ std::string leaveOneOutTable(const SceneJackknife& jk) {
 std::string thumbnails(const FitAnalysis& a, const fs::path& dir) {
   std::string html = "<h2>Scenes (A, the sweep's previews)</h2>\n<div>";
   for (const SweepScene& sc : a.data.scenes) {
-    const std::string src = relativePath(a.data.dir / (sc.name + "_A.png"), dir);
-    html += "<figure style='display:inline-block;margin:4px;text-align:center'><img src=\"" + src +
-            "\" width=96 height=96 alt=\"" + sc.name + "\"><figcaption style='font-size:11px'>" +
-            sc.name + (sc.type == sc.name ? "" : "<br>" + sc.type) + "</figcaption></figure>";
+    const std::string src = relativePath(a.data.dir / (fileSlug(sc.name) + "_A.png"), dir);
+    const std::string name = escapeHtml(sc.name);
+    html += "<figure style='display:inline-block;margin:4px;text-align:center'><img src=\"" +
+            escapeHtml(src) + "\" width=96 height=96 alt=\"" + name +
+            "\"><figcaption style='font-size:11px'>" + name +
+            (sc.type == sc.name ? "" : "<br>" + escapeHtml(sc.type)) + "</figcaption></figure>";
   }
   return html + "</div>\n";
 }
@@ -394,7 +397,9 @@ void writeFitReport(OutputSet& set, const std::string& prefix, const fs::path& d
   figure6(a, figures);
   const FitSettings& s = a.fit.settings;
   std::string scenes;
-  for (const SweepScene& sc : a.data.scenes) scenes += (scenes.empty() ? "" : ", ") + sc.name;
+  for (const SweepScene& sc : a.data.scenes) {
+    scenes += (scenes.empty() ? "" : ", ") + escapeHtml(sc.name);
+  }
   const std::string html =
       "<!DOCTYPE html>\n<html><head><meta charset='utf-8'><title>gtbake fit report</title>\n"
       "<style>body{font-family:sans-serif;margin:24px;max-width:1400px}"
@@ -402,11 +407,11 @@ void writeFitReport(OutputSet& set, const std::string& prefix, const fs::path& d
       "td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}"
       "th{background:#f3f3f3}img{margin:4px;border:1px solid #eee}</style></head><body>\n"
       "<h1>gtbake fit: multi-bounce Eq. 10</h1>\n<p>Sweep <code>" +
-      relativePath(a.data.dir, dir) + "</code>: " + std::to_string(a.data.scenes.size()) +
-      " scenes (" + scenes + "), " + std::to_string(a.data.points()) + " points, " +
-      std::to_string(a.data.spp) + " spp, " + std::to_string(a.data.bounces) +
-      " bounces. Weighting " + weightingName(s.weighting) + ", open surface " +
-      (s.constrain_open ? "constrained" : "free") + ", EIV correction " +
+      escapeHtml(relativePath(a.data.dir, dir)) +
+      "</code>: " + std::to_string(a.data.scenes.size()) + " scenes (" + scenes + "), " +
+      std::to_string(a.data.points()) + " points, " + std::to_string(a.data.spp) + " spp, " +
+      std::to_string(a.data.bounces) + " bounces. Weighting " + weightingName(s.weighting) +
+      ", open surface " + (s.constrain_open ? "constrained" : "free") + ", EIV correction " +
       (s.eiv_correction ? "on" : "off") + ". gtbake " + GTBAKE_VERSION +
       ". G = a(&rho;)A&sup3; &minus; b(&rho;)A&sup2; + c(&rho;)A.</p>\n" + headline(a) +
       coefficientTables(a, shipped) + alternativeTables(a) + errorTables(a) +

@@ -29,8 +29,9 @@ namespace {
 // wrong albedo without flagging rounding).
 constexpr double kAlbedoConsistencyTolerance = 1e-4;
 
-int requirePositiveInt(const json& object, const char* key, const std::string& where) {
-  return static_cast<int>(jsonInteger(object, key, 1, INT_MAX, where));
+// An image side as sweep.json records it: at most what `gtbake sweep --res` accepts.
+int requireImageSide(const json& object, const char* key, const std::string& where) {
+  return static_cast<int>(jsonInteger(object, key, 1, kMaxImageSide, where));
 }
 
 std::string requireString(const json& object, const char* key, const std::string& where) {
@@ -88,17 +89,27 @@ SweepJson readSweepJson(const fs::path& dir) {
   }
   const json& settings = doc["settings"];
   out.settings = settings;
-  out.spp = requirePositiveInt(settings, "spp", where + " settings");
-  out.bounces = requirePositiveInt(settings, "bounces", where + " settings");
+  out.spp = static_cast<int>(jsonInteger(settings, "spp", 2, kMaxSweepSpp, where + " settings"));
+  out.bounces =
+      static_cast<int>(jsonInteger(settings, "bounces", 1, kMaxSweepBounces, where + " settings"));
   if (!settings.contains("albedos") || !settings["albedos"].is_array() ||
       settings["albedos"].size() < 2) {
     throw Error(where + ": settings 'albedos' must list at least two albedos");
   }
+  std::set<std::string> channels;
   for (const json& rho : settings["albedos"]) {
     if (!rho.is_number() || !(rho.get<double>() > 0.0 && rho.get<double>() <= 1.0)) {
       throw Error(where + ": every albedo must be a number in (0, 1]");
     }
-    out.albedos.push_back(rho.get<double>());
+    // Each albedo is the value its G### channel names, once (a nudged or repeated list would be
+    // fitted at albedos the sweep never traced; docs/limits.md §Values).
+    const double value = rho.get<double>();
+    if (std::round(value * 100.0) / 100.0 != value ||
+        !channels.insert(albedoChannel(value)).second) {
+      throw Error(where + ": albedos must be distinct hundredths (the G### channels), got " +
+                  settings["albedos"].dump());
+    }
+    out.albedos.push_back(value);
   }
   if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty()) {
     throw Error(where + ": 'scenes' must be a non-empty array");
@@ -165,6 +176,28 @@ struct ScenePoints {
   PointSet half[2];
 };
 
+// The escape probabilities of an unmasked pixel, for the full estimate and both halves: each a
+// finite fraction of walks, A = p_0 and p_k in [0, 1], their sum at most 1 (docs/sweep.md §1;
+// docs/limits.md §Values). kProbabilitySumTolerance allows the float rounding of the sum.
+constexpr double kProbabilitySumTolerance = 1e-5;
+
+void checkProbabilities(const SceneChannels& c, std::size_t i, int width, const std::string& file) {
+  const auto fail = [&](const char* what) {
+    throw Error(file + ": " + what + " in an unmasked pixel (" + std::to_string(i % width) + ", " +
+                std::to_string(i / width) + ")");
+  };
+  for (int s = 0; s < 3; ++s) {
+    double sum = 0.0;
+    for (const auto* channel : c.p[s]) {
+      const float p = (*channel)[i];
+      if (!std::isfinite(p)) fail("non-finite value");
+      if (!(p >= 0.0f && p <= 1.0f)) fail("A or p_k outside [0, 1]");
+      sum += p;
+    }
+    if (sum > 1.0 + kProbabilitySumTolerance) fail("A + sum of p_k above 1");
+  }
+}
+
 void appendUnmaskedPoints(const SceneChannels& c, const ExrImage& image, const std::string& file,
                           const std::vector<double>& albedos, ScenePoints& out) {
   const std::size_t M = albedos.size();
@@ -172,15 +205,7 @@ void appendUnmaskedPoints(const SceneChannels& c, const ExrImage& image, const s
   const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
   for (std::size_t i = 0; i < pixels; ++i) {
     if (!((*c.mask)[i] > 0.5f)) continue;
-    for (int s = 0; s < 3; ++s) {
-      for (const auto* channel : c.p[s]) {
-        if (!std::isfinite((*channel)[i])) {
-          throw Error(file + ": non-finite value in an unmasked pixel (" +
-                      std::to_string(i % image.width) + ", " + std::to_string(i / image.width) +
-                      ")");
-        }
-      }
-    }
+    checkProbabilities(c, i, image.width, file);
     out.full.A.push_back((*c.p[0][0])[i]);
     for (int s = 0; s < 2; ++s) out.half[s].A.push_back((*c.p[s + 1][0])[i]);
     for (std::size_t j = 0; j < M; ++j) {
@@ -217,8 +242,8 @@ ScenePoints loadScene(const fs::path& dir, const json& entry, const SweepJson& s
   const std::string file = exr_path.string();
   const std::string scene_where = where + " scene " + out.name;
   const json& size = entry.contains("width") ? entry : sj.settings;
-  const ExrExpect expect{requirePositiveInt(size, "width", scene_where),
-                         requirePositiveInt(size, "height", scene_where), "sweep.json"};
+  const ExrExpect expect{requireImageSide(size, "width", scene_where),
+                         requireImageSide(size, "height", scene_where), "sweep.json"};
   const ExrImage image = decodeExr(sj.manifest.readVerified(file_name), file, expect);
   std::map<std::string, std::string> provenance = {{"gtbake.spp", std::to_string(sj.spp)},
                                                    {"gtbake.bounces", std::to_string(sj.bounces)}};

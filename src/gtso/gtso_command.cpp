@@ -233,20 +233,33 @@ void writeSlice(OutputSet& output, const std::string& name, const std::vector<fl
   output.add(name, encodePng(w, w, 3, toViridis8(img, 0.f, 1.f)));
 }
 
-// Bounds on a bake's cost (docs/limits.md "Bounded work and memory"). The time estimate
-// scales the measured default bake
-// (size 32, 96 cells: 9.1 s on 2 cores, docs/gtso.md) by size^4 and cells^2, and the memory
-// estimate is three float copies of the 4D table.
-constexpr double kDefaultBakeSeconds = 9.1;
+// Bounds on a run's cost (docs/limits.md "Bounded work and memory"), in seconds of one core, each
+// term measured and scaled by cells^2 (96 cells = 1): the bake (8.8 s at size 32, scaled by
+// size^4 and the reference factor), the end-to-end error (0.012 s per lobe and seed at size 4,
+// the costliest size per lobe), the closed-form fit (0.0025 s per training lobe) and the texel
+// check (7 s at size 4).
+// The memory estimate is three float copies of the 4D table.
+constexpr double kDefaultBakeSeconds = 8.8;
+constexpr double kErrorLobeSeconds = 0.012;
+constexpr double kClosedFormLobeSeconds = 0.0025;
+constexpr double kFixedSeconds = 7.0;
 inline constexpr Limit kMaxGtsoSeconds{"GTBAKE_MAX_GTSO_SECONDS", 3600, "estimated seconds"};
 inline constexpr Limit kMaxGtsoBytes{"GTBAKE_MAX_GTSO_BYTES", 8'000'000'000, "estimated bytes"};
 
-void checkGtsoCost(int size, int cells, int reference_factor) {
-  const double scale = std::pow(size / 32.0, 4) * std::pow(cells / 96.0, 2) *
-                       (1.0 + reference_factor * reference_factor);
-  const std::string what =
-      "gtso --size " + std::to_string(size) + " with " + std::to_string(cells) + " cells per lobe";
-  checkLimit(kMaxGtsoSeconds, static_cast<std::uint64_t>(kDefaultBakeSeconds * scale), what);
+void checkGtsoCost(const GtsoOptions& o, int cells) {
+  const int size = o.size;
+  const double c2 = std::pow(cells / 96.0, 2);
+  const int closed_form_lobes =
+      o.closed_form_lobes != 0 ? o.closed_form_lobes : gtso::kClosedFormTrainLobes;
+  const double seconds = c2 * (kDefaultBakeSeconds * std::pow(size / 32.0, 4) *
+                                   (1.0 + o.reference_factor * o.reference_factor) +
+                               kErrorLobeSeconds * o.error_lobes * o.error_seeds +
+                               kClosedFormLobeSeconds * closed_form_lobes + kFixedSeconds);
+  const std::string what = "gtso --size " + std::to_string(size) + " with " +
+                           std::to_string(cells) + " cells per lobe and " +
+                           std::to_string(o.error_lobes) + " x " + std::to_string(o.error_seeds) +
+                           " error lobes";
+  checkLimit(kMaxGtsoSeconds, static_cast<std::uint64_t>(seconds), what);
   checkLimit(kMaxGtsoBytes, 12ull * size * size * size * size, what);
 }
 
@@ -285,7 +298,7 @@ Json tableJson(const Table& t, const std::string& file, int cells, int reference
 GtsoResult runGtso(const GtsoOptions& options) {
   validateOptions(options);
   const int cells = options.lobe_cells == 0 ? gtso::kDefaultLobeCells : options.lobe_cells;
-  checkGtsoCost(options.size, cells, options.reference_factor);
+  checkGtsoCost(options, cells);
   OutputSet output(options.out, "gtso");  // committed whole at the end (output_set.h)
   const ThreadLimit limit(options.threads);
   const auto start = std::chrono::steady_clock::now();

@@ -2,10 +2,12 @@
 #include "scene/gltf_loading.h"
 
 #include <algorithm>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
 #include "common/input_limits.h"
+#include "common/sha256.h"
 
 namespace gtbake {
 namespace {
@@ -26,41 +28,93 @@ std::string oneLine(std::string text) {
 }
 
 // File access for tinygltf: external files only below the glTF's own directory (unless
-// allowed), regular files only, never the current directory (tinygltf tries "./uri" last).
+// allowed), regular files only, never the current directory (tinygltf tries "./uri" last), and
+// only the buffers: images never matter to occlusion, so they are never opened (a huge or
+// unreadable texture cannot fail a sweep). Every file read is recorded for the scene's hash.
+struct ExternalBuffer {
+  std::string uri;         // as written in the glTF
+  std::uint64_t size = 0;  // its byteLength: a larger file is refused before it is read
+};
 struct FileAccess {
-  std::filesystem::path base;  // canonical directory of the glTF
+  fs::path base;  // canonical directory of the glTF
   bool allow_outside = false;
+  std::map<std::string, ExternalBuffer> buffers;  // by resolved path (base / decoded uri)
+  std::string record;  // one line per file read, hashed into the scene's input_sha256
 };
 
-bool fileExists(const std::string& path, void* user) {
-  namespace fs = std::filesystem;
-  const auto* access = static_cast<const FileAccess*>(user);
-  const fs::path p(path);
-  if (!p.is_absolute()) return false;  // the cwd fallback
-  std::error_code ec;
-  const fs::path resolved = fs::weakly_canonical(p, ec);
-  if (ec) return false;
-  if (!access->allow_outside) {
-    const fs::path relative = resolved.lexically_relative(access->base);
-    if (relative.empty() || *relative.begin() == "..") return false;
-  }
-  return fs::exists(resolved, ec);
+// tinygltf's own uri decoding (dlib::urldecode) also turns '+' into a space, which RFC 3986 does
+// not; expandFilePath maps what it produces back to the file percentDecode names.
+std::string tinygltfDecode(const std::string& uri) {
+  std::string plus_as_space = uri;
+  std::replace(plus_as_space.begin(), plus_as_space.end(), '+', ' ');
+  return percentDecode(plus_as_space);
 }
 
-std::string expandFilePath(const std::string& path, void*) {
+std::string expandFilePath(const std::string& path, void* user) {
+  const auto* access = static_cast<const FileAccess*>(user);
+  std::string prefix = access->base.string();  // as tinygltf's JoinPath joins it
+  if (prefix.empty() || prefix.back() != '/') prefix += '/';
+  if (path.rfind(prefix, 0) != 0) return path;
+  const std::string tail = path.substr(prefix.size());
+  for (const auto& [resolved, buffer] : access->buffers) {
+    if (tinygltfDecode(buffer.uri) == tail) return resolved;
+  }
   return path;
 }
 
+// The buffer the resolved `path` names, or nullptr (an image, the cwd fallback).
+const ExternalBuffer* knownBuffer(const std::string& path, const FileAccess& access) {
+  const auto it = access.buffers.find(path);
+  return it == access.buffers.end() ? nullptr : &it->second;
+}
+
+bool fileExists(const std::string& path, void* user) {
+  std::error_code ec;
+  return knownBuffer(path, *static_cast<const FileAccess*>(user)) != nullptr &&
+         fs::exists(fs::path(path), ec);
+}
+
+// Reads a buffer: inside the glTF's directory also after symbolic links (unless allowed), a
+// regular file of at most its byteLength; recorded for the scene's hash.
 bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
-                   void*) {
+                   void* user) {
+  auto* access = static_cast<FileAccess*>(user);
   try {
-    const std::string bytes = readRegularFile(path);
+    const ExternalBuffer* buffer = knownBuffer(path, *access);
+    if (buffer == nullptr) throw Error(path + " is not one of the glTF's buffers");
+    std::error_code ec;
+    const fs::path resolved = fs::weakly_canonical(fs::path(path), ec);
+    const fs::path relative = resolved.lexically_relative(access->base);
+    if (!access->allow_outside && (ec || relative.empty() || *relative.begin() == "..")) {
+      throw Error("buffer uri '" + buffer->uri + "' leaves the glTF's directory (through a " +
+                  "symbolic link)");
+    }
+    const std::string bytes = readRegularFile(path, buffer->size);
+    access->record +=
+        buffer->uri + " " + std::to_string(bytes.size()) + " " + sha256Hex(bytes) + "\n";
     out->assign(bytes.begin(), bytes.end());
     return true;
   } catch (const Error& e) {
     if (err) *err = e.what();
     return false;
   }
+}
+
+// The glTF's external buffers (not data: uris), resolved against `base`.
+std::map<std::string, ExternalBuffer> externalBuffers(const nlohmann::json& doc,
+                                                      const fs::path& base) {
+  std::map<std::string, ExternalBuffer> buffers;
+  if (!doc.is_object() || !doc.contains("buffers") || !doc["buffers"].is_array()) return buffers;
+  for (const nlohmann::json& b : doc["buffers"]) {
+    if (!b.is_object() || !b.contains("uri") || !b["uri"].is_string()) continue;
+    ExternalBuffer buffer;
+    buffer.uri = b["uri"].get<std::string>();
+    if (buffer.uri.rfind("data:", 0) == 0) continue;
+    const auto& length = b.contains("byteLength") ? b["byteLength"] : nlohmann::json();
+    buffer.size = length.is_number_unsigned() ? length.get<std::uint64_t>() : 0;
+    buffers.emplace((base / percentDecode(buffer.uri)).string(), buffer);
+  }
+  return buffers;
 }
 
 bool refuseWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
@@ -109,12 +163,13 @@ std::string_view jsonText(const std::string& bytes, bool binary) {
 
 bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
                const unsigned char*, int, void*) {
-  return true;  // images never matter to occlusion
+  return true;  // images never matter to occlusion (embedded ones are not decoded either)
 }
 
 }  // namespace
 
-tinygltf::Model loadGltfModel(const std::filesystem::path& path, bool allow_outside) {
+tinygltf::Model loadGltfModel(const std::filesystem::path& path, bool allow_outside,
+                              std::string* input_sha256) {
   const std::string where = path.string() + ": ";
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) {
@@ -123,8 +178,7 @@ tinygltf::Model loadGltfModel(const std::filesystem::path& path, bool allow_outs
   const std::string bytes = readRegularFile(path);
   const bool binary = path.extension() == ".glb";
   if (binary && bytes.size() > 0xFFFFFFFFu) throw Error(where + "a .glb is limited to 4 GB");
-  const auto max_depth =
-      static_cast<int>(std::min<std::uint64_t>(limitValue(kMaxJsonDepth), 1 << 20));
+  const auto max_depth = static_cast<int>(limitValue(kMaxJsonDepth));
   const std::string_view json_text = jsonText(bytes, binary);
   if (jsonNestingDepth(json_text, max_depth) > max_depth) {
     throw Error(where + "JSON nested deeper than " + std::to_string(max_depth) + " levels (set " +
@@ -151,6 +205,9 @@ tinygltf::Model loadGltfModel(const std::filesystem::path& path, bool allow_outs
   FileAccess access;
   access.base = fs::weakly_canonical(fs::absolute(path).parent_path(), ec);
   access.allow_outside = allow_outside;
+  access.buffers = externalBuffers(doc, access.base);
+  access.record =
+      path.filename().string() + " " + std::to_string(bytes.size()) + " " + sha256Hex(bytes) + "\n";
   tinygltf::FsCallbacks callbacks{};
   callbacks.FileExists = &fileExists;
   callbacks.ExpandFilePath = &expandFilePath;
@@ -178,6 +235,7 @@ tinygltf::Model loadGltfModel(const std::filesystem::path& path, bool allow_outs
       throw Error(where + "unsupported extension " + extension + " (required by the file)");
     }
   }
+  if (input_sha256 != nullptr) *input_sha256 = sha256Hex(access.record);
   return model;
 }
 

@@ -382,7 +382,8 @@ void useChosenCamera(const tinygltf::Model& model, Reader& reader, const std::st
 Scene readGltfScene(const std::filesystem::path& path, const GltfReadOptions& options,
                     GltfReadInfo* info) {
   const std::string where = path.string() + ": ";
-  const tinygltf::Model model = loadGltfModel(path, options.allow_outside);
+  std::string input_sha256;
+  const tinygltf::Model model = loadGltfModel(path, options.allow_outside, &input_sha256);
   if (model.scenes.empty()) throw Error(where + "has no scene");
   const int scene_index = model.defaultScene >= 0 ? model.defaultScene : 0;
   if (scene_index >= static_cast<int>(model.scenes.size())) {
@@ -412,6 +413,7 @@ Scene readGltfScene(const std::filesystem::path& path, const GltfReadOptions& op
     throw Error(where + e.what());
   }
   if (scene.triangles.empty()) throw Error(where + "has no triangles in its scene");
+  if (info != nullptr) info->input_sha256 = input_sha256;
   return scene;
 }
 Scene readGltfScene(const std::filesystem::path& path) {

@@ -28,6 +28,9 @@ struct GltfReadInfo {
   int perspective_cameras = 0;  // perspective camera instances met in the walk
   int camera_instance = -1;     // index (walk order) of the one used
   std::string camera_name;      // its camera name, or its node name if the camera has none
+  // SHA-256 of the bytes the scene was read from: the glTF and every external buffer the loader
+  // opened (gltf_loading.h); a sweep's identity key includes it (docs/limits.md §Paths).
+  std::string input_sha256;
 };
 
 Scene readGltfScene(const std::filesystem::path& path, const GltfReadOptions& options,

@@ -5,6 +5,7 @@
 
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/input_limits.h"
 #include "common/output_set.h"
 #include "sweep/camera_json.h"
 
@@ -24,6 +25,23 @@ const std::vector<float>& need(const std::map<std::string, std::vector<float>>& 
   return it->second;
 }
 
+// The ray-traced truth as read, checked at every unmasked pixel (docs/limits.md §Values): A and
+// every A_R in [0, 1], the bent normal finite.
+void checkTruth(const SweepImage& image, const std::string& file) {
+  const GBuffer& g = image.gbuffer;
+  const auto unit = [](float v) { return v >= 0.0f && v <= 1.0f; };
+  for (std::size_t p = 0; p < g.pixels(); ++p) {
+    if (g.mask[p] == 0) continue;
+    bool ok = unit(image.truth.a[p]);
+    for (const auto& [name, values] : image.truth.a_at_radius) ok = ok && unit(values[p]);
+    for (int c = 0; c < 3; ++c) ok = ok && std::isfinite(image.truth.bent[3 * p + c]);
+    if (!ok) {
+      throw Error(file + ": A or A_R outside [0, 1], or a non-finite BN, at pixel (" +
+                  std::to_string(p % g.width) + ", " + std::to_string(p / g.width) + ")");
+    }
+  }
+}
+
 SweepImage readImage(const OutputManifest& files, const nlohmann::json& entry,
                      const std::string& where) {
   SweepImage image;
@@ -31,8 +49,8 @@ SweepImage readImage(const OutputManifest& files, const nlohmann::json& entry,
     image.name = entry.at("name").get<std::string>();
     image.group = entry.contains("scene") ? entry.at("scene").get<std::string>() : image.name;
     const std::string file = entry.at("file").get<std::string>();
-    const int width = entry.at("width").get<int>();
-    const int height = entry.at("height").get<int>();
+    const int width = static_cast<int>(jsonInteger(entry, "width", 1, kMaxImageSide, where));
+    const int height = static_cast<int>(jsonInteger(entry, "height", 1, kMaxImageSide, where));
     if (!entry.contains("camera")) {
       throw Error(where + " entry " + image.name +
                   " has no camera (sweep it again with this gtbake)");
@@ -52,6 +70,7 @@ SweepImage readImage(const OutputManifest& files, const nlohmann::json& entry,
     for (const auto& [name, values] : exr.channels) {
       if (name.rfind("A_R", 0) == 0) image.truth.a_at_radius[name] = values;
     }
+    checkTruth(image, file);
   } catch (const nlohmann::json::exception& e) {
     throw Error(where + ": malformed scenes[] entry (" + e.what() + ")");
   }
@@ -146,12 +165,7 @@ GBuffer gbufferFromChannels(int width, int height, const PerspectiveCamera& came
 SweepImages readSweepImages(const std::filesystem::path& dir) {
   const OutputManifest files = readOutputSet(dir, "sweep");
   const std::string where = (dir / "sweep.json").string();
-  nlohmann::json json;
-  try {
-    json = nlohmann::json::parse(files.readVerified("sweep.json"));
-  } catch (const nlohmann::json::exception&) {
-    throw Error(where + " is not valid JSON");
-  }
+  const nlohmann::json json = parseJsonText(files.readVerified("sweep.json"), where);
   SweepImages result;
   result.sweep_version = json.value("gtbake_version", std::string());
   if (!json.contains("scenes") || !json["scenes"].is_array() || json["scenes"].empty()) {

@@ -11,6 +11,7 @@
 #include "common/output_lock.h"
 #include "common/output_set.h"
 #include "common/progress.h"
+#include "common/text_escape.h"
 #include "common/threads.h"
 #include "gtbake_version.h"
 #include "screen_ao/gbuffer.h"
@@ -106,7 +107,7 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
   for (const SweepImage& image : sweep.images) {
     json["images"].push_back({{"name", image.name},
                               {"scene", image.group},
-                              {"file", image.name + ".exr"},
+                              {"file", fileSlug(image.name) + ".exr"},
                               {"width", image.gbuffer.width},
                               {"height", image.gbuffer.height}});
   }
@@ -130,7 +131,7 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
     exrs[k] = screenAoExr(sweep.images[k], o.estimators, per_image);
   });
   for (std::size_t k = 0; k < sweep.images.size(); ++k) {
-    output.add(sweep.images[k].name + ".exr", exrs[k]);
+    output.add(fileSlug(sweep.images[k].name) + ".exr", exrs[k]);
   }
   stageReport(&output, sweep.images, runs, estimates);
   result.seconds = secondsSince(start);

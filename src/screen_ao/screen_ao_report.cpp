@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "common/image_io.h"
+#include "common/text_escape.h"
 
 namespace gtbake {
 
@@ -23,9 +24,9 @@ std::string summaryTable(const std::vector<EstimatorRun>& runs) {
       "<th>RMSE at R</th><th>b&#770; mean&deg;</th><th>b&#770; p95&deg;</th></tr>\n";
   for (const EstimatorRun& run : runs) {
     const ErrorSummary& e = run.errors.back().all;
-    html += "<tr><td>" + run.name + "</td><td>" + cell(e.bias) + "</td><td>" + cell(e.rmse) +
-            "</td><td>" + (e.pixels_at_radius ? cell(e.bias_at_radius) : "-") + "</td><td>" +
-            (e.pixels_at_radius ? cell(e.rmse_at_radius) : "-") + "</td><td>" +
+    html += "<tr><td>" + escapeHtml(run.name) + "</td><td>" + cell(e.bias) + "</td><td>" +
+            cell(e.rmse) + "</td><td>" + (e.pixels_at_radius ? cell(e.bias_at_radius) : "-") +
+            "</td><td>" + (e.pixels_at_radius ? cell(e.rmse_at_radius) : "-") + "</td><td>" +
             cell(e.bent_mean_deg) + "</td><td>" + cell(e.bent_p95_deg) + "</td></tr>\n";
   }
   return html + "</table>\n";
@@ -78,23 +79,25 @@ void stageReport(OutputSet* output, const std::vector<SweepImage>& images,
   for (std::size_t k = 0; k < images.size(); ++k) {
     const SweepImage& image = images[k];
     const GBuffer& g = image.gbuffer;
-    const std::string a_png = image.name + "_A.png";
+    const std::string slug = fileSlug(image.name);  // docs/limits.md §Names in outputs
+    const std::string a_png = slug + "_A.png";
     output->add(a_png, encodePng(g.width, g.height, 1, toGray8(image.truth.a, 0.0f, 1.0f)));
-    html += "<h2>" + image.name + "</h2>\n<div><figure><img src=\"" + a_png +
-            "\"><figcaption>ray-traced A</figcaption></figure>";
+    html += "<h2>" + escapeHtml(image.name) + "</h2>\n<div><figure><img src=\"" +
+            escapeHtml(a_png) + "\"><figcaption>ray-traced A</figcaption></figure>";
     for (std::size_t e = 0; e < runs.size(); ++e) {
       const std::vector<float>& a = estimates[e][k].a;
       std::vector<float> diff(a.size(), 0.0f);
       for (std::size_t p = 0; p < a.size(); ++p) {
         if (g.mask[p] != 0) diff[p] = a[p] - image.truth.a[p];
       }
-      const std::string png = image.name + "_" + runs[e].name + ".png";
-      const std::string diff_png = image.name + "_" + runs[e].name + "_diff.png";
+      const std::string png = slug + "_" + fileSlug(runs[e].name) + ".png";
+      const std::string diff_png = slug + "_" + fileSlug(runs[e].name) + "_diff.png";
       output->add(png, encodePng(g.width, g.height, 1, toGray8(a, 0.0f, 1.0f)));
       output->add(diff_png, encodePng(g.width, g.height, 3, divergingRgb8(diff, kDiffRange)));
-      html += "<figure><img src=\"" + png + "\"><figcaption>" + runs[e].name +
-              "</figcaption></figure><figure><img src=\"" + diff_png + "\"><figcaption>" +
-              runs[e].name + " &minus; A</figcaption></figure>";
+      const std::string run = escapeHtml(runs[e].name);
+      html += "<figure><img src=\"" + escapeHtml(png) + "\"><figcaption>" + run +
+              "</figcaption></figure><figure><img src=\"" + escapeHtml(diff_png) +
+              "\"><figcaption>" + run + " &minus; A</figcaption></figure>";
     }
     html += "</div>\n";
   }

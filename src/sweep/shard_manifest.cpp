@@ -1,6 +1,10 @@
 #include "sweep/shard_manifest.h"
 
+#include <algorithm>
+
+#include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/input_limits.h"
 
 namespace gtbake {
 
@@ -61,6 +65,34 @@ void removeShardManifest(const fs::path& dir) {
   fs::remove(dir / "shard.json", ec);
 }
 
+namespace {
+
+// The scenes of shard.json: names, scene hashes and cameras as written (`ordered`), counts and
+// times range-checked (`plain`, the same text).
+void readShardScenes(const nlohmann::ordered_json& ordered, const nlohmann::json& plain,
+                     const std::string& at, ShardManifest* m) {
+  SweepIdentity& id = m->identity;
+  if (ordered.size() > static_cast<std::size_t>(kMaxSweepViews)) {
+    throw Error(at + ": more than " + std::to_string(kMaxSweepViews) + " scenes");
+  }
+  for (std::size_t k = 0; k < ordered.size(); ++k) {
+    const auto& s = ordered.at(k);
+    const nlohmann::json& p = plain.at(k);
+    id.scenes.push_back(s.at("name").get<std::string>());
+    id.view_scene.push_back(s.at("scene").get<std::string>());
+    id.view_type.push_back(s.at("type").get<std::string>());
+    id.scene_sha256.push_back(s.at("sha256").get<std::string>());
+    id.scene_triangles.push_back(static_cast<std::uint64_t>(
+        jsonInteger(p, "triangles", 1, static_cast<std::int64_t>(limitValue(kMaxTriangles)), at)));
+    id.scene_cameras.push_back(s.at("camera"));
+    m->runs.push_back({fs::path(s.at("gltf").get<std::string>()),
+                       jsonNumber(p, "build_seconds", 0.0, kMaxRecordedSeconds, at),
+                       jsonNumber(p, "trace_seconds", 0.0, kMaxRecordedSeconds, at)});
+  }
+}
+
+}  // namespace
+
 ShardManifest readShardManifest(const fs::path& dir) {
   std::error_code ec;
   if (!fs::is_regular_file(dir / manifestFileName(kShardSet), ec)) {
@@ -71,9 +103,13 @@ ShardManifest readShardManifest(const fs::path& dir) {
   const std::string where = "corrupt shard " + dir.string() + ": ";
   ShardManifest m;
   m.files = readOutputSet(dir, kShardSet);
+  const std::string text = m.files.readVerified("shard.json");
+  // Every number is range-checked where it is read (docs/limits.md §Values); the settings and
+  // cameras are kept in their written order, which the key hashes.
+  const nlohmann::json plain = parseJsonText(text, (dir / "shard.json").string());
+  const std::string at = where + "shard.json";
   try {
-    const nlohmann::ordered_json j =
-        nlohmann::ordered_json::parse(m.files.readVerified("shard.json"));
+    const nlohmann::ordered_json j = nlohmann::ordered_json::parse(text);
     if (j.at("format").get<std::string>() != kFormat) {
       throw Error(where + "shard.json is not a " + std::string(kFormat) + " record");
     }
@@ -82,34 +118,28 @@ ShardManifest readShardManifest(const fs::path& dir) {
     id.key = j.at("key").get<std::string>();
     id.settings = j.at("settings");
     id.attributes = j.at("attributes").get<std::map<std::string, std::string>>();
-    id.width = j.at("width").get<int>();
-    id.height = j.at("height").get<int>();
+    id.width = static_cast<int>(jsonInteger(plain, "width", 1, kMaxImageSide, at));
+    id.height = static_cast<int>(jsonInteger(plain, "height", 1, kMaxImageSide, at));
     id.camera = j.at("camera").get<std::string>();
-    if (j.at("tile_side").get<int>() != kTileSide) {
+    if (jsonInteger(plain, "tile_side", 1, kMaxImageSide, at) != kTileSide) {
       throw Error(where + "cut into tiles of another size (by another gtbake version)");
     }
-    for (const auto& s : j.at("scenes")) {
-      id.scenes.push_back(s.at("name").get<std::string>());
-      id.view_scene.push_back(s.at("scene").get<std::string>());
-      id.view_type.push_back(s.at("type").get<std::string>());
-      id.scene_sha256.push_back(s.at("sha256").get<std::string>());
-      id.scene_triangles.push_back(s.at("triangles").get<std::uint64_t>());
-      id.scene_cameras.push_back(s.at("camera"));
-      m.runs.push_back({fs::path(s.at("gltf").get<std::string>()),
-                        s.at("build_seconds").get<double>(), s.at("trace_seconds").get<double>()});
-    }
-    m.shard = j.at("shard").get<int>();
-    m.shards = j.at("shards").get<int>();
+    readShardScenes(j.at("scenes"), plain.at("scenes"), at, &m);
+    m.shards = static_cast<int>(jsonInteger(plain, "shards", 1, kMaxSweepShards, at));
+    m.shard = static_cast<int>(jsonInteger(plain, "shard", 0, m.shards - 1, at));
     m.tiles = j.at("tiles").get<std::vector<int>>();
-    m.threads = j.at("threads").get<int>();
-    m.seconds = j.at("seconds").get<double>();
+    if (!std::is_sorted(m.tiles.begin(), m.tiles.end()) ||
+        std::adjacent_find(m.tiles.begin(), m.tiles.end()) != m.tiles.end()) {
+      throw Error(where + "its tile list is not ascending without repeats");
+    }
+    m.threads = static_cast<int>(jsonInteger(plain, "threads", 0, 1 << 16, at));
+    m.seconds = jsonNumber(plain, "seconds", 0.0, kMaxRecordedSeconds, at);
   } catch (const nlohmann::json::exception& e) {
     throw Error(where + "malformed shard.json (" + e.what() + ")");
   }
   SweepIdentity check = m.identity;
   sealIdentity(&check);
   if (check.key != m.identity.key) throw Error(where + "its key does not match its settings");
-  if (m.shards < 1 || m.shard < 0 || m.shard >= m.shards) throw Error(where + "bad shard index");
   return m;
 }
 

@@ -25,6 +25,7 @@
 #include "common/error.h"
 #include "common/output_lock.h"
 #include "common/progress.h"
+#include "common/text_escape.h"
 #include "common/text_format.h"
 #include "common/threads.h"
 #include "gtbake_version.h"
@@ -44,8 +45,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int kMaxSpp = 1 << 20;  // keeps counts in uint32 and a pixel's walks < 1 s
-constexpr int kMaxBounces = 16;   // ρ^17 ≤ 0.9^17 ≈ 0.17 of p_17: beyond that nobody asks
+constexpr int kMaxSpp = kMaxSweepSpp;  // common/input_limits.h
+constexpr int kMaxBounces = kMaxSweepBounces;
 
 bool isGltf(const fs::path& path) {
   const std::string ext = path.extension().string();
@@ -117,6 +118,7 @@ std::vector<fs::path> resolveSceneFiles(const std::vector<fs::path>& inputs) {
   }
   std::set<std::string> names;
   for (const fs::path& f : files) {
+    requireUtf8(f.string(), "a scene path");  // sweep.json records it (docs/limits.md §Paths)
     if (!names.insert(f.stem().string()).second) {
       throw Error("two scenes are named '" + f.stem().string() + "' (" + f.string() +
                   "); outputs are named by file stem");
@@ -140,7 +142,8 @@ struct SweepView {
 
 struct SweepInputs {
   std::vector<fs::path> files;
-  std::vector<Scene> scenes;  // per file; name = the stem, type as read ("" = none)
+  std::vector<Scene> scenes;        // per file; name = the stem, type as read ("" = none)
+  std::vector<std::string> sha256;  // per file: GltfReadInfo::input_sha256
   std::vector<SweepView> views;
 };
 
@@ -158,6 +161,7 @@ SweepInputs loadScenes(const std::vector<fs::path>& files, const SweepOptions& o
     read.camera = auto_views > 0 ? "" : o.camera;
     read.allow_no_camera = true;
     in.scenes.push_back(readGltfScene(file, read, &info));
+    in.sha256.push_back(info.input_sha256);
     Scene& scene = in.scenes.back();
     scene.name = file.stem().string();
     if (scene.triangles.empty()) throw Error("scene " + file.string() + " has no triangles");
@@ -227,14 +231,12 @@ SweepIdentity describeSweep(const SweepOptions& o, const SweepInputs& in) {
       {"gtbake.specular_roughness", specularRoughnessList(o.specular_roughness)},
       {"gtbake.specular_spp", std::to_string(o.specular_roughness.empty() ? 0 : o.specular_spp)},
       {"gtbake.gbuffer_radii", gbufferRadiusList(o.gbuffer_radii)}};
-  std::vector<std::string> sha256;
-  for (const fs::path& file : in.files) sha256.push_back(sceneSha256(file));
   for (const SweepView& v : in.views) {
     const Scene& scene = in.scenes[v.scene];
     id.scenes.push_back(v.name);
     id.view_scene.push_back(scene.name);
     id.view_type.push_back(scene.type.empty() ? scene.name : scene.type);
-    id.scene_sha256.push_back(sha256[v.scene]);
+    id.scene_sha256.push_back(in.sha256[v.scene]);
     id.scene_triangles.push_back(scene.triangles.size());
     id.scene_cameras.push_back(cameraJson(v.camera));
   }

@@ -10,12 +10,13 @@
 #include <vector>
 
 #include "common/error.h"
+#include "common/input_limits.h"
 
 namespace gtbake {
 
-// Pixels per side of a sweep image: 8192² × 2(K+1) counts and the channels fit in memory, and
-// beyond it a sweep would take days.
-inline constexpr int kMaxSweepResolution = 8192;
+// Pixels per side of a sweep image (common/input_limits.h): 8192² × 2(K+1) counts and the
+// channels fit in memory, and beyond it a sweep would take days.
+inline constexpr int kMaxSweepResolution = kMaxImageSide;
 
 struct SweepOptions {
   // .gltf files, or directories whose *.gltf files are all taken (sorted by name).
@@ -85,7 +86,7 @@ class SweepInterrupted : public Error {
 // are checkpointed in <out>/sweep-tiles as they finish (removed once the outputs are written); a
 // sweep stopped by a signal or killed resumes from them. Sharded: writes <out>/sweep-tiles and
 // <out>/shard.json instead (result.scenes is then empty).
-inline constexpr int kMaxShards = 1 << 16;  // far more than tiles a useful sweep has per shard
+inline constexpr int kMaxShards = kMaxSweepShards;  // common/input_limits.h
 
 SweepResult runSweep(const SweepOptions& options);
 

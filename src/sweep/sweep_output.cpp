@@ -8,6 +8,7 @@
 #include "common/image_io.h"
 #include "common/output_set.h"
 #include "common/sha256.h"
+#include "common/text_escape.h"
 
 namespace gtbake {
 
@@ -88,24 +89,6 @@ void sealIdentity(SweepIdentity* identity) {
   identity->key = sha256Hex(j.dump());
 }
 
-std::string sceneSha256(const fs::path& gltf) {
-  std::string bytes = readFile(gltf);
-  if (gltf.extension() == ".gltf") {
-    nlohmann::json document;
-    try {
-      document = nlohmann::json::parse(bytes);
-    } catch (const nlohmann::json::exception&) {
-      throw Error("scene " + gltf.string() + " is not valid JSON");
-    }
-    for (const auto& buffer : document.value("buffers", nlohmann::json::array())) {
-      const std::string uri = buffer.value("uri", "");
-      if (uri.empty() || uri.rfind("data:", 0) == 0) continue;
-      bytes += readFile(gltf.parent_path() / uri);
-    }
-  }
-  return sha256Hex(bytes);
-}
-
 SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity,
                               const TilePlan& plan, const std::vector<SceneRun>& runs, int threads,
                               const std::function<TileData(int)>& load) {
@@ -125,12 +108,13 @@ SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity
     const std::string gltf = relativePath(runs[s].gltf, out);
     std::map<std::string, std::string> attributes = identity.attributes;
     attributes["gtbake.scene"] = gltf;
-    const fs::path exr = out / (name + ".exr");
+    const std::string slug = fileSlug(name);  // docs/limits.md §Names in outputs
+    const fs::path exr = out / (slug + ".exr");
     output.add(exr.filename().string(),
                encodeExr(plan.width, plan.height, image.channels, attributes));
     for (const ExrChannel& c : image.channels) {
       if (c.name == "A" || c.name == "G050") {
-        output.add(name + "_" + c.name + ".png",
+        output.add(slug + "_" + c.name + ".png",
                    encodePng(plan.width, plan.height, 1, toGray8(c.pixels, 0.0f, 1.0f)));
       }
     }

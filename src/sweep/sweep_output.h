@@ -27,7 +27,7 @@ struct SweepIdentity {
   std::vector<std::string> scenes;
   std::vector<std::string> view_scene;
   std::vector<std::string> view_type;
-  std::vector<std::string> scene_sha256;              // of each glTF and its buffers
+  std::vector<std::string> scene_sha256;  // GltfReadInfo::input_sha256: the glTF and its buffers
   std::vector<std::uint64_t> scene_triangles;         // triangle count of each scene
   std::vector<nlohmann::ordered_json> scene_cameras;  // cameraJson of each view's camera
   int width = 0;
@@ -38,10 +38,6 @@ struct SweepIdentity {
 
 // Fills `key` from the other fields.
 void sealIdentity(SweepIdentity* identity);
-
-// SHA-256 of a scene's contents: the .gltf/.glb bytes, then each external buffer's bytes in the
-// order of its "buffers" array.
-std::string sceneSha256(const std::filesystem::path& gltf);
 
 // Per scene, what the run that traced it measured (summed over shards by a merge).
 struct SceneRun {

@@ -1,12 +1,15 @@
 #include "sweep/tile_store.h"
 
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <nlohmann/json.hpp>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/input_limits.h"
 #include "common/sha256.h"
+#include "common/text_escape.h"
 
 namespace gtbake {
 
@@ -88,14 +91,22 @@ TileData decodeTile(std::string_view bytes, const std::string& file) {
   std::size_t payload_bytes = 0;
   std::string payload_sha;
   try {
-    const nlohmann::json header = nlohmann::json::parse(bytes.substr(0, eol));
+    // Every number bounded where it is read (docs/limits.md §Values): corners inside a sweep image,
+    // two counts per bounce and pixel.
+    const nlohmann::json header = parseJsonText(bytes.substr(0, eol), file);
     tile.key = header.at("key").get<std::string>();
     tile.scene = header.at("scene").get<std::string>();
-    tile.index = header.at("index").get<int>();
-    const auto rect = header.at("rect").get<std::vector<int>>();
-    if (rect.size() != 4) throw Error(corrupt + "bad rectangle");
-    tile.rect = PixelRect{rect[0], rect[1], rect[2], rect[3]};
-    tile.counts_per_pixel = header.at("counts_per_pixel").get<int>();
+    tile.index = static_cast<int>(jsonInteger(header, "index", 0, INT32_MAX, corrupt + "header"));
+    const nlohmann::json& rect = header.at("rect");
+    if (!rect.is_array() || rect.size() != 4) throw Error(corrupt + "bad rectangle");
+    int corner[4];
+    for (int k = 0; k < 4; ++k) {
+      const nlohmann::json one = {{"rect", rect[k]}};
+      corner[k] = static_cast<int>(jsonInteger(one, "rect", 0, kMaxImageSide, corrupt + "header"));
+    }
+    tile.rect = PixelRect{corner[0], corner[1], corner[2], corner[3]};
+    tile.counts_per_pixel = static_cast<int>(
+        jsonInteger(header, "counts_per_pixel", 0, 2 * (kMaxSweepBounces + 1), corrupt + "header"));
     names = header.at("channels").get<std::vector<std::string>>();
     tile.rays = header.at("rays").get<std::uint64_t>();
     payload_bytes = header.at("payload_bytes").get<std::size_t>();
@@ -122,7 +133,7 @@ TileData decodeTile(std::string_view bytes, const std::string& file) {
 std::string tileFileName(const std::string& scene, int index) {
   char number[16];
   std::snprintf(number, sizeof(number), "%05d", index);
-  return scene + "." + number + ".tile";
+  return fileSlug(scene) + "." + number + ".tile";  // docs/limits.md §Names in outputs
 }
 
 void writeTile(const std::filesystem::path& path, const TileData& tile) {

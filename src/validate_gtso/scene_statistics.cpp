@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "common/text_escape.h"
 #include "fit/scene_jackknife.h"
 #include "sweep/escape_image.h"
 
@@ -107,7 +108,7 @@ std::string sceneStatisticsHtml(const SpecularSweep& sweep, const SceneStatistic
     << s.clusters.size() << " scenes as units (docs/validate_gtso.md &sect;2, &sect;3). Companion "
     << "of <a href=\"validate_gtso.html\">validate_gtso.html</a>.</p>\n<h2>Rankings</h2>\n<ul>\n";
   for (std::size_t j = 0; j < s.ranking.size(); ++j) {
-    o << "<li>r_p " << num("%.2f", sweep.roughness[j]) << ": " << s.ranking[j].statement
+    o << "<li>r_p " << num("%.2f", sweep.roughness[j]) << ": " << escapeHtml(s.ranking[j].statement)
       << "</li>\n";
   }
   o << "</ul>\n<h2>Cone aperture u</h2>\n<table><tr><th>law</th><th>u</th><th>95% scene-level "

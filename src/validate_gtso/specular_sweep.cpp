@@ -1,12 +1,15 @@
 #include "validate_gtso/specular_sweep.h"
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/input_limits.h"
 #include "common/output_set.h"
+#include "common/provenance.h"
 #include "sweep/escape_image.h"
+#include "sweep/specular_occlusion.h"
 
 namespace gtbake {
 
@@ -14,11 +17,110 @@ namespace {
 
 namespace fs = std::filesystem;
 
+constexpr const char* kNoSpecular =
+    "has no specular channels (S010 ...): trace it with gtbake sweep --specular-roughness LIST "
+    "(the default traces 0.1,0.25,0.4,0.6,0.8; 'none' turns them off)";
+
 const std::vector<float>& need(const ExrImage& image, const std::string& name,
                                const std::string& file, const char* hint) {
   const auto it = image.channels.find(name);
   if (it == image.channels.end()) throw Error(file + ": no channel " + name + " " + hint);
   return it->second;
+}
+
+// The values read are checked where they are read, even under a resealed manifest
+// (docs/limits.md §Values): A and every S estimate in [0, 1] at unmasked pixels, vectors finite.
+void checkRanges(const SpecularScene& scene, const std::string& where) {
+  const auto fail = [&](const char* what, std::size_t p) {
+    throw Error(where + ": " + what + " at pixel (" + std::to_string(p % scene.width) + ", " +
+                std::to_string(p / scene.width) + ") (rerun `gtbake sweep`)");
+  };
+  const auto unit = [](float v) { return v >= 0.0f && v <= 1.0f; };
+  for (std::size_t p = 0; p < scene.mask.size(); ++p) {
+    if (scene.mask[p] == 0) continue;
+    if (!unit(scene.A[p])) fail("A outside [0, 1]", p);
+    for (std::size_t j = 0; j < scene.S.size(); ++j) {
+      if (!unit(scene.S[j][p]) || !unit(scene.H0[j][p]) || !unit(scene.H1[j][p])) {
+        fail("an S estimate outside [0, 1]", p);
+      }
+    }
+    for (const std::vector<float>* v : {&scene.normal, &scene.view, &scene.bent}) {
+      for (int c = 0; c < 3; ++c) {
+        if (!std::isfinite((*v)[3 * p + c])) fail("a non-finite N, V or BN vector", p);
+      }
+    }
+  }
+}
+
+SpecularScene readScene(const OutputManifest& set, const nlohmann::json& entry,
+                        const SpecularSweep& sweep, const std::string& json_where) {
+  SpecularScene scene;
+  scene.name = entry.at("name").get<std::string>();
+  for (const char* key : {"scene", "type"}) {
+    if (!entry.contains(key)) continue;
+    if (!entry[key].is_string()) throw Error(json_where + ": " + key + " must be a string");
+    (key[0] == 's' ? scene.cluster : scene.type) = entry[key].get<std::string>();
+  }
+  const std::string file = entry.at("file").get<std::string>();
+  fileInsideDirectory(sweep.dir, file, json_where);
+  ExrExpect expect;
+  expect.width = static_cast<int>(jsonInteger(entry, "width", 1, kMaxImageSide, json_where));
+  expect.height = static_cast<int>(jsonInteger(entry, "height", 1, kMaxImageSide, json_where));
+  expect.source = json_where;
+  const std::string where = (sweep.dir / file).string();
+  const ExrImage image = decodeExr(set.readVerified(file), where, expect);
+  // The roughness list must be the one these channels were traced at, not a nudged copy.
+  checkAttributes(image.attributes,
+                  {{"gtbake.spp", std::to_string(sweep.spp)},
+                   {"gtbake.specular_roughness", specularRoughnessList(sweep.roughness)},
+                   {"gtbake.specular_spp", std::to_string(sweep.specular_spp)}},
+                  where, "sweep.json");
+  scene.width = image.width;
+  scene.height = image.height;
+  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
+  const std::vector<float>& mask = need(image, "mask", where, "(not a gtbake sweep EXR)");
+  scene.mask.resize(pixels);
+  for (std::size_t p = 0; p < pixels; ++p) scene.mask[p] = mask[p] != 0.0f ? 1 : 0;
+  scene.A = need(image, "A", where, "(not a gtbake sweep EXR)");
+  const char* kVectors = "(traced by an older gtbake sweep: rerun it)";
+  for (const char* prefix : {"N", "V", "BN"}) {
+    std::vector<float>& out = prefix[0] == 'N'   ? scene.normal
+                              : prefix[0] == 'V' ? scene.view
+                                                 : scene.bent;
+    out.resize(3 * pixels);
+    int c = 0;
+    for (const char* axis : {"X", "Y", "Z"}) {
+      const std::vector<float>& ch = need(image, prefix + std::string(axis), where, kVectors);
+      for (std::size_t p = 0; p < pixels; ++p) out[3 * p + c] = ch[p];
+      ++c;
+    }
+  }
+  for (double r : sweep.roughness) {
+    const std::string name = specularChannelName(r);
+    if (image.channels.count(name) == 0) throw Error(where + " " + kNoSpecular);
+    scene.S.push_back(need(image, name, where, kNoSpecular));
+    scene.H0.push_back(need(image, "H0." + name, where, kNoSpecular));
+    scene.H1.push_back(need(image, "H1." + name, where, kNoSpecular));
+  }
+  checkRanges(scene, where);
+  return scene;
+}
+
+// sweep.json's settings: spp, the roughness list (values in [0, 1] with distinct channel names,
+// as `gtbake sweep` checks its options) and the VNDF samples.
+void readSettings(const nlohmann::json& settings, const std::string& where, SpecularSweep* sweep) {
+  sweep->spp = static_cast<int>(jsonInteger(settings, "spp", 2, 1 << 20, where));
+  if (!settings.contains("specular_roughness") || !settings["specular_roughness"].is_array() ||
+      settings["specular_roughness"].empty()) {
+    throw Error("sweep " + sweep->dir.string() + " " + kNoSpecular);
+  }
+  sweep->roughness = settings["specular_roughness"].get<std::vector<double>>();
+  sweep->specular_spp = static_cast<int>(jsonInteger(settings, "specular_spp", 2, 1 << 20, where));
+  try {
+    validateSpecularOptions(sweep->roughness, sweep->specular_spp);
+  } catch (const Error& e) {
+    throw Error(where + ": settings do not describe a sweep gtbake could trace (" + e.what() + ")");
+  }
 }
 
 }  // namespace
@@ -30,69 +132,12 @@ SpecularSweep readSpecularSweep(const fs::path& dir) {
   // The sweep is one output set: every file read is verified against its manifest.
   const OutputManifest set = readOutputSet(dir, "sweep");
   const nlohmann::json json = parseJsonText(set.readVerified("sweep.json"), json_path.string());
-  constexpr const char* kNoSpecular =
-      "has no specular channels (S010 ...): trace it with gtbake sweep --specular-roughness LIST "
-      "(the default traces 0.1,0.25,0.4,0.6,0.8; 'none' turns them off)";
   SpecularSweep sweep;
   sweep.dir = dir;
   try {
-    const nlohmann::json& settings = json.at("settings");
-    sweep.spp = static_cast<int>(jsonInteger(settings, "spp", 2, 1 << 20, json_path.string()));
-    if (!settings.contains("specular_roughness") || settings["specular_roughness"].empty()) {
-      throw Error("sweep " + dir.string() + " " + kNoSpecular);
-    }
-    sweep.roughness = settings["specular_roughness"].get<std::vector<double>>();
-    sweep.specular_spp =
-        static_cast<int>(jsonInteger(settings, "specular_spp", 0, 1 << 20, json_path.string()));
+    readSettings(json.at("settings"), json_path.string(), &sweep);
     for (const nlohmann::json& entry : json.at("scenes")) {
-      SpecularScene scene;
-      scene.name = entry.at("name").get<std::string>();
-      if (entry.contains("scene")) {
-        if (!entry["scene"].is_string())
-          throw Error(json_path.string() + ": scene must be a string");
-        scene.cluster = entry["scene"].get<std::string>();
-      }
-      if (entry.contains("type")) {
-        if (!entry["type"].is_string()) throw Error(json_path.string() + ": type must be a string");
-        scene.type = entry["type"].get<std::string>();
-      }
-      const std::string file = entry.at("file").get<std::string>();
-      fileInsideDirectory(dir, file, json_path.string());
-      ExrExpect expect;
-      expect.width = static_cast<int>(jsonInteger(entry, "width", 1, 1 << 16, json_path.string()));
-      expect.height =
-          static_cast<int>(jsonInteger(entry, "height", 1, 1 << 16, json_path.string()));
-      expect.source = json_path.string();
-      const ExrImage image = decodeExr(set.readVerified(file), (dir / file).string(), expect);
-      const std::string where = (dir / file).string();
-      scene.width = image.width;
-      scene.height = image.height;
-      const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
-      const std::vector<float>& mask = need(image, "mask", where, "(not a gtbake sweep EXR)");
-      scene.mask.resize(pixels);
-      for (std::size_t p = 0; p < pixels; ++p) scene.mask[p] = mask[p] != 0.0f ? 1 : 0;
-      scene.A = need(image, "A", where, "(not a gtbake sweep EXR)");
-      const char* kVectors = "(traced by an older gtbake sweep: rerun it)";
-      for (const char* prefix : {"N", "V", "BN"}) {
-        std::vector<float>& out = prefix[0] == 'N'   ? scene.normal
-                                  : prefix[0] == 'V' ? scene.view
-                                                     : scene.bent;
-        out.resize(3 * pixels);
-        int c = 0;
-        for (const char* axis : {"X", "Y", "Z"}) {
-          const std::vector<float>& ch = need(image, prefix + std::string(axis), where, kVectors);
-          for (std::size_t p = 0; p < pixels; ++p) out[3 * p + c] = ch[p];
-          ++c;
-        }
-      }
-      for (double r : sweep.roughness) {
-        const std::string name = specularChannelName(r);
-        if (image.channels.count(name) == 0) throw Error(where + " " + kNoSpecular);
-        scene.S.push_back(need(image, name, where, kNoSpecular));
-        scene.H0.push_back(need(image, "H0." + name, where, kNoSpecular));
-        scene.H1.push_back(need(image, "H1." + name, where, kNoSpecular));
-      }
-      sweep.scenes.push_back(std::move(scene));
+      sweep.scenes.push_back(readScene(set, entry, sweep, json_path.string()));
     }
   } catch (const nlohmann::json::exception& e) {
     throw Error(json_path.string() + ": unexpected layout (" + std::string(e.what()) + ")");

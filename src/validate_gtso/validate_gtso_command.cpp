@@ -18,6 +18,7 @@
 #include "common/image_io.h"
 #include "common/output_lock.h"
 #include "common/output_set.h"
+#include "common/text_escape.h"
 #include "gtbake_version.h"
 #include "sweep/escape_image.h"
 #include "validate_gtso/cone_u_fit.h"
@@ -169,7 +170,7 @@ void writeSceneImages(const SpecularSweep& sweep, const std::vector<SpecularSamp
       const float err = std::abs(panel_values[2] - panel_values[0]);
       put(s.roughness, 4, s.pixel, toViridis8({err}, 0.0f, kErrorMapMax).data());
     }
-    output.add("report/validate_gtso_" + scene.name + ".png",
+    output.add("report/validate_gtso_" + fileSlug(scene.name) + ".png",
                encodePng(kPanels * w, rows * h, 3, rgb));
   }
 }
@@ -253,8 +254,9 @@ void writePage(const SpecularSweep& sweep, const Tables& t, const std::vector<Me
   }
   o << ".</p>\n";
   for (const SpecularScene& scene : sweep.scenes) {
-    o << "<h3>" << scene.name << "</h3><img src=\"validate_gtso_" << scene.name << ".png\" alt=\""
-      << scene.name << "\">\n";
+    const std::string name = escapeHtml(scene.name);
+    o << "<h3>" << name << "</h3><img src=\"validate_gtso_" << escapeHtml(fileSlug(scene.name))
+      << ".png\" alt=\"" << name << "\">\n";
   }
   o << "</body></html>\n";
   output.add("report/validate_gtso.html", o.str());

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstring>
 #include <nlohmann/json.hpp>
 
@@ -55,6 +56,34 @@ const fs::path& sweepDir() {
     return o.out;
   }();
   return dir;
+}
+
+TEST(CliReliability, NonUtf8ArgumentsAreOneLineErrors) {
+  TempDir dir("cli_utf8");
+  expectOneLineError("sweep --scenes " + (dir.path() / "\xff.gltf").string() + " --out " +
+                         (dir.path() / "o").string(),
+                     "argument 3 is not valid UTF-8");
+  EXPECT_FALSE(fs::exists(dir.path() / "o"));
+}
+
+TEST(CliReliability, CostlyGtsoOptionsFailFast) {
+  TempDir dir("cli_gtso_cost");
+  const std::string out = (dir.path() / "g").string();
+  const auto start = std::chrono::steady_clock::now();
+  expectOneLineError("gtso --out " + out + " --lobe-cells 1024 --size 4",
+                     "GTBAKE_MAX_GTSO_SECONDS");
+  expectOneLineError("gtso --out " + out + " --error-lobes 1048576", "GTBAKE_MAX_GTSO_SECONDS");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CliReliability, JsonDepthCannotBeRaisedPastItsCeiling) {
+  TempDir dir("cli_depth");
+  const fs::path sweep = sweepDir();
+  const test::ScopedEnv env("GTBAKE_MAX_JSON_DEPTH", "100000");  // the child inherits it
+  expectOneLineError(
+      "fit --sweep " + sweep.string() + " --out " + (dir.path() / "fit.json").string(),
+      "GTBAKE_MAX_JSON_DEPTH must be at most 1000");
 }
 
 TEST(CliReliability, SeedsOutsideUint64AreErrorsNotWrapped) {
