@@ -10,6 +10,7 @@
 
 #include <vector>
 
+#include "common/progress.h"
 #include "validate_gtso/specular_methods.h"
 
 namespace gtbake {
@@ -33,7 +34,9 @@ struct UFits {
   UFit rp_ge_0_3;  // r_p ≥ 0.3
 };
 
-// Throws gtbake::Error if there is nothing to fit or Ceres fails.
-UFits fitConeU(const std::vector<SpecularSample>& samples, bool perceptual);
+// Throws gtbake::Error if there is nothing to fit or Ceres fails. progress (optional) advances by
+// one per subset fitted.
+UFits fitConeU(const std::vector<SpecularSample>& samples, bool perceptual,
+               Progress* progress = nullptr);
 
 }  // namespace gtbake

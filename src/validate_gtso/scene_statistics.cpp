@@ -148,21 +148,30 @@ std::vector<std::string> sceneClusters(const SpecularSweep& sweep, std::vector<i
 SceneStatistics sceneStatistics(const SpecularSweep& sweep,
                                 const std::vector<SpecularSample>& samples,
                                 const std::vector<std::vector<float>>& values,
-                                const std::vector<Method>& methods) {
+                                const std::vector<Method>& methods, StageParts& parts) {
   SceneStatistics s;
   s.clusters = sceneClusters(sweep, s.cluster_of);
   const std::size_t S = s.clusters.size();
   const std::size_t R = sweep.roughness.size();
-  s.u = analyzeU(coneSseTable(samples, s.cluster_of, S, R));
+  s.u = parts.run("cone SSE table on the log10 u grid", samples.size(), [&](Progress& bar) {
+    return analyzeU(coneSseTable(samples, s.cluster_of, S, R, &bar));
+  });
   std::vector<std::string> names;
   for (Method m : methods) names.push_back(methodName(m));
-  for (std::size_t j = 0; j < R; ++j) {
-    const int jj = static_cast<int>(j);
-    s.ranking.push_back(rankingTest(names,
+  s.ranking = parts.run("scene-level ranking tests", R, [&](Progress& bar) {
+    std::vector<RankingTest> ranking;
+    for (std::size_t j = 0; j < R; ++j) {
+      const int jj = static_cast<int>(j);
+      ranking.push_back(rankingTest(names,
                                     clusterRmse(samples, values, methods, s.cluster_of, S, jj),
                                     pooledRmse(samples, values, methods, jj)));
-  }
-  s.floor = soFloor(samples, s.cluster_of, S, R, values[static_cast<int>(Method::kS4Float)]);
+      bar.add(1);
+    }
+    return ranking;
+  });
+  s.floor = parts.run("SO floor", 1, [&](Progress&) {
+    return soFloor(samples, s.cluster_of, S, R, values[static_cast<int>(Method::kS4Float)]);
+  });
   s.out_of_plane = outOfPlaneOccluded(samples, values[static_cast<int>(Method::kS4Bc4)],
                                       values[static_cast<int>(Method::kS3Bc4)]);
   return s;
