@@ -176,10 +176,10 @@ int main(int argc, char** argv) {
 
   UFits fits[2];
   const Timing fit = timed([&] {
-    fits[0] = fitConeU(samples, false);
-    fits[1] = fitConeU(samples, true);
+    fits[0] = fitConeU(samples, false, &table);
+    fits[1] = fitConeU(samples, true, &table);
   });
-  std::printf("%-34s %9s %9s %9.2f %9.2f\n", "u fit (Ceres, 2 laws x 2 subsets)", "", "", fit.wall,
+  std::printf("%-34s %9s %9s %9.2f %9.2f\n", "u fit (2 laws x 2 subsets)", "", "", fit.wall,
               fit.cpu);
   for (int law = 0; law < 2; ++law) {
     for (const UFit* f : {&fits[law].all, &fits[law].rp_ge_0_3}) {

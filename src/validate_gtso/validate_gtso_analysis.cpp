@@ -75,9 +75,15 @@ Analysis analyse(const ValidateGtsoOptions& options) {
       "reading the tables", 1, [&](Progress&) { return makeTablesLookups(options.luts); });
   a.tables = tables.info;
   a.samples = parts.run("gathering samples", 1, [&](Progress&) { return gatherSamples(a.sweep); });
-  parts.run("u fit (Ceres, 2 laws x 2 subsets)", 4, [&](Progress& bar) {
-    a.spec = fitConeU(a.samples, false, &bar);
-    a.perceptual = fitConeU(a.samples, true, &bar);
+  std::vector<int> cluster_of;
+  const std::size_t clusters = sceneClusters(a.sweep, cluster_of).size();
+  const ConeSseTable table =
+      parts.run("cone SSE table on the log10 u grid", a.samples.size(), [&](Progress& bar) {
+        return coneSseTable(a.samples, cluster_of, clusters, a.sweep.roughness.size(), &bar);
+      });
+  parts.run("u fit (2 laws x 2 subsets)", 4, [&](Progress& bar) {
+    a.spec = fitConeU(a.samples, false, &table, &bar);
+    a.perceptual = fitConeU(a.samples, true, &table, &bar);
     return 0;
   });
   ConeConstants cones;
@@ -93,7 +99,7 @@ Analysis analyse(const ValidateGtsoOptions& options) {
     return tabulate(a.samples, a.values, a.sweep.scenes.size(), a.sweep.roughness.size());
   });
   a.ranking = rank(a.t, a.methods, a.sweep.roughness.size());
-  a.scene_stats = sceneStatistics(a.sweep, a.samples, a.values, a.methods, parts);
+  a.scene_stats = sceneStatistics(a.sweep, a.samples, a.values, a.methods, table, parts);
   a.part_seconds = parts.seconds();
   return a;
 }

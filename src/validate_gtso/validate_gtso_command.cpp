@@ -248,7 +248,8 @@ void addSettingsJson(const ValidateGtsoOptions& options, const fs::path& out, co
   json["u_se"] = u_scene.u_se;
   json["u_fit"] = {{"objective",
                     "least squares of S_cone(u) - path-traced S over every unmasked pixel and "
-                    "roughness r_p > 0 (Ceres, log10 u); rmse_within_5pct: flatness, not a CI"},
+                    "roughness r_p > 0 (log10 u: scan, golden section, parabolas to 1e-5 decades); "
+                    "rmse_within_5pct: flatness, not a CI"},
                    {"alpha",
                     {{"convention", "cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2"},
                      {"all", fitJson(a.spec.all)},
