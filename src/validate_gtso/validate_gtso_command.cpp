@@ -3,6 +3,8 @@
 // print the one-screen summary.
 #include "validate_gtso/validate_gtso_command.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -66,7 +68,14 @@ Json fitJson(const UFit& f) {
 void writeSceneImages(const SpecularSweep& sweep, const std::vector<SpecularSample>& samples,
                       const std::vector<std::vector<float>>& values, OutputSet& output) {
   constexpr int kPanels = 5;
-  for (std::size_t sc = 0; sc < sweep.scenes.size(); ++sc) {
+  // Each scene's samples found in one pass, and the scenes drawn and encoded in parallel (added to
+  // the set in scene order).
+  std::vector<std::vector<std::size_t>> of_scene(sweep.scenes.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    of_scene[static_cast<std::size_t>(samples[i].scene)].push_back(i);
+  }
+  std::vector<std::string> png(sweep.scenes.size());
+  tbb::parallel_for(std::size_t{0}, sweep.scenes.size(), [&](std::size_t sc) {
     const SpecularScene& scene = sweep.scenes[sc];
     const int w = scene.width;
     const int h = scene.height;
@@ -77,9 +86,8 @@ void writeSceneImages(const SpecularSweep& sweep, const std::vector<SpecularSamp
       const std::size_t y = static_cast<std::size_t>(row) * h + p / w;
       std::copy(c, c + 3, &rgb[(y * kPanels * w + x) * 3]);
     };
-    for (std::size_t i = 0; i < samples.size(); ++i) {
+    for (std::size_t i : of_scene[sc]) {
       const SpecularSample& s = samples[i];
-      if (s.scene != static_cast<int>(sc)) continue;
       const float panel_values[4] = {static_cast<float>(s.truth),
                                      values[static_cast<int>(kImageMethods[0])][i],
                                      values[static_cast<int>(kImageMethods[1])][i],
@@ -93,8 +101,10 @@ void writeSceneImages(const SpecularSweep& sweep, const std::vector<SpecularSamp
       const float err = std::abs(panel_values[2] - panel_values[0]);
       put(s.roughness, 4, s.pixel, toViridis8({err}, 0.0f, kErrorMapMax).data());
     }
-    output.add("report/validate_gtso_" + scene.name + ".png",
-               encodePng(kPanels * w, rows * h, 3, rgb));
+    png[sc] = encodePng(kPanels * w, rows * h, 3, rgb);
+  });
+  for (std::size_t sc = 0; sc < sweep.scenes.size(); ++sc) {
+    output.add("report/validate_gtso_" + sweep.scenes[sc].name + ".png", png[sc]);
   }
 }
 
