@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <mutex>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace gtbake {
 
@@ -39,6 +41,32 @@ class Progress {
   std::chrono::steady_clock::time_point last_draw_;
   int last_decile_ = -1;
   std::mutex draw_mutex_;
+};
+
+// The named parts of one stage, each run under its own bar labelled "<stage>: <part>" and timed,
+// so a long stage says where it is and reports where its time went.
+class StageParts {
+ public:
+  StageParts(std::string stage, bool enabled) : stage_(std::move(stage)), enabled_(enabled) {}
+
+  // Runs f(Progress&) under a bar of `total` units and records the part's wall seconds.
+  template <typename F>
+  auto run(const std::string& part, std::uint64_t total, F&& f) {
+    const auto start = std::chrono::steady_clock::now();
+    Progress bar(stage_ + ": " + part, total, enabled_);
+    auto result = f(bar);
+    bar.finish();
+    seconds_.emplace_back(
+        part, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    return result;
+  }
+  // (part, seconds) in the order run.
+  const std::vector<std::pair<std::string, double>>& seconds() const { return seconds_; }
+
+ private:
+  std::string stage_;
+  bool enabled_;
+  std::vector<std::pair<std::string, double>> seconds_;
 };
 
 }  // namespace gtbake

@@ -218,12 +218,13 @@ std::vector<ProfileInput> readProfiles(const std::filesystem::path& dir) {
     p.estimator = name;
     p.linear = fit.linear;
     p.rmse_paper =
-        finiteNumber(member(errors, "shipped", where), "rmse", where + " errors/shipped");
-    p.rmse_held_out = finiteNumber(member(errors, "held_out_by_scene", where), "rmse",
-                                   where + " errors/held_out_by_scene");
+        shippedNumber(member(errors, "shipped", where), "rmse", where + " errors/shipped", true);
+    p.rmse_held_out = shippedNumber(member(errors, "held_out_by_scene", where), "rmse",
+                                    where + " errors/held_out_by_scene", true);
     const nlohmann::json& jk = member(fit.json, "scene_jackknife", where);
     if (jk.contains("band_max")) {
-      p.band_max = finiteNumber(jk["band_max"], "value", where + " scene_jackknife/band_max");
+      p.band_max =
+          shippedNumber(jk["band_max"], "value", where + " scene_jackknife/band_max", true);
     }
     out.push_back(p);
   }

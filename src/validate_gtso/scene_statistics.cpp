@@ -1,5 +1,7 @@
 #include "validate_gtso/scene_statistics.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 
 #include <cmath>
@@ -149,21 +151,28 @@ std::vector<std::string> sceneClusters(const SpecularSweep& sweep, std::vector<i
 SceneStatistics sceneStatistics(const SpecularSweep& sweep,
                                 const std::vector<SpecularSample>& samples,
                                 const std::vector<std::vector<float>>& values,
-                                const std::vector<Method>& methods) {
+                                const std::vector<Method>& methods, const ConeSseTable& table,
+                                StageParts& parts) {
   SceneStatistics s;
   s.clusters = sceneClusters(sweep, s.cluster_of);
   const std::size_t S = s.clusters.size();
   const std::size_t R = sweep.roughness.size();
-  s.u = analyzeU(coneSseTable(samples, s.cluster_of, S, R));
+  s.u = parts.run("u's scene-level interval", 1, [&](Progress&) { return analyzeU(table); });
   std::vector<std::string> names;
   for (Method m : methods) names.push_back(methodName(m));
-  for (std::size_t j = 0; j < R; ++j) {
-    const int jj = static_cast<int>(j);
-    s.ranking.push_back(rankingTest(names,
-                                    clusterRmse(samples, values, methods, s.cluster_of, S, jj),
-                                    pooledRmse(samples, values, methods, jj)));
-  }
-  s.floor = soFloor(samples, s.cluster_of, S, R, values[static_cast<int>(Method::kS4Float)]);
+  s.ranking = parts.run("scene-level ranking tests", R, [&](Progress& bar) {
+    std::vector<RankingTest> ranking(R);
+    tbb::parallel_for(std::size_t{0}, R, [&](std::size_t j) {
+      const int jj = static_cast<int>(j);
+      ranking[j] = rankingTest(names, clusterRmse(samples, values, methods, s.cluster_of, S, jj),
+                               pooledRmse(samples, values, methods, jj));
+      bar.add(1);
+    });
+    return ranking;
+  });
+  s.floor = parts.run("SO floor", 1, [&](Progress&) {
+    return soFloor(samples, s.cluster_of, S, R, values[static_cast<int>(Method::kS4Float)]);
+  });
   s.out_of_plane = outOfPlaneOccluded(samples, values[static_cast<int>(Method::kS4Bc4)],
                                       values[static_cast<int>(Method::kS3Bc4)]);
   return s;

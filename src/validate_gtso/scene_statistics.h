@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/progress.h"
 #include "validate_gtso/out_of_plane.h"
 #include "validate_gtso/scene_paired_test.h"
 #include "validate_gtso/so_floor.h"
@@ -29,11 +30,14 @@ struct SceneStatistics {
 std::vector<std::string> sceneClusters(const SpecularSweep& sweep, std::vector<int>& cluster_of,
                                        bool by_type = false);
 
-// values[m][i]: method m (Method order) at samples[i]; `methods` are the scored ones.
+// values[m][i]: method m (Method order) at samples[i]; `methods` are the scored ones; table: the
+// cone SSE table of the samples over sceneClusters(sweep). Each part (u's scene-level analysis,
+// the ranking tests, the floor) runs under its own bar in `parts`.
 SceneStatistics sceneStatistics(const SpecularSweep& sweep,
                                 const std::vector<SpecularSample>& samples,
                                 const std::vector<std::vector<float>>& values,
-                                const std::vector<Method>& methods);
+                                const std::vector<Method>& methods, const ConeSseTable& table,
+                                StageParts& parts);
 
 // The keys validate_gtso.json adds: u_scene_interval, u_per_roughness, u_law, ranking_tests,
 // so_floor, by_out_of_plane_occluded.

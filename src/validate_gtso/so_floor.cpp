@@ -19,22 +19,27 @@ std::array<double, kInputs> inputs(const SpecularSample& s) {
   return {s.A, s.n_dot_b, s.cos_beta, s.n_dot_v};
 }
 
-// Equal-count bin of every sample for each input: [input][k].
-std::array<std::vector<int>, kInputs> binsOf(const std::vector<SpecularSample>& samples,
-                                             const std::vector<std::size_t>& index, int bins) {
-  std::array<std::vector<int>, kInputs> out;
-  for (int f = 0; f < kInputs; ++f) {
+using Bins = std::array<std::vector<int>, kInputs>;  // [input][k]: each sample's bin
+
+// Equal-count bins of every sample for each input, for each bin count in `counts`: one sort per
+// input serves every count.
+std::vector<Bins> binsOf(const std::vector<SpecularSample>& samples,
+                         const std::vector<std::size_t>& index, const std::vector<int>& counts) {
+  std::vector<Bins> out(counts.size());
+  tbb::parallel_for(0, kInputs, [&](int f) {
     std::vector<double> v;
     for (std::size_t i : index) v.push_back(inputs(samples[i])[f]);
     std::vector<double> sorted = v;
     std::sort(sorted.begin(), sorted.end());
-    std::vector<double> edges;
-    for (int b = 1; b < bins; ++b) edges.push_back(sorted[sorted.size() * b / bins]);
-    for (double x : v) {
-      out[f].push_back(
-          static_cast<int>(std::upper_bound(edges.begin(), edges.end(), x) - edges.begin()));
+    for (std::size_t c = 0; c < counts.size(); ++c) {
+      std::vector<double> edges;
+      for (int b = 1; b < counts[c]; ++b) edges.push_back(sorted[sorted.size() * b / counts[c]]);
+      for (double x : v) {
+        out[c][f].push_back(
+            static_cast<int>(std::upper_bound(edges.begin(), edges.end(), x) - edges.begin()));
+      }
     }
-  }
+  });
   return out;
 }
 
@@ -71,13 +76,11 @@ std::size_t cellOf(const std::array<std::vector<int>, kInputs>& b, std::size_t k
   return cell;
 }
 
-}  // namespace
-
+// heldOutSquaredErrors with the samples' bins given.
 std::vector<double> heldOutSquaredErrors(const std::vector<SpecularSample>& samples,
                                          const std::vector<std::size_t>& index,
                                          const std::vector<int>& cluster_of, std::size_t clusters,
-                                         int bins, const std::vector<float>& base) {
-  const auto b = binsOf(samples, index, bins);
+                                         int bins, const Bins& b, const std::vector<float>& base) {
   std::size_t fine = 1, coarse = 1;
   for (int f = 0; f < kInputs; ++f) {
     fine *= static_cast<std::size_t>(bins);
@@ -110,6 +113,16 @@ std::vector<double> heldOutSquaredErrors(const std::vector<SpecularSample>& samp
   return out;
 }
 
+}  // namespace
+
+std::vector<double> heldOutSquaredErrors(const std::vector<SpecularSample>& samples,
+                                         const std::vector<std::size_t>& index,
+                                         const std::vector<int>& cluster_of, std::size_t clusters,
+                                         int bins, const std::vector<float>& base) {
+  return heldOutSquaredErrors(samples, index, cluster_of, clusters, bins,
+                              binsOf(samples, index, {bins}).front(), base);
+}
+
 SoFloor soFloor(const std::vector<SpecularSample>& samples, const std::vector<int>& cluster_of,
                 std::size_t clusters, std::size_t roughness, const std::vector<float>& base) {
   if (clusters < 2) throw Error("SO floor: needs at least 2 scenes to hold one out");
@@ -122,12 +135,18 @@ SoFloor soFloor(const std::vector<SpecularSample>& samples, const std::vector<in
   // mse[base][choice][roughness], and the truth's mean noise variance per roughness.
   std::vector<std::vector<std::vector<double>>> mse(
       bases, std::vector<std::vector<double>>(kChoices, std::vector<double>(roughness, 0.0)));
+  // The bins of every roughness and bin count, shared by both bases.
+  const std::vector<int> counts(std::begin(kFloorBins), std::end(kFloorBins));
+  std::vector<std::vector<Bins>> bins(roughness);
+  tbb::parallel_for(std::size_t{0}, roughness,
+                    [&](std::size_t j) { bins[j] = binsOf(samples, index[j], counts); });
+  const std::vector<float> none;
   tbb::parallel_for(std::size_t{0}, bases * kChoices * roughness, [&](std::size_t task) {
     const std::size_t b = task / (kChoices * roughness), choice = (task / roughness) % kChoices,
                       j = task % roughness;
     const std::vector<double> e2 =
         heldOutSquaredErrors(samples, index[j], cluster_of, clusters, kFloorBins[choice],
-                             b == 0 ? std::vector<float>{} : base);
+                             bins[j][choice], b == 0 ? none : base);
     double sum = 0.0;
     for (double v : e2) sum += v;
     mse[b][choice][j] = sum / std::max<double>(1.0, static_cast<double>(e2.size()));

@@ -3,7 +3,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <iterator>
+#include <utility>
 
 #include "common/error.h"
 #include "common/math_constants.h"
@@ -15,8 +18,9 @@ namespace gtbake {
 namespace {
 
 constexpr double kDegreesPerRadian = 57.295779513082320876;
-constexpr double kPaperU = 0.01;    // paper Eq. 26
-constexpr double kUludagU = 0.244;  // Uludag 2014, as quoted in the paper's Appendix B
+constexpr double kPaperU = 0.01;               // paper Eq. 26
+constexpr double kUludagU = 0.244;             // Uludag 2014, as quoted in the paper's Appendix B
+constexpr std::size_t kProgressStride = 4096;  // samples per progress step
 
 }  // namespace
 
@@ -165,8 +169,13 @@ ConeAperture coneAperture(double u, double w) {
   return a;
 }
 
+ConeInput coneInput(const SpecularSample& s) {
+  return {s.alpha_v, s.beta, s.cos_av, s.sin_av, s.cos_b, s.sin_b, gtso::capSolidAngle(s.alpha_v),
+          s.truth};
+}
+
 // gtso::capIntersectionSolidAngle and coneSpecularOcclusion, case for case.
-double coneAt(const SpecularSample& x, const ConeAperture& s) {
+double coneAt(const ConeInput& x, const ConeAperture& s) {
   const double a1 = x.alpha_v;
   const double a2 = s.a;
   const double beta = x.beta;
@@ -178,9 +187,9 @@ double coneAt(const SpecularSample& x, const ConeAperture& s) {
   if (a1 <= 0.0 || beta >= a1 + a2) {
     omega = 0.0;
   } else if (beta <= std::abs(a1 - a2)) {
-    omega = a1 < a2 ? gtso::capSolidAngle(a1) : s.cap;
+    omega = a1 < a2 ? x.cap_av : s.cap;
   } else if (a1 + a2 + beta >= 2.0 * kPi) {
-    omega = gtso::capSolidAngle(a1) + s.cap - 4.0 * kPi;
+    omega = x.cap_av + s.cap - 4.0 * kPi;
   } else {
     auto clampedAcos = [](double v) { return std::acos(std::clamp(v, -1.0, 1.0)); };
     const double c1 = x.cos_av, s1 = x.sin_av;
@@ -192,6 +201,10 @@ double coneAt(const SpecularSample& x, const ConeAperture& s) {
     omega = std::max(0.0, 2.0 * (kPi - lens - c1 * arc1 - c2 * arc2));
   }
   return std::clamp(omega / s.cap, 0.0, 1.0);
+}
+
+double coneAt(const SpecularSample& x, const ConeAperture& s) {
+  return coneAt(coneInput(x), s);
 }
 
 double coneAt(const SpecularSample& s, double u, bool perceptual) {
@@ -207,10 +220,31 @@ float lagarde(float n_dot_v, float A, float r_p) {
 
 std::vector<std::vector<float>> evaluateMethods(const std::vector<SpecularSample>& samples,
                                                 const TablesLookups& tables,
-                                                const ConeConstants& cones) {
+                                                const ConeConstants& cones, Progress* progress) {
   std::vector<std::vector<float>> values(kMethodCount, std::vector<float>(samples.size()));
+  // The apertures of the cone methods, once per roughness (coneAperture is what coneAt(s, u,
+  // perceptual) computes per call).
+  const std::pair<Method, double> cone_methods[] = {
+      {Method::kConeTableFitU, cones.table_fit},
+      {Method::kConePaperU, kPaperU},
+      {Method::kConeUludagU, kUludagU},
+      {Method::kConeFittedU, cones.fitted},
+      {Method::kConeFittedPerceptual, cones.fitted_perceptual},
+      {Method::kConeUserU, cones.user}};
+  std::vector<std::array<ConeAperture, std::size(cone_methods)>> apertures;
+  for (const SpecularSample& s : samples) {
+    if (static_cast<std::size_t>(s.roughness) < apertures.size()) continue;
+    apertures.resize(static_cast<std::size_t>(s.roughness) + 1);
+    for (std::size_t m = 0; m < std::size(cone_methods); ++m) {
+      const bool perceptual = cone_methods[m].first == Method::kConeFittedPerceptual;
+      const double w = perceptual ? s.r_p : static_cast<double>(s.r_p) * s.r_p;
+      apertures[s.roughness][m] = coneAperture(cone_methods[m].second, w);
+    }
+  }
   tbb::parallel_for(std::size_t{0}, samples.size(), [&](std::size_t i) {
+    if (progress && i % kProgressStride == 0) progress->add(kProgressStride);
     const SpecularSample& s = samples[i];
+    const ConeInput x = coneInput(s);
     auto set = [&](Method m, double v) { values[static_cast<int>(m)][i] = static_cast<float>(v); };
     set(Method::kS3Bc4, tables.bc4->s3(s.A, s.cos_beta, s.r_p));
     set(Method::kS4Bc4, tables.bc4->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
@@ -222,15 +256,13 @@ std::vector<std::vector<float>> evaluateMethods(const std::vector<SpecularSample
     set(Method::kS4R8, tables.r8->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
     set(Method::kS3ClosedForm,
         gtsoS3ClosedForm(tables.info.s3_closed_form.data(), s.A, s.cos_beta, s.r_p));
-    set(Method::kConeTableFitU, coneAt(s, cones.table_fit, false));
-    set(Method::kConePaperU, coneAt(s, kPaperU, false));
-    set(Method::kConeUludagU, coneAt(s, kUludagU, false));
-    set(Method::kConeFittedU, coneAt(s, cones.fitted, false));
-    set(Method::kConeFittedPerceptual, coneAt(s, cones.fitted_perceptual, true));
+    for (std::size_t m = 0; m < std::size(cone_methods); ++m) {
+      const bool unused = cone_methods[m].first == Method::kConeUserU && !(cones.user > 0.0);
+      set(cone_methods[m].first, unused ? 0.0 : coneAt(x, apertures[s.roughness][m]));
+    }
     set(Method::kNone, 1.0);
     set(Method::kAo, s.A);
     set(Method::kLagarde, lagarde(s.n_dot_v, s.A, s.r_p));
-    set(Method::kConeUserU, cones.user > 0.0 ? coneAt(s, cones.user, false) : 0.0);
   });
   return values;
 }

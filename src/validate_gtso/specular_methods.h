@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/progress.h"
 #include "validate_gtso/gtso_lookup.h"
 #include "validate_gtso/specular_sweep.h"
 
@@ -70,18 +71,30 @@ struct ConeAperture {
   double a = 0.0, c = 1.0, s = 0.0, cap = 0.0;
 };
 ConeAperture coneAperture(double u, double w);
+// What the cone model needs of one sample that does not depend on u, in one 64-byte record (the
+// u scans of cone_u_fit and u_scene_interval stream millions of them per u): αv, β, their cos and
+// sin, the visibility cap's solid angle and the path-traced S.
+struct ConeInput {
+  double alpha_v = 0.0, beta = 0.0;
+  double cos_av = 1.0, sin_av = 0.0, cos_b = 1.0, sin_b = 0.0;
+  double cap_av = 0.0;  // gtso::capSolidAngle(αv)
+  double truth = 0.0;
+};
+ConeInput coneInput(const SpecularSample& s);
 // gtso::coneSpecularOcclusion(αv, αs, β) from the sample's precomputed trig: the same operations
 // on the same values, so the same bits (tests/validate_gtso checks), at a fraction of the cost.
+double coneAt(const ConeInput& x, const ConeAperture& aperture);
 double coneAt(const SpecularSample& s, const ConeAperture& aperture);
 // S_cone at one sample: w = α = r_p² (perceptual = false) or w = r_p.
 double coneAt(const SpecularSample& s, double u, bool perceptual);
 // Lagarde and de Rousiers 2014 with r = α = r_p² (what Filament and HDRP pass), in float.
 float lagarde(float n_dot_v, float A, float r_p);
 
-// Every method's value at every sample: values[m][i].
+// Every method's value at every sample: values[m][i]. progress (optional): one per sample.
 std::vector<std::vector<float>> evaluateMethods(const std::vector<SpecularSample>& samples,
                                                 const TablesLookups& tables,
-                                                const ConeConstants& cones);
+                                                const ConeConstants& cones,
+                                                Progress* progress = nullptr);
 
 struct ErrorStats {
   std::size_t count = 0;

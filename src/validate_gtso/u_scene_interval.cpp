@@ -90,7 +90,7 @@ USceneInterval interval(const ConeSseTable& t, int law) {
 
 ConeSseTable coneSseTable(const std::vector<SpecularSample>& samples,
                           const std::vector<int>& cluster_of, std::size_t clusters,
-                          std::size_t roughness) {
+                          std::size_t roughness, Progress* progress) {
   ConeSseTable t;
   for (double z = kLog10UMin; z < kLog10UMax; z += kUGridStep) t.log10_u.push_back(z);
   t.log10_u.push_back(kLog10UMax);
@@ -103,20 +103,33 @@ ConeSseTable coneSseTable(const std::vector<SpecularSample>& samples,
   for (int law = 0; law < 2; ++law) {
     t.sse[law].assign(clusters,
                       std::vector<std::vector<double>>(roughness, std::vector<double>(K)));
-    tbb::parallel_for(std::size_t{0}, clusters * roughness * K, [&](std::size_t task) {
-      const std::size_t k = task % K, j = (task / K) % roughness, c = task / (K * roughness);
-      if (g[c][j].empty()) return;
-      const SpecularSample& first = samples[g[c][j].front()];
-      const double w = law == 1 ? first.r_p : static_cast<double>(first.r_p) * first.r_p;
-      const ConeAperture aperture = coneAperture(std::pow(10.0, t.log10_u[k]), w);
-      double sse = 0.0;
-      for (std::size_t i : g[c][j]) {
-        const double e = coneAt(samples[i], aperture) - samples[i].truth;
-        sse += e * e;
-      }
-      t.sse[law][c][j][k] = sse;
-    });
   }
+  // One task per (cluster, roughness): each sample is read once and scored at every grid point
+  // of both laws; each grid point's sum still runs in sample order (the same bits as one pass per
+  // grid point).
+  tbb::parallel_for(std::size_t{0}, clusters * roughness, [&](std::size_t task) {
+    const std::size_t j = task % roughness, c = task / roughness;
+    if (g[c][j].empty()) return;
+    const double r_p = samples[g[c][j].front()].r_p;
+    std::vector<ConeAperture> apertures;
+    for (int law = 0; law < 2; ++law) {
+      for (std::size_t k = 0; k < K; ++k) {
+        apertures.push_back(coneAperture(std::pow(10.0, t.log10_u[k]), law == 1 ? r_p : r_p * r_p));
+      }
+    }
+    std::vector<double> sse(2 * K, 0.0);
+    for (std::size_t i : g[c][j]) {
+      const ConeInput x = coneInput(samples[i]);
+      for (std::size_t k = 0; k < 2 * K; ++k) {
+        const double e = coneAt(x, apertures[k]) - x.truth;
+        sse[k] += e * e;
+      }
+    }
+    for (int law = 0; law < 2; ++law) {
+      std::copy(sse.begin() + law * K, sse.begin() + (law + 1) * K, t.sse[law][c][j].begin());
+    }
+    if (progress) progress->add(g[c][j].size());
+  });
   return t;
 }
 

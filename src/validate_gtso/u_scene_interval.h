@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "common/progress.h"
 #include "validate_gtso/scene_paired_test.h"
 #include "validate_gtso/specular_methods.h"
 
@@ -36,9 +37,10 @@ struct ConeSseTable {
 };
 
 // cluster_of[scene]: the cluster of each sweep scene (clusters numbered 0..clusters − 1).
+// progress (optional) advances by one per sample scored.
 ConeSseTable coneSseTable(const std::vector<SpecularSample>& samples,
                           const std::vector<int>& cluster_of, std::size_t clusters,
-                          std::size_t roughness);
+                          std::size_t roughness, Progress* progress = nullptr);
 
 // The minimiser of a sampled curve: the parabola through the smallest sample and its neighbours
 // (the sample itself at either end, flagged).

@@ -3,6 +3,8 @@
 // print the one-screen summary.
 #include "validate_gtso/validate_gtso_command.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -27,6 +29,7 @@
 #include "validate_gtso/scene_statistics.h"
 #include "validate_gtso/specular_methods.h"
 #include "validate_gtso/specular_sweep.h"
+#include "validate_gtso/validate_gtso_analysis.h"
 
 namespace gtbake {
 
@@ -35,27 +38,9 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-// Bins of the angle between b and the plane of n and ωr (degrees) for the 4D table's error.
-constexpr double kPlaneBins[] = {0.0, 2.0, 5.0, 10.0, 20.0, 90.0};
-constexpr int kPlaneBinCount = 5;
 constexpr float kErrorMapMax = 0.5f;  // |error| mapped to the top of the viridis ramp
 // The methods of each image row after the truth: 3D, 4D (BC4 as shipped), cone (fitted u).
 constexpr Method kImageMethods[] = {Method::kS3Bc4, Method::kS4Bc4, Method::kConeFittedU};
-// The texel formats beside the float table they encode: what a format costs at real pixels.
-constexpr std::pair<Method, Method> kFormatMethods[] = {
-    {Method::kS3Bc4, Method::kS3Float}, {Method::kS3R16, Method::kS3Float},
-    {Method::kS3R8, Method::kS3Float},  {Method::kS4Bc4, Method::kS4Float},
-    {Method::kS4R16, Method::kS4Float}, {Method::kS4R8, Method::kS4Float}};
-constexpr int kFormatMethodCount = 6;
-
-std::vector<Method> scoredMethods(bool user_u) {
-  std::vector<Method> methods;
-  for (int m = 0; m < kMethodCount; ++m) {
-    if (static_cast<Method>(m) == Method::kConeUserU && !user_u) continue;
-    methods.push_back(static_cast<Method>(m));
-  }
-  return methods;
-}
 
 Json statsJson(const ErrorStats& e) {
   Json j;
@@ -81,69 +66,18 @@ Json fitJson(const UFit& f) {
   return j;
 }
 
-// Error statistics of every method: per scene × roughness, per roughness, overall; and the 4D/3D
-// tables' errors by the out-of-plane angle of b.
-struct Tables {
-  // [method][scene][roughness]
-  std::vector<std::vector<std::vector<ErrorStats>>> cell;
-  std::vector<std::vector<ErrorStats>> per_roughness;           // [method][roughness]
-  std::vector<ErrorStats> overall;                              // [method]
-  std::array<std::array<ErrorStats, kPlaneBinCount>, 2> plane;  // S4_bc4, S3_bc4
-  std::array<ErrorStats, kFormatMethodCount> vs_float;          // kFormatMethods: format − float
-};
-
-Tables tabulate(const std::vector<SpecularSample>& samples,
-                const std::vector<std::vector<float>>& values, std::size_t scenes,
-                std::size_t roughness) {
-  Tables t;
-  t.cell.assign(kMethodCount,
-                std::vector<std::vector<ErrorStats>>(scenes, std::vector<ErrorStats>(roughness)));
-  t.per_roughness.assign(kMethodCount, std::vector<ErrorStats>(roughness));
-  t.overall.assign(kMethodCount, ErrorStats{});
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    const SpecularSample& s = samples[i];
-    for (int m = 0; m < kMethodCount; ++m) {
-      t.cell[m][s.scene][s.roughness].add(values[m][i] - s.truth, s.noise_var);
-    }
-    int bin = 0;
-    while (bin + 1 < kPlaneBinCount && s.out_of_plane >= kPlaneBins[bin + 1]) ++bin;
-    t.plane[0][bin].add(values[static_cast<int>(Method::kS4Bc4)][i] - s.truth, s.noise_var);
-    t.plane[1][bin].add(values[static_cast<int>(Method::kS3Bc4)][i] - s.truth, s.noise_var);
-    for (int f = 0; f < kFormatMethodCount; ++f) {
-      const auto [format, floats] = kFormatMethods[f];
-      t.vs_float[f].add(values[static_cast<int>(format)][i] - values[static_cast<int>(floats)][i],
-                        0.0);
-    }
-  }
-  for (int m = 0; m < kMethodCount; ++m) {
-    for (std::size_t sc = 0; sc < scenes; ++sc) {
-      for (std::size_t j = 0; j < roughness; ++j) {
-        t.per_roughness[m][j].merge(t.cell[m][sc][j]);
-        t.overall[m].merge(t.cell[m][sc][j]);
-      }
-    }
-  }
-  return t;
-}
-
-// Methods by RMSE at each roughness, best first (ties by name, so the order is deterministic).
-std::vector<std::vector<Method>> rank(const Tables& t, const std::vector<Method>& methods,
-                                      std::size_t roughness) {
-  std::vector<std::vector<Method>> ranking(roughness, methods);
-  for (std::size_t j = 0; j < roughness; ++j) {
-    std::stable_sort(ranking[j].begin(), ranking[j].end(), [&](Method a, Method b) {
-      return t.per_roughness[static_cast<int>(a)][j].rmse() <
-             t.per_roughness[static_cast<int>(b)][j].rmse();
-    });
-  }
-  return ranking;
-}
-
 // Per scene one RGB image: a row per roughness of panels truth | S₃ | S₄ | cone | |S₄ − truth|.
 void writeSceneImages(const SpecularSweep& sweep, const std::vector<SpecularSample>& samples,
                       const std::vector<std::vector<float>>& values, OutputSet& output) {
   constexpr int kPanels = 5;
-  for (std::size_t sc = 0; sc < sweep.scenes.size(); ++sc) {
+  // Each scene's samples found in one pass, and the scenes drawn and encoded in parallel (added to
+  // the set in scene order).
+  std::vector<std::vector<std::size_t>> of_scene(sweep.scenes.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    of_scene[static_cast<std::size_t>(samples[i].scene)].push_back(i);
+  }
+  std::vector<std::string> png(sweep.scenes.size());
+  tbb::parallel_for(std::size_t{0}, sweep.scenes.size(), [&](std::size_t sc) {
     const SpecularScene& scene = sweep.scenes[sc];
     const int w = scene.width;
     const int h = scene.height;
@@ -154,9 +88,8 @@ void writeSceneImages(const SpecularSweep& sweep, const std::vector<SpecularSamp
       const std::size_t y = static_cast<std::size_t>(row) * h + p / w;
       std::copy(c, c + 3, &rgb[(y * kPanels * w + x) * 3]);
     };
-    for (std::size_t i = 0; i < samples.size(); ++i) {
+    for (std::size_t i : of_scene[sc]) {
       const SpecularSample& s = samples[i];
-      if (s.scene != static_cast<int>(sc)) continue;
       const float panel_values[4] = {static_cast<float>(s.truth),
                                      values[static_cast<int>(kImageMethods[0])][i],
                                      values[static_cast<int>(kImageMethods[1])][i],
@@ -170,8 +103,10 @@ void writeSceneImages(const SpecularSweep& sweep, const std::vector<SpecularSamp
       const float err = std::abs(panel_values[2] - panel_values[0]);
       put(s.roughness, 4, s.pixel, toViridis8({err}, 0.0f, kErrorMapMax).data());
     }
-    output.add("report/validate_gtso_" + fileSlug(scene.name) + ".png",
-               encodePng(kPanels * w, rows * h, 3, rgb));
+    png[sc] = encodePng(kPanels * w, rows * h, 3, rgb);
+  });
+  for (std::size_t sc = 0; sc < sweep.scenes.size(); ++sc) {
+    output.add("report/validate_gtso_" + fileSlug(sweep.scenes[sc].name) + ".png", png[sc]);
   }
 }
 
@@ -300,42 +235,6 @@ void printSummary(const SpecularSweep& sweep, std::size_t pixels, const Tables& 
   std::printf("  wrote %s\n", json.c_str());
 }
 
-// What validate-gtso computes before it formats anything: the samples, every method's values,
-// the u fits and the tabulated errors.
-struct Analysis {
-  SpecularSweep sweep;
-  TablesLookupInfo tables;
-  std::vector<SpecularSample> samples;
-  UFits spec, perceptual;
-  std::vector<std::vector<float>> values;
-  std::vector<Method> methods;
-  Tables t;
-  std::vector<std::vector<Method>> ranking;
-  SceneStatistics
-      scene_stats;  // scene-level u interval, paired rankings, floor (scene_statistics.h)
-};
-
-Analysis analyse(const ValidateGtsoOptions& options) {
-  Analysis a;
-  a.sweep = readSpecularSweep(options.sweep);
-  const TablesLookups tables = makeTablesLookups(options.luts);
-  a.tables = tables.info;
-  a.samples = gatherSamples(a.sweep);
-  a.spec = fitConeU(a.samples, false);
-  a.perceptual = fitConeU(a.samples, true);
-  ConeConstants cones;
-  cones.table_fit = tables.info.u_table_fit;
-  cones.fitted = a.spec.all.u;
-  cones.fitted_perceptual = a.perceptual.all.u;
-  cones.user = options.u;
-  a.values = evaluateMethods(a.samples, tables, cones);
-  a.methods = scoredMethods(options.u > 0.0);
-  a.t = tabulate(a.samples, a.values, a.sweep.scenes.size(), a.sweep.roughness.size());
-  a.ranking = rank(a.t, a.methods, a.sweep.roughness.size());
-  a.scene_stats = sceneStatistics(a.sweep, a.samples, a.values, a.methods);
-  return a;
-}
-
 // validate_gtso.json: inputs, conventions and the u fits.
 void addSettingsJson(const ValidateGtsoOptions& options, const fs::path& out, const Analysis& a,
                      Json& json) {
@@ -362,7 +261,8 @@ void addSettingsJson(const ValidateGtsoOptions& options, const fs::path& out, co
   json["u_se"] = u_scene.u_se;
   json["u_fit"] = {{"objective",
                     "least squares of S_cone(u) - path-traced S over every unmasked pixel and "
-                    "roughness r_p > 0 (Ceres, log10 u); rmse_within_5pct: flatness, not a CI"},
+                    "roughness r_p > 0 (log10 u: scan, golden section, parabolas to 1e-5 decades); "
+                    "rmse_within_5pct: flatness, not a CI"},
                    {"alpha",
                     {{"convention", "cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2"},
                      {"all", fitJson(a.spec.all)},
@@ -475,7 +375,9 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   addMethodJackknifeJson(a, json);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  json["timings"] = {{"seconds", seconds}};
+  Json parts = Json::object();
+  for (const auto& [part, s] : a.part_seconds) parts[part] = s;
+  json["timings"] = {{"seconds", seconds}, {"parts", parts}};
 
   // The page and its images are part of the set (report/ beside validate_gtso.json): a failed
   // run leaves the previous page with the previous JSON.
