@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 
 namespace gtbake {
 
@@ -24,7 +25,9 @@ AoEstimate estimatePerPixel(const GBuffer& g, F perPixel) {
           world = Eigen::Vector3d(g.normal[3 * p], g.normal[3 * p + 1], g.normal[3 * p + 2]);
         }
         world.normalize();
-        e.a[p] = static_cast<float>(a);
+        // Â is a visibility fraction: the rounding of the slice integrals (and of the bitmask's
+        // cosine remap at grazing views, up to 3e-5) may leave it just outside [0, 1].
+        e.a[p] = static_cast<float>(std::clamp(a, 0.0, 1.0));
         for (int c = 0; c < 3; ++c) e.bent[3 * p + c] = static_cast<float>(world[c]);
       }
     }
