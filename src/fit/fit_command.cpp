@@ -57,11 +57,11 @@ FitResult runFit(const FitOptions& options) {
   const bool own = inside.empty() || inside == "." || inside.rfind("..", 0) == 0 ||
                    fs::path(inside).is_absolute();
   OutputSet output(out_dir, "fit");  // export requires and verifies fit.manifest.json
-  if (own) {
+  if (options.write_report && own) {
     OutputSet report(report_dir, "fit_report");
     writeFitReport(report, "", report_dir, a, options.shipped);
     report.commit();
-  } else {
+  } else if (options.write_report) {
     writeFitReport(output, inside + "/", report_dir, a, options.shipped);
   }
   bar.add(1);
@@ -71,8 +71,12 @@ FitResult runFit(const FitOptions& options) {
   bar.add(1);
   bar.finish();
   printFitSummary(a, options.shipped);
-  std::printf("wrote %s and %s\n", options.out.string().c_str(),
-              (report_dir / "index.html").string().c_str());
+  if (options.write_report) {
+    std::printf("wrote %s and %s\n", options.out.string().c_str(),
+                (report_dir / "index.html").string().c_str());
+  } else {
+    std::printf("wrote %s\n", options.out.string().c_str());
+  }
   return {a.fit.linear.coeffs,
           a.fit.linear.se,
           a.jackknife.se,

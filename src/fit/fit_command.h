@@ -16,6 +16,7 @@ struct FitOptions {
   std::filesystem::path sweep;                  // directory written by `gtbake sweep`
   std::filesystem::path out;                    // fit.json
   std::optional<std::filesystem::path> report;  // HTML report directory (default: beside `out`)
+  bool write_report = true;                     // false: fit.json alone
   MultiBounceCoeffs shipped = kPaperCoeffs;     // the constants compared against the refit
   bool eiv_correction = true;  // SIMEX correction of the bias from noise in A (docs/fit.md §4)
   Weighting weighting = Weighting::kPixel;

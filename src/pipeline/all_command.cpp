@@ -65,6 +65,7 @@ ScreenAoResult screenAndProfiles(const AllOptions& options, int threads,
     fit.out = options.out / "profiles" / estimator / "fit.json";
     fit.input.estimator = estimator;
     fit.input.screen_ao = screen_ao.out;
+    fit.write_report = false;  // 48 scatter plots per profile; `gtbake fit --estimator` draws them
     fit.progress = options.progress;
     profiles->push_back({estimator, runFit(fit)});
   }
