@@ -336,7 +336,7 @@ std::string leaveOneOutTable(const SceneJackknife& jk) {
   if (jk.leave_one_out.empty()) return "";
   std::vector<std::vector<std::string>> rows;
   for (const LeaveOneOut& r : jk.leave_one_out) {
-    rows.push_back({r.left_out, formatNumber(r.linear[0]), formatNumber(r.linear[2]),
+    rows.push_back({escapeHtml(r.left_out), formatNumber(r.linear[0]), formatNumber(r.linear[2]),
                     formatNumber(r.linear[4]), curveDistance(r.vs_refit),
                     curveDistance(r.vs_shipped)});
   }
