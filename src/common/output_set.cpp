@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -25,6 +26,16 @@ std::string manifestFileName(const std::string& command) {
 }
 
 namespace {
+
+// The command line that writes the set named `command` ("validate_gtso" -> "validate-gtso"), for
+// the "rerun" advice of the errors.
+std::string rerun(const std::string& command) {
+  if (command == "shard") return "gtbake sweep --shard";
+  if (command == "fit_report") return "gtbake fit";
+  std::string name = command;
+  std::replace(name.begin(), name.end(), '_', '-');
+  return "gtbake " + name;
+}
 
 // A manifest of this gtbake version for `command` in `dir`, with no files yet.
 OutputManifest emptyManifest(const fs::path& dir, const std::string& command,
@@ -78,7 +89,7 @@ const OutputFile& requireEntry(const OutputManifest& m, const std::string& name)
   const OutputFile* entry = m.find(name);
   if (entry == nullptr) {
     throw Error((m.dir / name).string() + " is not part of the output set in " +
-                (m.dir / manifestFileName(m.command)).string() + " (rerun `gtbake " + m.command +
+                (m.dir / manifestFileName(m.command)).string() + " (rerun `" + rerun(m.command) +
                 "`)");
   }
   return *entry;
@@ -88,7 +99,7 @@ const OutputFile& requireEntry(const OutputManifest& m, const std::string& name)
                                 std::uint64_t size, const OutputFile& entry) {
   throw Error((m.dir / name).string() + " does not match " + manifestFileName(m.command) + " (" +
               std::to_string(size) + " bytes, manifest says " + std::to_string(entry.size) +
-              " and another SHA-256): it was changed or replaced after `gtbake " + m.command +
+              " and another SHA-256): it was changed or replaced after `" + rerun(m.command) +
               "` wrote it; rerun that command");
 }
 
@@ -200,9 +211,9 @@ OutputManifest readOutputSet(const fs::path& dir, const std::string& command) {
   const fs::path path = dir / manifestFileName(command);
   std::error_code ec;
   if (!fs::exists(path, ec)) {
-    throw Error(dir.string() + " has no complete `gtbake " + command + "` output (no " +
+    throw Error(dir.string() + " has no complete `" + rerun(command) + "` output (no " +
                 manifestFileName(command) + "; the run was interrupted or failed, or the files " +
-                "come from elsewhere): rerun `gtbake " + command + "`");
+                "come from elsewhere): rerun `" + rerun(command) + "`");
   }
   const nlohmann::json doc = readJsonFile(path);
   const std::string where = path.string();
@@ -215,8 +226,8 @@ OutputManifest readOutputSet(const fs::path& dir, const std::string& command) {
   manifest.dir = dir;
   manifest.command = doc["command"].get<std::string>();
   if (manifest.command != command) {
-    throw Error(where + ": written by `gtbake " + manifest.command + "`, expected `gtbake " +
-                command + "`");
+    throw Error(where + ": written by `" + rerun(manifest.command) + "`, expected `" +
+                rerun(command) + "`");
   }
   manifest.gtbake_version = doc["gtbake_version"].get<std::string>();
   if (doc.contains("settings")) manifest.settings = doc["settings"];

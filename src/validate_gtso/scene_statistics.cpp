@@ -207,7 +207,7 @@ void addSceneStatisticsJson(const SpecularSweep& sweep, const SceneStatistics& s
   for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
     Json by_bins = Json::object();
     for (std::size_t b = 0; b < s.floor.by_bins.size(); ++b) {
-      by_bins[std::to_string(kFloorBins[b])] = s.floor.by_bins[b][j];
+      by_bins[std::to_string(kSoFloorBins[b])] = s.floor.by_bins[b][j];
     }
     floor[specularChannelName(sweep.roughness[j])] = {
         {"rmse", s.floor.rmse[j]},

@@ -130,13 +130,13 @@ SoFloor soFloor(const std::vector<SpecularSample>& samples, const std::vector<in
   for (std::size_t i = 0; i < samples.size(); ++i) {
     index[static_cast<std::size_t>(samples[i].roughness)].push_back(i);
   }
-  constexpr std::size_t kChoices = std::size(kFloorBins);
+  constexpr std::size_t kChoices = std::size(kSoFloorBins);
   const std::size_t bases = base.empty() ? 1 : 2;
   // mse[base][choice][roughness], and the truth's mean noise variance per roughness.
   std::vector<std::vector<std::vector<double>>> mse(
       bases, std::vector<std::vector<double>>(kChoices, std::vector<double>(roughness, 0.0)));
   // The bins of every roughness and bin count, shared by both bases.
-  const std::vector<int> counts(std::begin(kFloorBins), std::end(kFloorBins));
+  const std::vector<int> counts(std::begin(kSoFloorBins), std::end(kSoFloorBins));
   std::vector<std::vector<Bins>> bins(roughness);
   tbb::parallel_for(std::size_t{0}, roughness,
                     [&](std::size_t j) { bins[j] = binsOf(samples, index[j], counts); });
@@ -145,7 +145,7 @@ SoFloor soFloor(const std::vector<SpecularSample>& samples, const std::vector<in
     const std::size_t b = task / (kChoices * roughness), choice = (task / roughness) % kChoices,
                       j = task % roughness;
     const std::vector<double> e2 =
-        heldOutSquaredErrors(samples, index[j], cluster_of, clusters, kFloorBins[choice],
+        heldOutSquaredErrors(samples, index[j], cluster_of, clusters, kSoFloorBins[choice],
                              bins[j][choice], b == 0 ? none : base);
     double sum = 0.0;
     for (double v : e2) sum += v;
@@ -161,7 +161,7 @@ SoFloor soFloor(const std::vector<SpecularSample>& samples, const std::vector<in
     }
   }
   SoFloor out;
-  out.bins = kFloorBins[best];
+  out.bins = kSoFloorBins[best];
   out.on_base = best_b == 1;
   for (std::size_t j = 0; j < roughness; ++j) {
     double noise = 0.0;

@@ -10,7 +10,7 @@
 // clusters' mean where a cell is empty. The regressor is fitted to the truth itself and, with a
 // base function given (the 4D float table, itself a function of the same inputs), to the truth
 // minus the base, the prediction then adding the base back; bins per input and base are chosen
-// from kFloorBins × {none, base} by the RMSE pooled over every roughness (one choice, reported).
+// from kSoFloorBins × {none, base} by the RMSE pooled over every roughness (one choice, reported).
 #pragma once
 
 #include <cstddef>
@@ -20,14 +20,16 @@
 
 namespace gtbake {
 
-inline constexpr int kFloorBins[] = {4, 6, 8, 12, 16};
+// (Not kFloorBins: that name is the fit floor's in fit_floor.h, and two inline variables of one
+// name in one namespace are one variable to the linker.)
+inline constexpr int kSoFloorBins[] = {4, 6, 8, 12, 16};
 
 struct SoFloor {
   int bins = 0;                              // the chosen bins per input
   bool on_base = false;                      // the regressor corrects the base function
   std::vector<double> rmse;                  // [roughness], held-out scenes
   std::vector<double> rmse_noise_corrected;  // [roughness], √max(0, MSE − mean noise var)
-  std::vector<std::vector<double>> by_bins;  // [kFloorBins index][roughness], chosen base
+  std::vector<std::vector<double>> by_bins;  // [kSoFloorBins index][roughness], chosen base
 };
 
 // cluster_of[scene]: its cluster; fewer than 2 clusters is a gtbake::Error.

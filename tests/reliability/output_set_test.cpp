@@ -67,6 +67,23 @@ TEST(OutputSet, CommitWritesFilesThenManifestAndReadersVerify) {
   EXPECT_THROW(readOutputSet(dir.path(), "other"), Error);
 }
 
+// The errors name the command line to rerun, not the set's file name.
+TEST(OutputSet, ErrorsNameTheCommandToRerun) {
+  TempDir dir("rerun_names");
+  for (const auto& [set, command] :
+       {std::pair<const char*, const char*>{"validate_gtso", "`gtbake validate-gtso`"},
+        {"screen_ao", "`gtbake screen-ao`"},
+        {"shard", "`gtbake sweep --shard`"},
+        {"fit", "`gtbake fit`"}}) {
+    try {
+      readOutputSet(dir.path(), set);
+      ADD_FAILURE() << set;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(command), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(OutputSet, FailedRunLeavesThePreviousSetValid) {
   TempDir dir("set_fail");
   {
