@@ -24,6 +24,16 @@ constexpr std::size_t kProgressStride = 4096;  // samples per progress step
 
 }  // namespace
 
+void setConeAngles(SpecularSample* s, double beta) {
+  s->alpha_v = std::acos(std::sqrt(std::clamp(1.0 - static_cast<double>(s->A), 0.0, 1.0)));
+  s->beta = beta;
+  s->cos_beta = static_cast<float>(std::cos(beta));
+  s->cos_av = std::cos(s->alpha_v);
+  s->sin_av = std::sin(s->alpha_v);
+  s->cos_b = std::cos(beta);
+  s->sin_b = std::sin(beta);
+}
+
 std::vector<SpecularSample> gatherSamples(const SpecularSweep& sweep) {
   std::vector<SpecularSample> samples;
   for (std::size_t si = 0; si < sweep.scenes.size(); ++si) {
@@ -56,14 +66,9 @@ std::vector<SpecularSample> gatherSamples(const SpecularSweep& sweep) {
         s.A = scene.A[p];
         s.r_p = static_cast<float>(sweep.roughness[j]);
         s.n_dot_v = static_cast<float>(nv);
-        s.cos_beta = static_cast<float>(cos_beta);
         s.n_dot_b = static_cast<float>(n[0] * b[0] + n[1] * b[1] + n[2] * b[2]);
-        s.alpha_v = std::acos(std::sqrt(std::clamp(1.0 - static_cast<double>(s.A), 0.0, 1.0)));
-        s.beta = std::acos(cos_beta);
-        s.cos_av = std::cos(s.alpha_v);
-        s.sin_av = std::sin(s.alpha_v);
-        s.cos_b = std::cos(s.beta);
-        s.sin_b = std::sin(s.beta);
+        setConeAngles(&s, std::acos(cos_beta));
+        s.cos_beta = static_cast<float>(cos_beta);
         s.out_of_plane = off;
         s.truth = scene.S[j][p];
         const double d = static_cast<double>(scene.H0[j][p]) - scene.H1[j][p];

@@ -31,6 +31,10 @@ struct SpecularSample {
   double noise_var = 0.0;     // (H0 − H1)²/4: its Monte Carlo variance, per pixel
 };
 
+// Sets s's visibility-cone and reflection angles from A and β: alpha_v, beta, cos_beta and the
+// cached std::cos/sin of both (what the cone methods read).
+void setConeAngles(SpecularSample* s, double beta);
+
 std::vector<SpecularSample> gatherSamples(const SpecularSweep& sweep);
 
 enum class Method {

@@ -25,13 +25,7 @@ SpecularSample sample(int scene, int j, double A, double beta, double n_dot_v, d
   s.roughness = j;
   s.r_p = kRoughness[j];
   s.A = static_cast<float>(A);
-  s.alpha_v = std::acos(std::sqrt(1.0 - static_cast<double>(s.A)));
-  s.beta = beta;
-  s.cos_beta = static_cast<float>(std::cos(beta));
-  s.cos_av = std::cos(s.alpha_v);
-  s.sin_av = std::sin(s.alpha_v);
-  s.cos_b = std::cos(s.beta);
-  s.sin_b = std::sin(s.beta);
+  setConeAngles(&s, beta);
   s.n_dot_v = static_cast<float>(n_dot_v);
   s.n_dot_b = static_cast<float>(n_dot_b);
   return s;
