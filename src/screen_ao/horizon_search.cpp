@@ -38,6 +38,9 @@ class SideSearch {
     beta_ = n.dot(r1_);
     near_ = texel.depth * (1.0 - reach_);
     far_ = texel.depth * (1.0 + reach_);
+    if (belowHorizon(near_ * (r0_ + ta * r1_)) && belowHorizon(near_ * (r0_ + tb * r1_))) {
+      return false;
+    }
     const double before = key_;
     // Common case: the plane is in front and inside the slab at both ends, hence in between.
     const double da = alpha_ + ta * beta_;
@@ -68,6 +71,18 @@ class SideSearch {
   }
 
  private:
+  // Whether the point s lies below the running horizon by more than a rounding margin. Every
+  // sample of a texel lies in the slice plane on a view ray between its segment's ends, at a
+  // depth in the slab [near, far]: a convex quadrilateral on one side of the line from P to the
+  // camera, so its highest point seen from P is a corner; and along each view ray the point
+  // nearer the camera is the higher. So when both near-face corners are below the horizon, no
+  // sample of the texel can raise it and the texel is skipped (docs/screen_ao.md,
+  // "gtao-reference"). The 1e-9 margin keeps the result bit-identical to the full visit.
+  bool belowHorizon(const Eigen::Vector3d& s) const {
+    const Eigen::Vector3d u = s - x_;
+    const double uv = u.dot(v_);
+    return uv * std::abs(uv) < (key_ - 1e-9) * u.squaredNorm();
+  }
   Eigen::Vector3d point(double t) const {
     const Eigen::Vector3d r = r0_ + t * r1_;
     const double d = alpha_ + t * beta_;
