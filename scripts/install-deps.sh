@@ -9,7 +9,7 @@ group="${1:-all}"
 tool_packages=(
   build-essential cmake pkg-config
   libceres-dev libembree-dev libopenexr-dev libeigen3-dev libtinygltf-dev libtbb-dev
-  libcli11-dev nlohmann-json3-dev libstb-dev librandom123-dev
+  libcli11-dev nlohmann-json3-dev libstb-dev librandom123-dev libssl-dev
 )
 # Tests and benchmarks only: GoogleTest; libsquish and NVTT (the BC4 benchmark); glslang and
 # Mesa's lavapipe (the shader includes compiled and executed); Chromium (the reports rendered
