@@ -83,12 +83,6 @@ double GBuffer::pixelsPerMetre(double z) const {
   return 0.5 * height / (tan_half * z);
 }
 
-Eigen::Vector2d GBuffer::project(const Eigen::Vector3d& v) const {
-  const double sx = v.x() / -v.z();
-  const double sy = v.y() / -v.z();
-  return {0.5 * width * (sx / (tan_half * aspect) + 1.0), 0.5 * height * (1.0 - sy / tan_half)};
-}
-
 Eigen::Vector3d GBuffer::viewPoint(int i, int j, double z) const {
   const double sx = (2.0 * (i + 0.5) / width - 1.0) * tan_half * aspect;
   const double sy = (1.0 - 2.0 * (j + 0.5) / height) * tan_half;

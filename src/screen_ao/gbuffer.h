@@ -48,7 +48,11 @@ struct GBuffer {
   double pixelsPerMetre(double z) const;
   // Screen position (continuous pixel coordinates, centre of pixel (i, j) at (i + ½, j + ½)) of a
   // view-space point with z < 0.
-  Eigen::Vector2d project(const Eigen::Vector3d& view) const;
+  Eigen::Vector2d project(const Eigen::Vector3d& view) const {
+    const double sx = view.x() / -view.z();
+    const double sy = view.y() / -view.z();
+    return {0.5 * width * (sx / (tan_half * aspect) + 1.0), 0.5 * height * (1.0 - sy / tan_half)};
+  }
   Eigen::Vector3d viewPoint(int i, int j, double z) const;      // Z·(sx, sy, −1)
   Eigen::Vector3d worldToView(const Eigen::Vector3d& w) const;  // rotation only
   Eigen::Vector3d viewToWorld(const Eigen::Vector3d& v) const;  // rotation only

@@ -22,7 +22,16 @@ class SideSearch {
         r1_(r1),
         radius2_(radius * radius),
         reach_(reach),
-        key_(floor_cos * std::abs(floor_cos)) {}
+        key_(floor_cos * std::abs(floor_cos)),
+        rv0_(r0.dot(v)),
+        rv1_(r1.dot(v)),
+        rx0_(r0.dot(x)),
+        rx1_(r1.dot(x)),
+        rr0_(r0.squaredNorm()),
+        rr1_(r0.dot(r1)),
+        rr2_(r1.squaredNorm()),
+        xv_(x.dot(v)),
+        xx_(x.squaredNorm()) {}
 
   double horizonCos() const { return std::copysign(std::sqrt(std::abs(key_)), key_); }
 
@@ -30,17 +39,17 @@ class SideSearch {
   // segment the surface is at most three straight pieces (near face, plane, far face of the
   // slab), split where the plane's depth k/d crosses a face.
   bool visit(const Texel& texel, double ta, double tb) {
+    near_ = texel.depth * (1.0 - reach_);
+    if (belowHorizon(near_, ta) && belowHorizon(near_, tb)) {
+      return false;
+    }
+    far_ = texel.depth * (1.0 + reach_);
     k_ = texel.normal[0] * static_cast<double>(texel.position[0]) +
          texel.normal[1] * static_cast<double>(texel.position[1]) +
          texel.normal[2] * static_cast<double>(texel.position[2]);
     const Eigen::Vector3d n(texel.normal[0], texel.normal[1], texel.normal[2]);
     alpha_ = n.dot(r0_);
     beta_ = n.dot(r1_);
-    near_ = texel.depth * (1.0 - reach_);
-    far_ = texel.depth * (1.0 + reach_);
-    if (belowHorizon(near_ * (r0_ + ta * r1_)) && belowHorizon(near_ * (r0_ + tb * r1_))) {
-      return false;
-    }
     const double before = key_;
     // Common case: the plane is in front and inside the slab at both ends, hence in between.
     const double da = alpha_ + ta * beta_;
@@ -77,11 +86,13 @@ class SideSearch {
   // camera, so its highest point seen from P is a corner; and along each view ray the point
   // nearer the camera is the higher. So when both near-face corners are below the horizon, no
   // sample of the texel can raise it and the texel is skipped (docs/screen_ao.md,
-  // "gtao-reference"). The 1e-9 margin keeps the result bit-identical to the full visit.
-  bool belowHorizon(const Eigen::Vector3d& s) const {
-    const Eigen::Vector3d u = s - x_;
-    const double uv = u.dot(v_);
-    return uv * std::abs(uv) < (key_ - 1e-9) * u.squaredNorm();
+  // "gtao-reference"). Here s = z·r(t), u = s − P expanded in the per-side dot products; the 1e-9
+  // margin, far above their rounding, keeps the result bit-identical to the full visit.
+  bool belowHorizon(double z, double t) const {
+    const double uv = z * (rv0_ + t * rv1_) - xv_;
+    const double uu =
+        z * (z * (rr0_ + t * (2.0 * rr1_ + t * rr2_)) - 2.0 * (rx0_ + t * rx1_)) + xx_;
+    return uv * std::abs(uv) < (key_ - 1e-9) * uu;
   }
   Eigen::Vector3d point(double t) const {
     const Eigen::Vector3d r = r0_ + t * r1_;
@@ -123,6 +134,7 @@ class SideSearch {
   Eigen::Vector3d x_, v_, r0_, r1_;
   double radius2_, reach_;
   double key_;
+  double rv0_, rv1_, rx0_, rx1_, rr0_, rr1_, rr2_, xv_, xx_;  // r(t)·v, r(t)·x, |r(t)|², x·v, |x|²
   double k_ = 0.0, alpha_ = 0.0, beta_ = 0.0, near_ = 0.0, far_ = 0.0;  // the current texel
 };
 
@@ -163,9 +175,11 @@ double exactHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
   const double distance = x.norm();
   // Where the rays stop reaching a point of the ball above cos c: the ray through the ball's point
   // at angle acos(c) from V towards o, or through its tangent point (cos = R/|P|) for lower c.
+  // Below the tangent ray's cos R/|P| the reach no longer depends on c: computed once.
+  const double tangent_cos = radius / distance;
   const auto reach = [&](double c) {
     if (!(distance > radius)) return kInf;
-    const double q = std::max(c, radius / distance);
+    const double q = std::max(c, tangent_cos);
     const Eigen::Vector3d point = x + radius * (std::sqrt(1.0 - q * q) * o + q * v);
     if (!(point.z() < 0.0)) return kInf;
     const Eigen::Vector2d s = g.project(point);
@@ -173,6 +187,7 @@ double exactHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
   };
   SideSearch search(x, v, r0, r1, radius, slabReach(g), floor_cos);
   double length = std::min(imageExit(g, x0, y0, dx, dy), reach(floor_cos));
+  bool tangent_reached = floor_cos <= tangent_cos;  // length already holds the tangent's reach
 
   // Amanatides–Woo over the texels the line crosses, from the pixel's own outwards.
   const Texel& self = g.texels[static_cast<std::size_t>(j) * g.width + i];
@@ -195,7 +210,9 @@ double exactHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
       const Texel& texel = g.texels[static_cast<std::size_t>(fy) * g.width + fx];
       if (texel.depth > nearest && texel.depth < farthest && texel.depth > 0.0f &&
           !coplanar(texel, self) && search.visit(texel, enter, exit)) {
-        length = std::min(length, reach(search.horizonCos()));
+        const double c = search.horizonCos();
+        if (c > tangent_cos || !tangent_reached) length = std::min(length, reach(c));
+        tangent_reached = c <= tangent_cos;
       }
     }
     if (next_x < next_y) {
