@@ -70,12 +70,14 @@ FitResult runFit(const FitOptions& options) {
   output.commit();
   bar.add(1);
   bar.finish();
-  printFitSummary(a, options.shipped);
-  if (options.write_report) {
-    std::printf("wrote %s and %s\n", options.out.string().c_str(),
-                (report_dir / "index.html").string().c_str());
-  } else {
-    std::printf("wrote %s\n", options.out.string().c_str());
+  if (options.print_summary) {
+    printFitSummary(a, options.shipped);
+    if (options.write_report) {
+      std::printf("wrote %s and %s\n", options.out.string().c_str(),
+                  (report_dir / "index.html").string().c_str());
+    } else {
+      std::printf("wrote %s\n", options.out.string().c_str());
+    }
   }
   return {a.fit.linear.coeffs,
           a.fit.linear.se,

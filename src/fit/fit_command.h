@@ -23,6 +23,7 @@ struct FitOptions {
   bool constrain_open = false;  // a − b + c = 1 for every ρ (G(1, ρ) = 1)
   AoInput input;                // ray-traced A, or a screen-space estimator's (a profile)
   bool progress = true;
+  bool print_summary = true;  // false: stdout stays silent (fits run side by side in gtbake all)
 };
 
 struct FitResult {
@@ -36,7 +37,7 @@ struct FitResult {
   double shipped_rmse = 0.0;      // of G with the shipped constants
 };
 
-// Writes fit.json and the report; prints the summary table to stdout.
+// Writes fit.json and the report; prints the summary table to stdout unless told not to.
 FitResult runFit(const FitOptions& options);
 
 struct ValidateOptions {

@@ -1,10 +1,13 @@
 #include "pipeline/all_command.h"
 
+#include <tbb/parallel_for.h>
+
 #include <chrono>
 #include <cstdio>
 
 #include "common/atomic_file.h"
 #include "common/output_lock.h"
+#include "common/progress.h"
 #include "common/threads.h"
 #include "encode/encode_command.h"
 #include "export/export_command.h"
@@ -59,16 +62,24 @@ ScreenAoResult screenAndProfiles(const AllOptions& options, int threads,
 
   banner("profiles", options.progress);
   const auto t = std::chrono::steady_clock::now();
-  for (const std::string& estimator : screen_ao.estimators) {
+  // The fits are independent (each its own output set) and mostly serial inside, so they run side
+  // by side; the summary table below prints their results in the estimators' order.
+  const std::vector<std::string>& estimators = screen_ao.estimators;
+  profiles->assign(estimators.size(), {});
+  Progress bar("profiles", estimators.size(), options.progress);
+  tbb::parallel_for(std::size_t{0}, estimators.size(), [&](std::size_t k) {
     FitOptions fit;
     fit.sweep = options.out;
-    fit.out = options.out / "profiles" / estimator / "fit.json";
-    fit.input.estimator = estimator;
+    fit.out = options.out / "profiles" / estimators[k] / "fit.json";
+    fit.input.estimator = estimators[k];
     fit.input.screen_ao = screen_ao.out;
     fit.write_report = false;  // 48 scatter plots per profile; `gtbake fit --estimator` draws them
-    fit.progress = options.progress;
-    profiles->push_back({estimator, runFit(fit)});
-  }
+    fit.progress = false;
+    fit.print_summary = false;
+    (*profiles)[k] = {estimators[k], runFit(fit)};
+    bar.add(1);
+  });
+  bar.finish();
   *profile_seconds = secondsSince(t);
   return screened;
 }
