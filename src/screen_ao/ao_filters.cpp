@@ -1,11 +1,10 @@
 #include "screen_ao/ao_filters.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cmath>
 #include <vector>
+
+#include "screen_ao/pixel_loop.h"
 
 namespace gtbake {
 
@@ -17,18 +16,6 @@ constexpr double kDepthRejection = 0.05;
 
 std::uint8_t unorm8(double x) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0));
-}
-
-template <typename F>
-void forEachPixel(const GBuffer& g, F f) {
-  tbb::parallel_for(tbb::blocked_range<int>(0, g.height), [&](const tbb::blocked_range<int>& r) {
-    for (int j = r.begin(); j != r.end(); ++j) {
-      for (int i = 0; i < g.width; ++i) {
-        const std::size_t p = static_cast<std::size_t>(j) * g.width + i;
-        if (g.mask[p] != 0) f(i, j, p);
-      }
-    }
-  });
 }
 
 bool inside(const GBuffer& g, int i, int j) {
@@ -93,7 +80,7 @@ Rgba8Image bilateralBlur(const GBuffer& g, const Rgba8Image& in) {
   }
   const EdgeWeights edges = edgeWeights(g);
   Rgba8Image out(in.size(), {0, 0, 0, 0});
-  forEachPixel(g, [&](int i, int j, std::size_t p) {
+  forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
     double sum[4] = {0.0, 0.0, 0.0, 0.0};
     double total = 0.0;
     for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) {
@@ -115,7 +102,7 @@ Rgba8Image temporalFilter(const GBuffer& g, const Rgba8Image& current, const Rgb
                           double blend) {
   if (history.empty() || blend == 0.0) return current;
   Rgba8Image out(current.size(), {0, 0, 0, 0});
-  forEachPixel(g, [&](int i, int j, std::size_t p) {
+  forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
     // Screen + depth -> world -> previous frame (the same static camera) -> previous pixel.
     const Eigen::Vector3d view = g.viewPoint(i, j, g.depth[p]);
     const Eigen::Vector3d world = g.camera.position + g.viewToWorld(view);

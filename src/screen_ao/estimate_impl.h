@@ -1,36 +1,29 @@
 // Template body of estimatePerPixel (estimate.h).
 #pragma once
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <Eigen/Core>
 #include <algorithm>
+
+#include "screen_ao/pixel_loop.h"
 
 namespace gtbake {
 
 template <typename F>
 AoEstimate estimatePerPixel(const GBuffer& g, F perPixel) {
   AoEstimate e = makeEstimate(g);
-  tbb::parallel_for(tbb::blocked_range<int>(0, g.height), [&](const tbb::blocked_range<int>& r) {
-    for (int j = r.begin(); j != r.end(); ++j) {
-      for (int i = 0; i < g.width; ++i) {
-        const std::size_t p = static_cast<std::size_t>(j) * g.width + i;
-        if (g.mask[p] == 0) continue;
-        double a = 0.0;
-        Eigen::Vector3d bent = Eigen::Vector3d::Zero();
-        perPixel(i, j, p, &a, &bent);
-        Eigen::Vector3d world = g.viewToWorld(bent);
-        if (!(world.norm() > 1e-12)) {
-          world = Eigen::Vector3d(g.normal[3 * p], g.normal[3 * p + 1], g.normal[3 * p + 2]);
-        }
-        world.normalize();
-        // Â is a visibility fraction: the rounding of the slice integrals (and of the bitmask's
-        // cosine remap at grazing views, up to 3e-5) may leave it just outside [0, 1].
-        e.a[p] = static_cast<float>(std::clamp(a, 0.0, 1.0));
-        for (int c = 0; c < 3; ++c) e.bent[3 * p + c] = static_cast<float>(world[c]);
-      }
+  forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
+    double a = 0.0;
+    Eigen::Vector3d bent = Eigen::Vector3d::Zero();
+    perPixel(i, j, p, &a, &bent);
+    Eigen::Vector3d world = g.viewToWorld(bent);
+    if (!(world.norm() > 1e-12)) {
+      world = Eigen::Vector3d(g.normal[3 * p], g.normal[3 * p + 1], g.normal[3 * p + 2]);
     }
+    world.normalize();
+    // Â is a visibility fraction: the rounding of the slice integrals (and of the bitmask's
+    // cosine remap at grazing views, up to 3e-5) may leave it just outside [0, 1].
+    e.a[p] = static_cast<float>(std::clamp(a, 0.0, 1.0));
+    for (int c = 0; c < 3; ++c) e.bent[3 * p + c] = static_cast<float>(world[c]);
   });
   return e;
 }

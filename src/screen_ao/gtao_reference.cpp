@@ -35,10 +35,10 @@ class ReferencePixel {
  public:
   ReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSettings& s)
       : g_(g), i_(i), j_(j), s_(s) {
-    const std::size_t p = static_cast<std::size_t>(j) * g.width + i;
-    x_ = viewPosition(g, p);
-    v_ = -x_.normalized();
-    normal_ = viewNormal(g, p);
+    const PixelFrame f = pixelFrame(g, static_cast<std::size_t>(j) * g.width + i);
+    x_ = f.x;
+    v_ = f.v;
+    normal_ = f.normal;
   }
 
   // ∫ over φ ∈ [0, 2π) of the direction terms: the trapezoid rule on the base grid, each interval

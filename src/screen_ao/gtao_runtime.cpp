@@ -1,10 +1,8 @@
 #include "screen_ao/gtao_runtime.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include "common/error.h"
 #include "screen_ao/ao_filters.h"
+#include "screen_ao/pixel_loop.h"
 #include "screen_ao/slice_geometry.h"
 
 namespace gtbake {
@@ -122,19 +120,13 @@ void gtaoRuntimePixel(const GBuffer& g, int i, int j, int frame, const GtaoRunti
 
 Rgba8Image gtaoRuntimeFrame(const GBuffer& g, int frame, const GtaoRuntimeSettings& s) {
   Rgba8Image out(g.pixels(), {0, 0, 0, 0});
-  tbb::parallel_for(tbb::blocked_range<int>(0, g.height), [&](const tbb::blocked_range<int>& r) {
-    for (int j = r.begin(); j != r.end(); ++j) {
-      for (int i = 0; i < g.width; ++i) {
-        const std::size_t p = static_cast<std::size_t>(j) * g.width + i;
-        if (g.mask[p] == 0) continue;
-        double ao = 0.0;
-        Eigen::Vector3d bent;
-        gtaoRuntimePixel(g, i, j, frame, s, &ao, &bent);
-        bent.normalize();
-        out[p] = {unorm8(bent.x() * 0.5 + 0.5), unorm8(bent.y() * 0.5 + 0.5),
-                  unorm8(bent.z() * 0.5 + 0.5), unorm8(ao)};
-      }
-    }
+  forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
+    double ao = 0.0;
+    Eigen::Vector3d bent;
+    gtaoRuntimePixel(g, i, j, frame, s, &ao, &bent);
+    bent.normalize();
+    out[p] = {unorm8(bent.x() * 0.5 + 0.5), unorm8(bent.y() * 0.5 + 0.5),
+              unorm8(bent.z() * 0.5 + 0.5), unorm8(ao)};
   });
   return out;
 }

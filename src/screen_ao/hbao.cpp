@@ -32,9 +32,7 @@ double tangentSine(const GBuffer& g, int i, int j, const Eigen::Vector2d& omega,
 
 void hbaoPixel(const GBuffer& g, int i, int j, std::size_t p, const HbaoSettings& s,
                const CounterRng& rng, double* a, Eigen::Vector3d* bent) {
-  const Eigen::Vector3d x = viewPosition(g, p);
-  const Eigen::Vector3d v = -x.normalized();
-  const Eigen::Vector3d normal = viewNormal(g, p);
+  const auto [x, v, normal] = pixelFrame(g, p);
   const double radius_px = s.radius * g.pixelsPerMetre(g.depth[p]);
   const std::array<float, 4> u = rng.uniform4(p, 0);
   const double step_px = radius_px / s.steps;

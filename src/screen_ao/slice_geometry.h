@@ -206,4 +206,13 @@ inline Eigen::Vector3d viewNormal(const GBuffer& g, std::size_t p) {
   return Eigen::Vector3d(g.view_normal[3 * p], g.view_normal[3 * p + 1], g.view_normal[3 * p + 2]);
 }
 
+// What every horizon estimator starts a pixel from: P, the view direction V = −P/|P| and N.
+struct PixelFrame {
+  Eigen::Vector3d x, v, normal;
+};
+inline PixelFrame pixelFrame(const GBuffer& g, std::size_t p) {
+  const Eigen::Vector3d x = viewPosition(g, p);
+  return {x, -x.normalized(), viewNormal(g, p)};
+}
+
 }  // namespace gtbake

@@ -111,9 +111,7 @@ std::uint32_t sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x
 
 void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSettings& s,
                   double* a, Eigen::Vector3d* bent) {
-  const Eigen::Vector3d x = viewPosition(g, p);
-  const Eigen::Vector3d v = -x.normalized();
-  const Eigen::Vector3d normal = viewNormal(g, p);
+  const auto [x, v, normal] = pixelFrame(g, p);
   const double radius_px = s.radius * g.pixelsPerMetre(g.depth[p]);
   double visibility = 0.0;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
