@@ -42,10 +42,6 @@ double coneThreshold(double alphaV) {
   return std::cos(std::clamp(alphaV, 0.0, kPi));
 }
 
-double sinSq(double a) {
-  const double s = std::sin(a);
-  return s * s;
-}
 }  // namespace
 
 const std::vector<AxisDefinition>& axisDefinitions(int dims) {
@@ -134,6 +130,20 @@ double evaluateS(int dims, const GtsoPoint& p, int cells) {
                            cells)[0];
 }
 
+ErrorPoints sizedErrorPoints(int lobes, int perLobe) {
+  ErrorPoints out;
+  out.points.resize(static_cast<std::size_t>(lobes) * perLobe);
+  out.exact.resize(out.points.size());
+  return out;
+}
+
+double stepWindowA(double centre, double half, double v) {
+  const double lo = std::clamp(centre - half, 0.0, kHalfPi);
+  const double hi = std::clamp(centre + half, 0.0, kHalfPi);
+  const double s = std::sin(lo + (hi - lo) * v);
+  return s * s;
+}
+
 std::vector<float> toFloats(const Table& t) {
   return std::vector<float>(t.values.begin(), t.values.end());
 }
@@ -211,12 +221,8 @@ LobePoints drawLobePoints(int dims, PointSet set, const CounterRng& rng, int l, 
     const double cosBetaMin = set == PointSet::kStress ? 0.0 : -std::sin(thetaO);
     if (dims == 4) p.beta = std::acos(1.0 - (1.0 - cosBetaMin) * vb[0]);
     if (set == PointSet::kStress) {
-      // alpha_v uniform over the part of [s - h, s + h] inside [0, pi/2] (no mass piled up
-      // at the ends by clamping).
-      const double half = kStressLobeWidths * rp * rp + kStressFloor;
-      const double lo = std::clamp(p.beta - half, 0.0, kHalfPi);
-      const double hi = std::clamp(p.beta + half, 0.0, kHalfPi);
-      p.A = sinSq(lo + (hi - lo) * v[1]);
+      // alpha_v uniform over [s - h, s + h] clipped to [0, pi/2] (stepWindowA).
+      p.A = stepWindowA(p.beta, kStressLobeWidths * rp * rp + kStressFloor, v[1]);
     }
     out.points.push_back(p);
     if (k % out.conesPer == 0) {
@@ -275,9 +281,7 @@ ErrorPoints makeErrorPoints(int dims, PointSet set, int lobes, int perLobe, std:
                             int cells, Progress* progress) {
   checkPerLobe(perLobe);
   const CounterRng rng = pointStream(dims, set, seed);
-  ErrorPoints out;
-  out.points.resize(static_cast<std::size_t>(lobes) * perLobe);
-  out.exact.resize(out.points.size());
+  ErrorPoints out = sizedErrorPoints(lobes, perLobe);
   tbb::parallel_for(0, lobes, [&](int l) {
     const auto [rp, cosO] = drawLobe(set, rng, l);
     LobePoints lp = drawLobePoints(dims, set, rng, l, perLobe, rp, cosO);
@@ -291,11 +295,7 @@ ErrorPointPair makeErrorPointPair(PointSet set, int lobes, int perLobe, std::uin
                                   int cells) {
   checkPerLobe(perLobe);
   const CounterRng rng3 = pointStream(3, set, seed), rng4 = pointStream(4, set, seed);
-  ErrorPointPair out;
-  for (ErrorPoints* e : {&out.three, &out.four}) {
-    e->points.resize(static_cast<std::size_t>(lobes) * perLobe);
-    e->exact.resize(e->points.size());
-  }
+  ErrorPointPair out{sizedErrorPoints(lobes, perLobe), sizedErrorPoints(lobes, perLobe)};
   tbb::parallel_for(0, lobes, [&](int l) {
     const auto [rp, cosO] = drawLobe(set, rng4, l);
     LobePoints three = drawLobePoints(3, set, rng3, l, perLobe, rp, cosO);

@@ -90,6 +90,8 @@ struct ErrorPoints {
   std::vector<GtsoPoint> points;
   std::vector<double> exact;
 };
+// lobes x perLobe points and exact values, zero until a point set fills them lobe by lobe.
+ErrorPoints sizedErrorPoints(int lobes, int perLobe);
 // `progress` (optional) advances by one per lobe.
 ErrorPoints makeErrorPoints(int dims, PointSet set, int lobes, int perLobe, std::uint64_t seed,
                             int cells, Progress* progress = nullptr);
@@ -105,5 +107,10 @@ ErrorStats lookupError(const Table& t, const EncodedTable& e, const ErrorPoints&
 
 // Values of the table as float32, texture order.
 std::vector<float> toFloats(const Table& t);
+
+// A = sin^2 alpha_v with alpha_v at fraction v of the part of [centre - half, centre + half]
+// inside [0, pi/2]: the point sets' draw near the mirror step (no mass piled up at the ends by
+// clamping).
+double stepWindowA(double centre, double half, double v);
 
 }  // namespace gtbake::gtso

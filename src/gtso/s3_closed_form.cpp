@@ -9,7 +9,6 @@
 #include <cmath>
 
 #include "common/error.h"
-#include "common/math_constants.h"
 #include "common/rng.h"
 #include "gtso/gtso_integrator.h"
 
@@ -20,7 +19,6 @@ namespace {
 constexpr int kN = kGtsoS3ClosedFormCoeffs;
 using Jet = ceres::Jet<double, kN>;
 
-constexpr double kHalfPi = kPi / 2.0;
 constexpr double kStepLobeWidths = 6.0;  // near-step cones: within 6 alpha + 0.02 rad of the step
 constexpr double kStepFloor = 0.02;
 constexpr double kGrazingCos = 0.1;                 // grazing lobes: cos theta_o in [0, 0.1]
@@ -103,18 +101,11 @@ constexpr S3ClosedFormCoeffs kWarmStart = {
 };
 // clang-format on
 
-double sinSq(double a) {
-  const double s = std::sin(a);
-  return s * s;
-}
-
 }  // namespace
 
 ErrorPoints makeClosedFormPoints(int lobes, int perLobe, std::uint64_t seed, int cells) {
   const CounterRng rng(seed, kPointStream);
-  ErrorPoints out;
-  out.points.resize(static_cast<std::size_t>(lobes) * perLobe);
-  out.exact.resize(out.points.size());
+  ErrorPoints out = sizedErrorPoints(lobes, perLobe);
   tbb::parallel_for(0, lobes, [&](int l) {
     const auto u = rng.uniform4(static_cast<std::uint64_t>(l), 0);
     const double rp = u[0];
@@ -127,10 +118,7 @@ ErrorPoints makeClosedFormPoints(int lobes, int perLobe, std::uint64_t seed, int
       const auto v = rng.uniform4(static_cast<std::uint64_t>(l), 1 + k);
       double A = v[0];
       if (k % 2 == 1) {
-        const double half = kStepLobeWidths * rp * rp + kStepFloor;
-        const double lo = std::clamp(thetaO - half, 0.0, kHalfPi);
-        const double hi = std::clamp(thetaO + half, 0.0, kHalfPi);
-        A = sinSq(lo + (hi - lo) * v[1]);
+        A = stepWindowA(thetaO, kStepLobeWidths * rp * rp + kStepFloor, v[1]);
       }
       out.points[static_cast<std::size_t>(l) * perLobe + k] = {A, thetaO, rp, thetaO};
       cones[k] = std::sqrt(std::clamp(1.0 - A, 0.0, 1.0));

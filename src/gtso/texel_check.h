@@ -13,11 +13,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "gtso/gtso_tables.h"
-
-namespace gtbake {
-class Progress;
-}
+#include "gtso/gtso_tables.h"  // also declares gtbake::Progress
 
 namespace gtbake::gtso {
 

@@ -43,6 +43,29 @@ double smoothstep(double e0, double e1, double t) {
   return s * s * (3.0 - 2.0 * s);
 }
 
+// A generator's parameters at their defaults but for the seed.
+template <class Params>
+Params seededParams(std::uint64_t seed) {
+  Params p;
+  p.seed = seed;
+  return p;
+}
+
+// The six holes of cavity and wells: hole k in cell (1 + k % 3, 1 + k / 3) of the 5 x 4 holed
+// ground, its outline set by outline(k, hole).
+template <class Outline>
+std::vector<GroundHole> sixHoles(const Outline& outline) {
+  std::vector<GroundHole> holes;
+  for (int k = 0; k < 6; ++k) {
+    GroundHole hole;
+    hole.cell_x = 1 + k % 3;
+    hole.cell_z = 1 + k / 3;
+    outline(k, hole);
+    holes.push_back(hole);
+  }
+  return holes;
+}
+
 }  // namespace
 
 void addFlatGround(MeshBuilder& mesh, double inner) {
@@ -73,14 +96,9 @@ Scene makeCavityScene(const CavityParams& p) {
   // h/2R from 0.875 down to 0.05).
   const double kRadius = p.radius;
   const auto& depths = p.depths;
-  std::vector<GroundHole> holes;
-  for (int k = 0; k < 6; ++k) {
-    GroundHole hole;
-    hole.cell_x = 1 + k % 3;
-    hole.cell_z = 1 + k / 3;
+  const auto holes = sixHoles([&](int k, GroundHole& hole) {
     hole.half_x = std::sqrt(depths[k] * (2.0 * kRadius - depths[k]));
-    holes.push_back(hole);
-  }
+  });
   MeshBuilder mesh;
   // Cells 2.2 R wide: the deep bowls bulge to the sphere's full radius R below the ground.
   const auto rims = addHoledGround(mesh, 5, 4, 2.2 * kRadius, kCurveSegments, holes, kGroundExtent);
@@ -171,16 +189,11 @@ Scene makeSpheresScene(const SpheresParams& p) {
 
 Scene makeWellsScene(const WellsParams& p) {
   const auto& wells = p.wells;
-  std::vector<GroundHole> holes;
-  for (int k = 0; k < 6; ++k) {
-    GroundHole hole;
-    hole.cell_x = 1 + k % 3;
-    hole.cell_z = 1 + k / 3;
+  const auto holes = sixHoles([&](int k, GroundHole& hole) {
     hole.circle = wells[k].circle;
     hole.half_x = wells[k].half_x;
     hole.half_z = wells[k].half_z;
-    holes.push_back(hole);
-  }
+  });
   MeshBuilder mesh;
   const auto rims = addHoledGround(mesh, 5, 4, 2.0, kCurveSegments, holes, kGroundExtent);
   for (int k = 0; k < 6; ++k) addWell(mesh, rims[k], wells[k].depth);
@@ -188,9 +201,7 @@ Scene makeWellsScene(const WellsParams& p) {
 }
 
 Scene makeClutterScene(std::uint64_t seed) {
-  ClutterParams p;
-  p.seed = seed;
-  return makeClutterScene(p);
+  return makeClutterScene(seededParams<ClutterParams>(seed));
 }
 
 Scene makeClutterScene(const ClutterParams& p) {
@@ -230,9 +241,7 @@ Scene makeClutterScene(const ClutterParams& p) {
 }
 
 Scene makeTerrainScene(std::uint64_t seed) {
-  TerrainParams p;
-  p.seed = seed;
-  return makeTerrainScene(p);
+  return makeTerrainScene(seededParams<TerrainParams>(seed));
 }
 
 Scene makeTerrainScene(const TerrainParams& p) {

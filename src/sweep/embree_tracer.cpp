@@ -98,20 +98,14 @@ EmbreeTracer::~EmbreeTracer() {
 
 RTCRayHit makeRayHit(const Ray& ray, float tfar) {
   RTCRayHit rh;
-  rh.ray.org_x = ray.origin.x();
-  rh.ray.org_y = ray.origin.y();
-  rh.ray.org_z = ray.origin.z();
   rh.ray.tnear = 0.0f;
-  rh.ray.dir_x = ray.direction.x();
-  rh.ray.dir_y = ray.direction.y();
-  rh.ray.dir_z = ray.direction.z();
   rh.ray.time = 0.0f;
-  rh.ray.tfar = tfar;
   rh.ray.mask = 0xFFFFFFFFu;
   rh.ray.id = 0;
   rh.ray.flags = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  setRay(&rh, ray.origin.x(), ray.origin.y(), ray.origin.z(), ray.direction.x(), ray.direction.y(),
+         ray.direction.z(), tfar);
   return rh;
 }
 

@@ -69,6 +69,18 @@ SceneImage assembleScene(const SweepIdentity& identity, const TilePlan& plan, in
   return image;
 }
 
+// A scene's EXR (every channel) and its A and G050 previews (8-bit PNG, [0, 1]).
+void addSceneImages(OutputSet& output, const TilePlan& plan, const SceneImage& image,
+                    const std::map<std::string, std::string>& attributes, const std::string& slug) {
+  output.add(slug + ".exr", encodeExr(plan.width, plan.height, image.channels, attributes));
+  for (const ExrChannel& c : image.channels) {
+    if (c.name == "A" || c.name == "G050") {
+      output.add(slug + "_" + c.name + ".png",
+                 encodePng(plan.width, plan.height, 1, toGray8(c.pixels, 0.0f, 1.0f)));
+    }
+  }
+}
+
 }  // namespace
 
 void sealIdentity(SweepIdentity* identity) {
@@ -110,14 +122,7 @@ SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity
     attributes["gtbake.scene"] = gltf;
     const std::string slug = fileSlug(name);  // docs/limits.md §Names in outputs
     const fs::path exr = out / (slug + ".exr");
-    output.add(exr.filename().string(),
-               encodeExr(plan.width, plan.height, image.channels, attributes));
-    for (const ExrChannel& c : image.channels) {
-      if (c.name == "A" || c.name == "G050") {
-        output.add(slug + "_" + c.name + ".png",
-                   encodePng(plan.width, plan.height, 1, toGray8(c.pixels, 0.0f, 1.0f)));
-      }
-    }
+    addSceneImages(output, plan, image, attributes, slug);
     const double write_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double trace_seconds = runs[s].trace_seconds;

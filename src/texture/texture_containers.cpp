@@ -37,17 +37,14 @@ constexpr std::uint32_t kKhrDfTransferLinear = 1;
 constexpr std::uint32_t kKhrDfVersion = 2;        // KDFS 1.3 basic descriptor block
 constexpr std::uint32_t kDfdBlockSize = 24 + 16;  // basic block header + one sample
 
-void put32(std::string& s, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) s.push_back(static_cast<char>((v >> (8 * i)) & 0xFF));
+// Little-endian integers of `Bytes` bytes: appended (putLe) or written over s[at..] (setLe).
+template <int Bytes>
+void putLe(std::string& s, std::uint64_t v) {
+  for (int i = 0; i < Bytes; ++i) s.push_back(static_cast<char>((v >> (8 * i)) & 0xFF));
 }
-void put64(std::string& s, std::uint64_t v) {
-  for (int i = 0; i < 8; ++i) s.push_back(static_cast<char>((v >> (8 * i)) & 0xFF));
-}
-void set64(std::string& s, std::size_t at, std::uint64_t v) {
-  for (int i = 0; i < 8; ++i) s[at + i] = static_cast<char>((v >> (8 * i)) & 0xFF);
-}
-void set32(std::string& s, std::size_t at, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) s[at + i] = static_cast<char>((v >> (8 * i)) & 0xFF);
+template <int Bytes>
+void setLe(std::string& s, std::size_t at, std::uint64_t v) {
+  for (int i = 0; i < Bytes; ++i) s[at + i] = static_cast<char>((v >> (8 * i)) & 0xFF);
 }
 
 // Bytes per texel of an uncompressed format (0 for BC4).
@@ -186,31 +183,31 @@ std::string makeDds(const VolumeImage& image) {
       bc4 ? static_cast<std::uint32_t>(image.width / 4) * (image.height / 4) * kBc4BlockBytes
           : static_cast<std::uint32_t>(image.width) * texelBytes(image.format);
   std::string s;
-  put32(s, kDdsMagic);
-  put32(s, 124);  // DDS_HEADER.dwSize
-  put32(s, kDdsdCaps | kDdsdHeight | kDdsdWidth | kDdsdPixelFormat | kDdsdDepth |
-               (bc4 ? kDdsdLinearSize : kDdsdPitch));
-  put32(s, image.height);
-  put32(s, image.width);
-  put32(s, pitch);
-  put32(s, image.depth);
-  put32(s, 1);                               // dwMipMapCount
-  for (int i = 0; i < 11; ++i) put32(s, 0);  // dwReserved1
-  put32(s, 32);                              // DDS_PIXELFORMAT.dwSize
-  put32(s, kDdpfFourCc);
-  put32(s, kFourCcDx10);
-  for (int i = 0; i < 5; ++i) put32(s, 0);  // RGB bit count and masks
-  put32(s, kDdsCapsTexture | kDdsCapsComplex);
-  put32(s, kDdsCaps2Volume);
-  put32(s, 0);  // dwCaps3
-  put32(s, 0);  // dwCaps4
-  put32(s, 0);  // dwReserved2
-  put32(s, bc4 ? kDxgiFormatBc4Unorm
-               : (image.format == TexelFormat::kR16 ? kDxgiFormatR16Unorm : kDxgiFormatR8Unorm));
-  put32(s, kD3d10ResourceDimensionTexture3d);
-  put32(s, 0);  // miscFlag
-  put32(s, 1);  // arraySize
-  put32(s, 0);  // miscFlags2: DDS_ALPHA_MODE_UNKNOWN
+  putLe<4>(s, kDdsMagic);
+  putLe<4>(s, 124);  // DDS_HEADER.dwSize
+  putLe<4>(s, kDdsdCaps | kDdsdHeight | kDdsdWidth | kDdsdPixelFormat | kDdsdDepth |
+                  (bc4 ? kDdsdLinearSize : kDdsdPitch));
+  putLe<4>(s, image.height);
+  putLe<4>(s, image.width);
+  putLe<4>(s, pitch);
+  putLe<4>(s, image.depth);
+  putLe<4>(s, 1);                               // dwMipMapCount
+  for (int i = 0; i < 11; ++i) putLe<4>(s, 0);  // dwReserved1
+  putLe<4>(s, 32);                              // DDS_PIXELFORMAT.dwSize
+  putLe<4>(s, kDdpfFourCc);
+  putLe<4>(s, kFourCcDx10);
+  for (int i = 0; i < 5; ++i) putLe<4>(s, 0);  // RGB bit count and masks
+  putLe<4>(s, kDdsCapsTexture | kDdsCapsComplex);
+  putLe<4>(s, kDdsCaps2Volume);
+  putLe<4>(s, 0);  // dwCaps3
+  putLe<4>(s, 0);  // dwCaps4
+  putLe<4>(s, 0);  // dwReserved2
+  putLe<4>(s, bc4 ? kDxgiFormatBc4Unorm
+                  : (image.format == TexelFormat::kR16 ? kDxgiFormatR16Unorm : kDxgiFormatR8Unorm));
+  putLe<4>(s, kD3d10ResourceDimensionTexture3d);
+  putLe<4>(s, 0);  // miscFlag
+  putLe<4>(s, 1);  // arraySize
+  putLe<4>(s, 0);  // miscFlags2: DDS_ALPHA_MODE_UNKNOWN
   s.append(reinterpret_cast<const char*>(image.blocks->data()), bytes);
   return s;
 }
@@ -220,43 +217,43 @@ std::string makeKtx2(const VolumeImage& image, const std::string& writer) {
   const bool bc4 = image.format == TexelFormat::kBc4;
   const std::uint32_t tb = texelBytes(image.format);
   std::string s(reinterpret_cast<const char*>(kKtx2Identifier), sizeof(kKtx2Identifier));
-  put32(s, bc4 ? kVkFormatBc4UnormBlock
-               : (image.format == TexelFormat::kR16 ? kVkFormatR16Unorm : kVkFormatR8Unorm));
-  put32(s, bc4 ? 1 : tb);  // typeSize: block-compressed formats use 1, else the component size
-  put32(s, image.width);
-  put32(s, image.height);
-  put32(s, image.depth);
-  put32(s, 0);  // layerCount: not an array
-  put32(s, 1);  // faceCount
-  put32(s, 1);  // levelCount
-  put32(s, 0);  // supercompressionScheme: none
+  putLe<4>(s, bc4 ? kVkFormatBc4UnormBlock
+                  : (image.format == TexelFormat::kR16 ? kVkFormatR16Unorm : kVkFormatR8Unorm));
+  putLe<4>(s, bc4 ? 1 : tb);  // typeSize: block-compressed formats use 1, else the component size
+  putLe<4>(s, image.width);
+  putLe<4>(s, image.height);
+  putLe<4>(s, image.depth);
+  putLe<4>(s, 0);  // layerCount: not an array
+  putLe<4>(s, 1);  // faceCount
+  putLe<4>(s, 1);  // levelCount
+  putLe<4>(s, 0);  // supercompressionScheme: none
   const std::size_t index_at = s.size();
-  for (int i = 0; i < 4; ++i) put32(s, 0);  // dfd/kvd offsets and lengths, set below
-  put64(s, 0);                              // sgdByteOffset: no supercompression global data
-  put64(s, 0);                              // sgdByteLength
+  for (int i = 0; i < 4; ++i) putLe<4>(s, 0);  // dfd/kvd offsets and lengths, set below
+  putLe<8>(s, 0);                              // sgdByteOffset: no supercompression global data
+  putLe<8>(s, 0);                              // sgdByteLength
   const std::size_t level_at = s.size();
-  for (int i = 0; i < 3; ++i) put64(s, 0);  // level 0: byteOffset, byteLength, uncompressed
+  for (int i = 0; i < 3; ++i) putLe<8>(s, 0);  // level 0: byteOffset, byteLength, uncompressed
 
   // Data format descriptor: dfdTotalSize, then one basic descriptor block with one sample.
   const std::size_t dfd_at = s.size();
-  put32(s, 4 + kDfdBlockSize);
-  put32(s, 0);  // vendorId KHR (0), descriptorType basic (0)
-  put32(s, kKhrDfVersion | kDfdBlockSize << 16);
-  put32(s, (bc4 ? kKhrDfModelBc4 : kKhrDfModelRgbsda) | kKhrDfPrimariesBt709 << 8 |
-               kKhrDfTransferLinear << 16);  // flags 0
-  put32(s, bc4 ? (3 | 3 << 8) : 0);     // texelBlockDimension 4×4×1×1 or 1×1×1×1 (minus 1)
-  put32(s, bc4 ? kBc4BlockBytes : tb);  // bytesPlane0, bytesPlane1..3 = 0
-  put32(s, 0);                          // bytesPlane4..7
-  put32(s, 0 | (bc4 ? 63u : 8 * tb - 1) << 16);  // bitOffset 0, bitLength − 1, channel 0
-  put32(s, 0);                                   // samplePosition 0,0,0,0
-  put32(s, 0);                                   // sampleLower
-  put32(s, bc4 ? 0xFFFFFFFFu : (tb == 2 ? 0xFFFFu : 0xFFu));  // sampleUpper
+  putLe<4>(s, 4 + kDfdBlockSize);
+  putLe<4>(s, 0);  // vendorId KHR (0), descriptorType basic (0)
+  putLe<4>(s, kKhrDfVersion | kDfdBlockSize << 16);
+  putLe<4>(s, (bc4 ? kKhrDfModelBc4 : kKhrDfModelRgbsda) | kKhrDfPrimariesBt709 << 8 |
+                  kKhrDfTransferLinear << 16);  // flags 0
+  putLe<4>(s, bc4 ? (3 | 3 << 8) : 0);     // texelBlockDimension 4×4×1×1 or 1×1×1×1 (minus 1)
+  putLe<4>(s, bc4 ? kBc4BlockBytes : tb);  // bytesPlane0, bytesPlane1..3 = 0
+  putLe<4>(s, 0);                          // bytesPlane4..7
+  putLe<4>(s, 0 | (bc4 ? 63u : 8 * tb - 1) << 16);  // bitOffset 0, bitLength − 1, channel 0
+  putLe<4>(s, 0);                                   // samplePosition 0,0,0,0
+  putLe<4>(s, 0);                                   // sampleLower
+  putLe<4>(s, bc4 ? 0xFFFFFFFFu : (tb == 2 ? 0xFFFFu : 0xFFu));  // sampleUpper
   const std::size_t dfd_bytes = s.size() - dfd_at;
 
   // Key/value data: one entry, value NUL-terminated, padded to 4 bytes.
   const std::size_t kvd_at = s.size();
   const std::string key_value = std::string("KTXwriter") + '\0' + writer + '\0';
-  put32(s, static_cast<std::uint32_t>(key_value.size()));
+  putLe<4>(s, static_cast<std::uint32_t>(key_value.size()));
   s += key_value;
   while (s.size() % 4 != 0) s.push_back('\0');
   const std::size_t kvd_bytes = s.size() - kvd_at;
@@ -266,13 +263,13 @@ std::string makeKtx2(const VolumeImage& image, const std::string& writer) {
   const std::size_t data_at = s.size();
   s.append(reinterpret_cast<const char*>(image.blocks->data()), bytes);
 
-  set32(s, index_at, static_cast<std::uint32_t>(dfd_at));
-  set32(s, index_at + 4, static_cast<std::uint32_t>(dfd_bytes));
-  set32(s, index_at + 8, static_cast<std::uint32_t>(kvd_at));
-  set32(s, index_at + 12, static_cast<std::uint32_t>(kvd_bytes));
-  set64(s, level_at, data_at);
-  set64(s, level_at + 8, bytes);
-  set64(s, level_at + 16, bytes);
+  setLe<4>(s, index_at, static_cast<std::uint32_t>(dfd_at));
+  setLe<4>(s, index_at + 4, static_cast<std::uint32_t>(dfd_bytes));
+  setLe<4>(s, index_at + 8, static_cast<std::uint32_t>(kvd_at));
+  setLe<4>(s, index_at + 12, static_cast<std::uint32_t>(kvd_bytes));
+  setLe<8>(s, level_at, data_at);
+  setLe<8>(s, level_at + 8, bytes);
+  setLe<8>(s, level_at + 16, bytes);
   return s;
 }
 

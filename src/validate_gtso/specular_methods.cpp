@@ -81,88 +81,66 @@ std::vector<SpecularSample> gatherSamples(const SpecularSweep& sweep) {
   return samples;
 }
 
-const char* methodName(Method m) {
+namespace {
+
+struct MethodText {
+  const char* name;
+  const char* description;
+};
+
+// A method's name (the key in validate_gtso.json) and its one-line description.
+MethodText methodText(Method m) {
   switch (m) {
     case Method::kS3Bc4:
-      return "S3_bc4";
+      return {"S3_bc4", "3D table, shipped BC4 texture, shader lookup (cos beta = b.wr)"};
     case Method::kS4Bc4:
-      return "S4_bc4";
+      return {"S4_bc4", "4D table, shipped BC4 texture, shader lookup (two fetches + lerp)"};
     case Method::kS3Float:
-      return "S3_float";
+      return {"S3_float", "3D table, float texels, same lookup"};
     case Method::kS4Float:
-      return "S4_float";
+      return {"S4_float", "4D table, float texels, same lookup"};
     case Method::kS3R16:
-      return "S3_r16";
+      return {"S3_r16", "3D table, shipped R16_UNORM texture, same lookup"};
     case Method::kS4R16:
-      return "S4_r16";
+      return {"S4_r16", "4D table, shipped R16_UNORM texture, same lookup"};
     case Method::kS3R8:
-      return "S3_r8";
+      return {"S3_r8", "3D table, shipped R8_UNORM texture, same lookup"};
     case Method::kS4R8:
-      return "S4_r8";
+      return {"S4_r8", "4D table, shipped R8_UNORM texture, same lookup"};
     case Method::kS3ClosedForm:
-      return "S3_closed_form";
+      return {"S3_closed_form",
+              "closed-form S3 fit (gtsoS3ClosedForm, no texture; cos beta = b.wr)"};
     case Method::kConeTableFitU:
-      return "cone_u_table_fit";
+      return {"cone_u_table_fit", "cone-to-cone, u fitted to the 3D table (gtso.json)"};
     case Method::kConePaperU:
-      return "cone_u_0.01";
+      return {"cone_u_0.01", "cone-to-cone, u = 0.01 (paper), cos as = u^(alpha^2/2)"};
     case Method::kConeUludagU:
-      return "cone_u_0.244";
+      return {"cone_u_0.244", "cone-to-cone, u = 0.244 (Uludag), cos as = u^(alpha^2/2)"};
     case Method::kConeFittedU:
-      return "cone_u_fitted";
+      return {"cone_u_fitted", "cone-to-cone, u fitted to path-traced S, u^(alpha^2/2)"};
     case Method::kConeFittedPerceptual:
-      return "cone_u_fitted_perceptual";
+      return {"cone_u_fitted_perceptual",
+              "cone-to-cone, u fitted to path-traced S, perceptual u^(r_p^2/2)"};
     case Method::kNone:
-      return "S_1";
+      return {"S_1", "no specular occlusion, S = 1"};
     case Method::kAo:
-      return "S_A";
+      return {"S_A", "S = A"};
     case Method::kLagarde:
-      return "lagarde";
+      return {"lagarde", "Lagarde 2014 with r = alpha = r_p^2 (Filament, HDRP)"};
     case Method::kConeUserU:
-      return "cone_u_user";
+      return {"cone_u_user", "cone-to-cone, u given by --u, cos as = u^(alpha^2/2)"};
   }
-  return "";
+  return {"", ""};
+}
+
+}  // namespace
+
+const char* methodName(Method m) {
+  return methodText(m).name;
 }
 
 const char* methodDescription(Method m) {
-  switch (m) {
-    case Method::kS3Bc4:
-      return "3D table, shipped BC4 texture, shader lookup (cos beta = b.wr)";
-    case Method::kS4Bc4:
-      return "4D table, shipped BC4 texture, shader lookup (two fetches + lerp)";
-    case Method::kS3Float:
-      return "3D table, float texels, same lookup";
-    case Method::kS4Float:
-      return "4D table, float texels, same lookup";
-    case Method::kS3R16:
-      return "3D table, shipped R16_UNORM texture, same lookup";
-    case Method::kS4R16:
-      return "4D table, shipped R16_UNORM texture, same lookup";
-    case Method::kS3R8:
-      return "3D table, shipped R8_UNORM texture, same lookup";
-    case Method::kS4R8:
-      return "4D table, shipped R8_UNORM texture, same lookup";
-    case Method::kS3ClosedForm:
-      return "closed-form S3 fit (gtsoS3ClosedForm, no texture; cos beta = b.wr)";
-    case Method::kConeTableFitU:
-      return "cone-to-cone, u fitted to the 3D table (gtso.json)";
-    case Method::kConePaperU:
-      return "cone-to-cone, u = 0.01 (paper), cos as = u^(alpha^2/2)";
-    case Method::kConeUludagU:
-      return "cone-to-cone, u = 0.244 (Uludag), cos as = u^(alpha^2/2)";
-    case Method::kConeFittedU:
-      return "cone-to-cone, u fitted to path-traced S, u^(alpha^2/2)";
-    case Method::kConeFittedPerceptual:
-      return "cone-to-cone, u fitted to path-traced S, perceptual u^(r_p^2/2)";
-    case Method::kNone:
-      return "no specular occlusion, S = 1";
-    case Method::kAo:
-      return "S = A";
-    case Method::kLagarde:
-      return "Lagarde 2014 with r = alpha = r_p^2 (Filament, HDRP)";
-    case Method::kConeUserU:
-      return "cone-to-cone, u given by --u, cos as = u^(alpha^2/2)";
-  }
-  return "";
+  return methodText(m).description;
 }
 
 ConeAperture coneAperture(double u, double w) {
