@@ -175,7 +175,9 @@ double exactHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
   const double distance = x.norm();
   // Where the rays stop reaching a point of the ball above cos c: the ray through the ball's point
   // at angle acos(c) from V towards o, or through its tangent point (cos = R/|P|) for lower c.
-  // Below the tangent ray's cos R/|P| the reach no longer depends on c: computed once.
+  // Below the tangent ray's cos R/|P| the reach no longer depends on c. The horizon only rises
+  // from floor_cos, so a horizon at or below it means floor_cos was too, and length already holds
+  // that reach: it is recomputed only for horizons above the tangent ray.
   const double tangent_cos = radius / distance;
   const auto reach = [&](double c) {
     if (!(distance > radius)) return kInf;
@@ -187,7 +189,6 @@ double exactHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
   };
   SideSearch search(x, v, r0, r1, radius, slabReach(g), floor_cos);
   double length = std::min(imageExit(g, x0, y0, dx, dy), reach(floor_cos));
-  bool tangent_reached = floor_cos <= tangent_cos;  // length already holds the tangent's reach
 
   // Amanatides–Woo over the texels the line crosses, from the pixel's own outwards.
   const Texel& self = g.texels[static_cast<std::size_t>(j) * g.width + i];
@@ -211,8 +212,7 @@ double exactHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
       if (texel.depth > nearest && texel.depth < farthest && texel.depth > 0.0f &&
           !coplanar(texel, self) && search.visit(texel, enter, exit)) {
         const double c = search.horizonCos();
-        if (c > tangent_cos || !tangent_reached) length = std::min(length, reach(c));
-        tangent_reached = c <= tangent_cos;
+        if (c > tangent_cos) length = std::min(length, reach(c));
       }
     }
     if (next_x < next_y) {
