@@ -61,16 +61,18 @@ std::string firstLine(const std::string& text) {
   return text.substr(0, text.find('\n'));
 }
 
-// --estimator and --screen-ao of fit and validate (parseAoInput): a profile's A.
+// --estimator and --screen-ao of fit, validate and validate-gtso (parseAoInput): a profile's A
+// (and, for validate-gtso, its bent normal).
 struct AoInputText {
   std::string estimator;
   std::string screen_ao;
 };
-std::shared_ptr<AoInputText> addAoInputOptions(CLI::App* parser) {
+std::shared_ptr<AoInputText> addAoInputOptions(
+    CLI::App* parser, const char* what =
+                          "Fit on this screen-space estimator's A instead of the "
+                          "ray-traced A (a profile; docs/profiles.md)") {
   auto text = std::make_shared<AoInputText>();
-  parser->add_option("--estimator", text->estimator,
-                     "Fit on this screen-space estimator's A instead of the ray-traced A "
-                     "(a profile; docs/profiles.md)");
+  parser->add_option("--estimator", text->estimator, what);
   parser->add_option("--screen-ao", text->screen_ao,
                      "Directory from gtbake screen-ao (default: <sweep>/screen_ao)");
   return text;
@@ -238,8 +240,17 @@ Subcommand addValidateGtsoCommand(CLI::App& app) {
   parser->add_option("--sweep", options->sweep, "Sweep with specular channels")->required();
   parser->add_option("--luts", options->luts, "Directory with gtso/ and gtso*.dds")->required();
   parser->add_option("--u", options->u, "Also score the cone model with this u");
-  parser->add_option("--out", options->out, "Output directory (default: --luts)");
-  return {parser, [options](const RunContext& context) {
+  parser->add_option("--out", options->out,
+                     "Output directory (default: --luts; with --estimator "
+                     "<luts>/profiles/<estimator>)");
+  auto input = addAoInputOptions(
+      parser,
+      "Score on this screen-space estimator's A and bent normal instead of the ray-traced ones "
+      "(docs/validate_gtso.md section 7; reads <luts>/validate_gtso.json for the fitted u)");
+  parser->add_flag("--no-images", "Leave the per-scene PNGs out of the report");
+  return {parser, [options, input, parser](const RunContext& context) {
+            options->input = parseAoInput(input->estimator, input->screen_ao, options->sweep);
+            options->write_images = parser->count("--no-images") == 0;
             options->progress = context.progress;
             runValidateGtso(*options);
           }};

@@ -19,69 +19,94 @@ namespace {
 // (1.00000012 on an open pixel); such values are clamped, anything farther is an error.
 constexpr float kEstimateRounding = 1e-5f;
 
-// screen_ao.json's images by name: the EXR file of each and the estimators it holds.
-struct ScreenAoSet {
-  OutputManifest manifest;
-  std::map<std::string, std::string> files;  // image name -> EXR file name
-};
+// A bent normal further than this from unit length is not one (screen-ao stores normalised
+// vectors; RGBA8 decoding and float rounding stay far below it).
+constexpr float kUnitTolerance = 1e-3f;
 
-ScreenAoSet readScreenAoSet(const std::filesystem::path& dir, const std::string& estimator) {
-  ScreenAoSet set;
-  set.manifest = readOutputSet(dir, "screen_ao");
-  const std::string where = (dir / "screen_ao.json").string();
-  const nlohmann::json doc = parseJsonText(set.manifest.readVerified("screen_ao.json"), where);
+std::string pixelText(std::size_t p, int width) {
+  return "(" + std::to_string(p % static_cast<std::size_t>(width)) + ", " +
+         std::to_string(p / static_cast<std::size_t>(width)) + ")";
+}
+
+}  // namespace
+
+ScreenEstimateSet::ScreenEstimateSet(const AoInput& input) : input_(input) {
+  manifest_ = readOutputSet(input.screen_ao, "screen_ao");
+  const std::string where = (input.screen_ao / "screen_ao.json").string();
+  const nlohmann::json doc = parseJsonText(manifest_.readVerified("screen_ao.json"), where);
   if (!doc.is_object() || !doc.contains("images") || !doc["images"].is_array() ||
       !doc.contains("estimators") || !doc["estimators"].is_object()) {
     throw Error(where + ": not a screen-ao result (needs 'images' and 'estimators')");
   }
-  if (!doc["estimators"].contains(estimator)) {
-    throw Error(where + " has no estimator '" + estimator + "' (rerun `gtbake screen-ao` with it)");
+  if (!doc["estimators"].contains(input.estimator)) {
+    throw Error(where + " has no estimator '" + input.estimator +
+                "' (rerun `gtbake screen-ao` with it)");
   }
   for (const nlohmann::json& image : doc["images"]) {
     if (!image.is_object() || !image.contains("name") || !image["name"].is_string() ||
         !image.contains("file") || !image["file"].is_string()) {
       throw Error(where + ": every image needs a name and a file");
     }
-    set.files[image["name"].get<std::string>()] = image["file"].get<std::string>();
+    files_[image["name"].get<std::string>()] = image["file"].get<std::string>();
   }
-  return set;
 }
 
-// The unmasked pixels' Â of one image, in the sweep's point order (row-major, mask > 0.5).
-std::vector<double> unmaskedEstimate(const ExrImage& image, const std::string& file,
-                                     const std::string& estimator) {
-  const std::vector<float>& mask = image.channel("mask", file);
-  const std::vector<float>& a = image.channel(estimator + ".A", file);
-  std::vector<double> out;
-  for (std::size_t p = 0; p < mask.size(); ++p) {
-    if (!(mask[p] > 0.5f)) continue;
-    if (!(a[p] >= -kEstimateRounding && a[p] <= 1.0f + kEstimateRounding)) {
-      throw Error(file + ": " + estimator + ".A = " + formatNumber(a[p], "%.9g") +
-                  " is outside [0, 1] at an unmasked pixel (" +
-                  std::to_string(p % static_cast<std::size_t>(image.width)) + ", " +
-                  std::to_string(p / static_cast<std::size_t>(image.width)) + ")");
+ImageEstimate ScreenEstimateSet::read(const std::string& name, const std::filesystem::path& sweep,
+                                      bool with_bent) const {
+  const auto found = files_.find(name);
+  if (found == files_.end()) {
+    throw Error((input_.screen_ao / "screen_ao.json").string() + " has no image '" + name +
+                "' of the sweep " + sweep.string() + " (rerun `gtbake screen-ao` on it)");
+  }
+  ImageEstimate e;
+  e.file = (input_.screen_ao / found->second).string();
+  const ExrImage image = decodeExr(manifest_.readVerified(found->second), e.file);
+  e.width = image.width;
+  e.height = image.height;
+  const std::string& est = input_.estimator;
+  const std::vector<float>& mask = image.channel("mask", e.file);
+  e.A = image.channel(est + ".A", e.file);
+  if (with_bent) {
+    const std::vector<float>* bn[3] = {&image.channel(est + ".BNX", e.file),
+                                       &image.channel(est + ".BNY", e.file),
+                                       &image.channel(est + ".BNZ", e.file)};
+    e.bent.resize(3 * mask.size());
+    for (std::size_t p = 0; p < mask.size(); ++p) {
+      for (int c = 0; c < 3; ++c) e.bent[3 * p + c] = (*bn[c])[p];
     }
-    out.push_back(std::clamp(static_cast<double>(a[p]), 0.0, 1.0));
   }
-  return out;
+  e.mask.resize(mask.size());
+  for (std::size_t p = 0; p < mask.size(); ++p) {
+    e.mask[p] = mask[p] > 0.5f ? 1 : 0;
+    if (!e.mask[p]) continue;
+    const float a = e.A[p];
+    if (!(a >= -kEstimateRounding && a <= 1.0f + kEstimateRounding)) {
+      throw Error(e.file + ": " + est + ".A = " + formatNumber(a, "%.9g") +
+                  " is outside [0, 1] at an unmasked pixel " + pixelText(p, e.width));
+    }
+    e.A[p] = std::clamp(a, 0.0f, 1.0f);
+    if (!with_bent) continue;
+    const float* b = &e.bent[3 * p];
+    const float length = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+    if (!(std::abs(length - 1.0f) <= kUnitTolerance)) {
+      throw Error(e.file + ": " + est + ".BN is not a unit vector at an unmasked pixel " +
+                  pixelText(p, e.width) + " (length " + formatNumber(length, "%.6g") + ")");
+    }
+  }
+  return e;
 }
-
-}  // namespace
 
 void useScreenEstimate(SweepData* data, const AoInput& input) {
   if (input.rayTraced()) return;
-  const ScreenAoSet set = readScreenAoSet(input.screen_ao, input.estimator);
+  const ScreenEstimateSet set(input);
   for (const SweepScene& scene : data->scenes) {
-    const auto found = set.files.find(scene.name);
-    if (found == set.files.end()) {
-      throw Error((input.screen_ao / "screen_ao.json").string() + " has no image '" + scene.name +
-                  "' of the sweep " + data->dir.string() + " (rerun `gtbake screen-ao` on it)");
+    const ImageEstimate image = set.read(scene.name, data->dir, false);
+    std::vector<double> estimate;
+    for (std::size_t p = 0; p < image.mask.size(); ++p) {
+      if (image.mask[p]) estimate.push_back(image.A[p]);
     }
-    const std::string file = (input.screen_ao / found->second).string();
-    const ExrImage image = decodeExr(set.manifest.readVerified(found->second), file);
-    const std::vector<double> estimate = unmaskedEstimate(image, file, input.estimator);
     if (estimate.size() != scene.end - scene.begin) {
-      throw Error(file + ": its mask has " + std::to_string(estimate.size()) +
+      throw Error(image.file + ": its mask has " + std::to_string(estimate.size()) +
                   " pixels, the sweep's image '" + scene.name + "' " +
                   std::to_string(scene.end - scene.begin) +
                   " (screen-ao was run on another sweep; rerun it)");

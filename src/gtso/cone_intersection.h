@@ -31,6 +31,11 @@ double capIntersectionSolidAngle(double a1, double a2, double beta);
 // 1/2 on its boundary.
 double coneSpecularOcclusion(double alpha_v, double alpha_s, double beta);
 
+// The published aperture constants (docs/gtso.md §1): the paper's u = 0.01 (Eq. 26, Appendix B)
+// and Uludag 2014's u = 0.244 as the paper's Appendix B quotes it.
+inline constexpr double kPaperU = 0.01;
+inline constexpr double kUludagU = 0.244;
+
 // The specular cone aperture alpha_s for the aperture constant u and exponent width w:
 // cos(alpha_s) = u^(w^2 / 2). The convention of docs/gtso.md §1 passes w = alpha = r_p^2; the
 // alternative convention studied in docs/gtso.md passes w = r_p.

@@ -22,6 +22,7 @@
 #include "common/progress.h"
 #include "common/threads.h"
 #include "gtso/cone_fit.h"
+#include "gtso/cone_intersection.h"
 #include "gtso/gtso_end_to_end.h"
 #include "gtso/gtso_integrator.h"
 #include "gtso/gtso_tables.h"
@@ -39,8 +40,6 @@ using gtso::Table;
 using Json = nlohmann::json;
 
 constexpr double kRoughRp = 0.3;              // the "rough lobes" subset of the cone errors
-constexpr double kPaperU = 0.01;              // paper Appendix B
-constexpr double kUludagU = 0.244;            // Uludag 2014, quoted in Appendix B
 constexpr int kPreviewScale = 8;              // PNG pixels per texel
 constexpr std::uint64_t kTexelCheckSeed = 1;  // the sampled lines of the texel check
 
@@ -198,15 +197,15 @@ Json fitCone(const gtso::S3Samples& samples, gtso::ConeFit& fit) {
            {{"fitted", coneErrorsJson(fit.errors)},
             {"fitted_r_p_ge_0.3", coneErrorsJson(gtso::coneErrors(
                                       samples, fit.u, RoughnessConvention::kAlpha, kRoughRp))},
-            {"u_0.01", fixedU(kPaperU, RoughnessConvention::kAlpha)},
-            {"u_0.244", fixedU(kUludagU, RoughnessConvention::kAlpha)}}},
+            {"u_0.01", fixedU(gtso::kPaperU, RoughnessConvention::kAlpha)},
+            {"u_0.244", fixedU(gtso::kUludagU, RoughnessConvention::kAlpha)}}},
           {"fit_r_p_ge_0.3", coneFitJson(rough)},
           {"alternative_convention",
            {{"convention", "cos(alpha_s) = u^(r_p^2/2) (paper's r read as perceptual roughness)"},
             {"fit", coneFitJson(alt)},
             {"fit_r_p_ge_0.3", coneFitJson(altRough)},
-            {"u_0.01", fixedU(kPaperU, RoughnessConvention::kPerceptual)},
-            {"u_0.244", fixedU(kUludagU, RoughnessConvention::kPerceptual)}}}};
+            {"u_0.01", fixedU(gtso::kPaperU, RoughnessConvention::kPerceptual)},
+            {"u_0.244", fixedU(gtso::kUludagU, RoughnessConvention::kPerceptual)}}}};
 }
 
 std::string floatBytes(const std::vector<float>& v) {

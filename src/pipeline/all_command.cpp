@@ -39,14 +39,43 @@ void banner(const char* stage, bool enabled) {
 
 // The seconds of the stages whose results carry no time of their own.
 struct StageTimes {
-  double scenes, fit, profiles, exporter, total;
+  double scenes, fit, profiles, specular_profiles, exporter, total;
 };
 
-// One estimator's profile: Equation 10 refitted on its Â (docs/profiles.md).
+// One estimator's profile: Equation 10 refitted on its Â (docs/profiles.md), and specular
+// occlusion scored on its Â and b̂ (docs/validate_gtso.md §7).
 struct Profile {
   std::string estimator;
   FitResult fit;
+  ValidateGtsoResult specular;
 };
+
+// The overall RMSE of S of `method` in a validate-gtso result (0 when it was not scored).
+double specularRmse(const ValidateGtsoResult& r, const char* method) {
+  for (const auto& [name, rmse] : r.rmse) {
+    if (name == method) return rmse;
+  }
+  return 0.0;
+}
+
+// validate-gtso on every profile's estimator, into <out>/profiles/<estimator>/ (after the
+// ray-traced run, whose u it scores); each run is threaded inside, so they run one after another.
+double specularProfiles(const AllOptions& options, std::vector<Profile>* profiles) {
+  banner("validate-gtso per estimator", options.progress);
+  const auto t = std::chrono::steady_clock::now();
+  for (Profile& p : *profiles) {
+    ValidateGtsoOptions v;
+    v.sweep = options.out;
+    v.luts = options.out;
+    v.input.estimator = p.estimator;
+    v.input.screen_ao = options.out / "screen_ao";
+    v.write_images = false;  // 48 PNGs per estimator; `gtbake validate-gtso --estimator` draws them
+    v.print_summary = false;
+    v.progress = options.progress;
+    p.specular = runValidateGtso(v);
+  }
+  return secondsSince(t);
+}
 
 // Screen-space A and bent normals from the sweep's G-buffer into <out>/screen_ao, then one
 // profile per estimator into <out>/profiles/<estimator>/ (fit.json and its report).
@@ -76,7 +105,7 @@ ScreenAoResult screenAndProfiles(const AllOptions& options, int threads,
     fit.write_report = false;  // 48 scatter plots per profile; `gtbake fit --estimator` draws them
     fit.progress = false;
     fit.print_summary = false;
-    (*profiles)[k] = {estimators[k], runFit(fit)};
+    (*profiles)[k] = {estimators[k], runFit(fit), {}};
     bar.add(1);
   });
   bar.finish();
@@ -114,12 +143,21 @@ void printSummary(const AllOptions& options, const SweepResult& swept, const Fit
                 p.fit.shipped_rmse, p.fit.held_out_rmse, p.estimator.c_str());
   }
   std::printf(
+      "  specular on it   RMSE of S on the estimator's A and b: S4_bc4 | cone_ao2_u_0.01 |"
+      " lagarde\n");
+  for (const Profile& p : profiles) {
+    std::printf("    %-16s %.4f | %.4f | %.4f  (profiles/%s/validate_gtso.json)\n",
+                p.estimator.c_str(), specularRmse(p.specular, "S4_bc4"),
+                specularRmse(p.specular, "cone_ao2_u_0.01"), specularRmse(p.specular, "lagarde"),
+                p.estimator.c_str());
+  }
+  std::printf(
       "  time             scenes %.1f s, sweep %.1f s (%.1f Mrays/s), fit %.1f s, screen-ao %.1f s,"
-      " profiles %.1f s, gtso %.1f s, encode %.1f s, validate-gtso %.1f s, export %.1f s;"
-      " total %.1f s\n",
+      " profiles %.1f s, gtso %.1f s, encode %.1f s, validate-gtso %.1f s (per estimator"
+      " %.1f s), export %.1f s; total %.1f s\n",
       times.scenes, swept.seconds, swept.seconds > 0 ? swept.rays / swept.seconds * 1e-6 : 0.0,
       times.fit, screened.seconds, times.profiles, baked.seconds, encoded.seconds,
-      validated.seconds, times.exporter, times.total);
+      validated.seconds, times.specular_profiles, times.exporter, times.total);
 }
 
 // The scenes (the user's, or the built-in corpus written into <out>/scenes at its settings) and
@@ -199,6 +237,7 @@ void runAll(const AllOptions& options) {
   validate_gtso.luts = options.out;  // <out>/gtso and encode's volumes
   validate_gtso.progress = options.progress;
   const ValidateGtsoResult validated = runValidateGtso(validate_gtso);
+  const double specular_profile_seconds = specularProfiles(options, &profiles);
 
   banner("export", options.progress);
   ExportOptions exporter;
@@ -213,8 +252,8 @@ void runAll(const AllOptions& options) {
   runExport(exporter);
   const double export_seconds = secondsSince(t);
 
-  StageTimes times{scenes_seconds, fit_seconds, profile_seconds, export_seconds,
-                   secondsSince(start)};
+  StageTimes times{scenes_seconds,           fit_seconds,    profile_seconds,
+                   specular_profile_seconds, export_seconds, secondsSince(start)};
   printSummary(options, swept, fitted, baked, encoded, validated, screened, profiles, times);
 }
 

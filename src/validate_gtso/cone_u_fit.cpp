@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "common/error.h"
+#include "gtso/cone_intersection.h"
 
 namespace gtbake {
 
@@ -23,8 +24,6 @@ constexpr double kRefineFinest = 1e-5;  // decades: the last parabola's half-wid
 // by an exact SSE. Towards u = 1, where the SSE turns steeply, the model (the cone SSE table,
 // cubic between grid values) can be off by more: the end check then reruns that side exactly.
 constexpr double kModelMargin = 1e-2;
-constexpr double kPaperU = 0.01;    // paper Eq. 26
-constexpr double kUludagU = 0.244;  // Uludag 2014, quoted in the paper's Appendix B
 
 // Per-roughness SSE of S_cone(u) over every sample with r_p > 0, memoised by u: both subsets
 // (all r_p, r_p ≥ 0.3) of one convention share the grid and the fixed-u evaluations.
@@ -329,11 +328,12 @@ UFit fitSubset(const Subset& s) {
   }
   z = minimise(s, z, step);
   fit.u = std::pow(10.0, z);
-  s.objective->prepare(
-      {fit.u, kPaperU, kUludagU, std::pow(10.0, kLog10UMin), std::pow(10.0, kLog10UMax)}, s.rp_min);
+  s.objective->prepare({fit.u, gtso::kPaperU, gtso::kUludagU, std::pow(10.0, kLog10UMin),
+                        std::pow(10.0, kLog10UMax)},
+                       s.rp_min);
   fit.rmse = rmseAt(s, fit.u);
-  fit.rmse_paper = rmseAt(s, kPaperU);
-  fit.rmse_uludag = rmseAt(s, kUludagU);
+  fit.rmse_paper = rmseAt(s, gtso::kPaperU);
+  fit.rmse_uludag = rmseAt(s, gtso::kUludagU);
   const double bound = kProfileTolerance * fit.rmse;
   fit.low_open = rmseAt(s, std::pow(10.0, kLog10UMin)) <= bound;
   fit.high_open = rmseAt(s, std::pow(10.0, kLog10UMax)) <= bound;

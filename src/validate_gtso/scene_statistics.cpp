@@ -148,6 +148,28 @@ std::vector<std::string> sceneClusters(const SpecularSweep& sweep, std::vector<i
   return names;
 }
 
+std::vector<RankingTest> rankingTests(const SpecularSweep& sweep,
+                                      const std::vector<SpecularSample>& samples,
+                                      const std::vector<std::vector<float>>& values,
+                                      const std::vector<Method>& methods,
+                                      const std::vector<int>& cluster_of, StageParts& parts) {
+  const std::size_t S = static_cast<std::size_t>(
+      cluster_of.empty() ? 0 : *std::max_element(cluster_of.begin(), cluster_of.end()) + 1);
+  const std::size_t R = sweep.roughness.size();
+  std::vector<std::string> names;
+  for (Method m : methods) names.push_back(methodName(m));
+  return parts.run("scene-level ranking tests", R, [&](Progress& bar) {
+    std::vector<RankingTest> ranking(R);
+    tbb::parallel_for(std::size_t{0}, R, [&](std::size_t j) {
+      const int jj = static_cast<int>(j);
+      ranking[j] = rankingTest(names, clusterRmse(samples, values, methods, cluster_of, S, jj),
+                               pooledRmse(samples, values, methods, jj));
+      bar.add(1);
+    });
+    return ranking;
+  });
+}
+
 SceneStatistics sceneStatistics(const SpecularSweep& sweep,
                                 const std::vector<SpecularSample>& samples,
                                 const std::vector<std::vector<float>>& values,
@@ -158,24 +180,28 @@ SceneStatistics sceneStatistics(const SpecularSweep& sweep,
   const std::size_t S = s.clusters.size();
   const std::size_t R = sweep.roughness.size();
   s.u = parts.run("u's scene-level interval", 1, [&](Progress&) { return analyzeU(table); });
-  std::vector<std::string> names;
-  for (Method m : methods) names.push_back(methodName(m));
-  s.ranking = parts.run("scene-level ranking tests", R, [&](Progress& bar) {
-    std::vector<RankingTest> ranking(R);
-    tbb::parallel_for(std::size_t{0}, R, [&](std::size_t j) {
-      const int jj = static_cast<int>(j);
-      ranking[j] = rankingTest(names, clusterRmse(samples, values, methods, s.cluster_of, S, jj),
-                               pooledRmse(samples, values, methods, jj));
-      bar.add(1);
-    });
-    return ranking;
-  });
+  s.ranking = rankingTests(sweep, samples, values, methods, s.cluster_of, parts);
   s.floor = parts.run("SO floor", 1, [&](Progress&) {
     return soFloor(samples, s.cluster_of, S, R, values[static_cast<int>(Method::kS4Float)]);
   });
   s.out_of_plane = outOfPlaneOccluded(samples, values[static_cast<int>(Method::kS4Bc4)],
                                       values[static_cast<int>(Method::kS3Bc4)]);
   return s;
+}
+
+nlohmann::ordered_json rankingTestsJson(const SpecularSweep& sweep,
+                                        const std::vector<RankingTest>& tests) {
+  Json ranking = Json::object();
+  for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
+    const RankingTest& r = tests[j];
+    Json vs = Json::object();
+    for (std::size_t k = 0; k < r.others.size(); ++k) vs[r.others[k]] = pairedJson(r.vs_best[k]);
+    ranking[specularChannelName(sweep.roughness[j])] = {{"best", r.best},
+                                                        {"tied_with_best", r.tied},
+                                                        {"statement", r.statement},
+                                                        {"other_minus_best", vs}};
+  }
+  return {{"method", kPairedTestMethod}, {"by_roughness", ranking}};
 }
 
 void addSceneStatisticsJson(const SpecularSweep& sweep, const SceneStatistics& s, Json& json) {
@@ -192,17 +218,7 @@ void addSceneStatisticsJson(const SpecularSweep& sweep, const SceneStatistics& s
       {"compared", "each scene's RMSE at the u fitted without it, alpha minus perceptual"},
       {"alpha_minus_perceptual", pairedJson(s.u.law.test)},
       {"chosen", kLawNames[s.u.law.chosen]}};
-  Json ranking = Json::object();
-  for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
-    const RankingTest& r = s.ranking[j];
-    Json vs = Json::object();
-    for (std::size_t k = 0; k < r.others.size(); ++k) vs[r.others[k]] = pairedJson(r.vs_best[k]);
-    ranking[specularChannelName(sweep.roughness[j])] = {{"best", r.best},
-                                                        {"tied_with_best", r.tied},
-                                                        {"statement", r.statement},
-                                                        {"other_minus_best", vs}};
-  }
-  json["ranking_tests"] = {{"method", kPairedTestMethod}, {"by_roughness", ranking}};
+  json["ranking_tests"] = rankingTestsJson(sweep, s.ranking);
   Json floor = Json::object();
   for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
     Json by_bins = Json::object();

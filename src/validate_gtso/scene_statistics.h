@@ -30,6 +30,14 @@ struct SceneStatistics {
 std::vector<std::string> sceneClusters(const SpecularSweep& sweep, std::vector<int>& cluster_of,
                                        bool by_type = false);
 
+// The paired scene-level ranking test of `methods` at each roughness (scene_paired_test.h), the
+// clusters those of cluster_of (numbered from 0), under its own bar in `parts`.
+std::vector<RankingTest> rankingTests(const SpecularSweep& sweep,
+                                      const std::vector<SpecularSample>& samples,
+                                      const std::vector<std::vector<float>>& values,
+                                      const std::vector<Method>& methods,
+                                      const std::vector<int>& cluster_of, StageParts& parts);
+
 // values[m][i]: method m (Method order) at samples[i]; `methods` are the scored ones; table: the
 // cone SSE table of the samples over sceneClusters(sweep). Each part (u's scene-level analysis,
 // the ranking tests, the floor) runs under its own bar in `parts`.
@@ -38,6 +46,11 @@ SceneStatistics sceneStatistics(const SpecularSweep& sweep,
                                 const std::vector<std::vector<float>>& values,
                                 const std::vector<Method>& methods, const ConeSseTable& table,
                                 StageParts& parts);
+
+// validate_gtso.json ranking_tests: per roughness the best method, the tied ones and each other
+// method's paired test against the best.
+nlohmann::ordered_json rankingTestsJson(const SpecularSweep& sweep,
+                                        const std::vector<RankingTest>& tests);
 
 // The keys validate_gtso.json adds: u_scene_interval, u_per_roughness, u_law, ranking_tests,
 // so_floor, by_out_of_plane_occluded.

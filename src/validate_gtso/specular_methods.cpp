@@ -18,8 +18,6 @@ namespace gtbake {
 namespace {
 
 constexpr double kDegreesPerRadian = 57.295779513082320876;
-constexpr double kPaperU = 0.01;               // paper Eq. 26
-constexpr double kUludagU = 0.244;             // Uludag 2014, as quoted in the paper's Appendix B
 constexpr std::size_t kProgressStride = 4096;  // samples per progress step
 
 }  // namespace
@@ -127,6 +125,10 @@ MethodText methodText(Method m) {
       return {"S_A", "S = A"};
     case Method::kLagarde:
       return {"lagarde", "Lagarde 2014 with r = alpha = r_p^2 (Filament, HDRP)"};
+    case Method::kConeAo2PaperU:
+      return {"cone_ao2_u_0.01", "runtime pass's GTSO mode: max(cone-to-cone with u = 0.01, A^2)"};
+    case Method::kConeAo2FittedU:
+      return {"cone_ao2_u_fitted", "max(cone-to-cone with the fitted u, A^2)"};
     case Method::kConeUserU:
       return {"cone_u_user", "cone-to-cone, u given by --u, cos as = u^(alpha^2/2)"};
   }
@@ -201,16 +203,27 @@ float lagarde(float n_dot_v, float A, float r_p) {
   return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);
 }
 
+double coneAo2(double cone, double A) {
+  return std::max(cone, A * A);
+}
+
 std::vector<std::vector<float>> evaluateMethods(const std::vector<SpecularSample>& samples,
                                                 const TablesLookups& tables,
-                                                const ConeConstants& cones, Progress* progress) {
-  std::vector<std::vector<float>> values(kMethodCount, std::vector<float>(samples.size()));
+                                                const ConeConstants& cones,
+                                                const std::vector<Method>& methods,
+                                                Progress* progress) {
+  std::array<bool, kMethodCount> want{};
+  std::vector<std::vector<float>> values(kMethodCount);
+  for (Method m : methods) {
+    want[static_cast<int>(m)] = true;
+    values[static_cast<int>(m)].resize(samples.size());
+  }
   // The apertures of the cone methods, once per roughness (coneAperture is what coneAt(s, u,
-  // perceptual) computes per call).
+  // perceptual) computes per call). The floored cones reuse the plain cones' values.
   const std::pair<Method, double> cone_methods[] = {
       {Method::kConeTableFitU, cones.table_fit},
-      {Method::kConePaperU, kPaperU},
-      {Method::kConeUludagU, kUludagU},
+      {Method::kConePaperU, gtso::kPaperU},
+      {Method::kConeUludagU, gtso::kUludagU},
       {Method::kConeFittedU, cones.fitted},
       {Method::kConeFittedPerceptual, cones.fitted_perceptual},
       {Method::kConeUserU, cones.user}};
@@ -224,24 +237,38 @@ std::vector<std::vector<float>> evaluateMethods(const std::vector<SpecularSample
       apertures[s.roughness][m] = coneAperture(cone_methods[m].second, w);
     }
   }
+  const auto wanted = [&](Method m) { return want[static_cast<int>(m)]; };
+  const bool paper_cone = wanted(Method::kConePaperU) || wanted(Method::kConeAo2PaperU);
+  const bool fitted_cone = wanted(Method::kConeFittedU) || wanted(Method::kConeAo2FittedU);
   tbb::parallel_for(std::size_t{0}, samples.size(), [&](std::size_t i) {
     if (progress && i % kProgressStride == 0) progress->add(kProgressStride);
     const SpecularSample& s = samples[i];
     const ConeInput x = coneInput(s);
-    auto set = [&](Method m, double v) { values[static_cast<int>(m)][i] = static_cast<float>(v); };
-    set(Method::kS3Bc4, tables.bc4->s3(s.A, s.cos_beta, s.r_p));
-    set(Method::kS4Bc4, tables.bc4->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
-    set(Method::kS3Float, tables.floats->s3(s.A, s.cos_beta, s.r_p));
-    set(Method::kS4Float, tables.floats->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
-    set(Method::kS3R16, tables.r16->s3(s.A, s.cos_beta, s.r_p));
-    set(Method::kS4R16, tables.r16->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
-    set(Method::kS3R8, tables.r8->s3(s.A, s.cos_beta, s.r_p));
-    set(Method::kS4R8, tables.r8->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
-    set(Method::kS3ClosedForm,
-        gtsoS3ClosedForm(tables.info.s3_closed_form.data(), s.A, s.cos_beta, s.r_p));
+    auto set = [&](Method m, double v) {
+      if (wanted(m)) values[static_cast<int>(m)][i] = static_cast<float>(v);
+    };
+    const auto table = [&](Method m3, Method m4, const GtsoLookup* lookup) {
+      if (wanted(m3)) set(m3, lookup->s3(s.A, s.cos_beta, s.r_p));
+      if (wanted(m4)) set(m4, lookup->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
+    };
+    table(Method::kS3Bc4, Method::kS4Bc4, tables.bc4.get());
+    table(Method::kS3Float, Method::kS4Float, tables.floats.get());
+    table(Method::kS3R16, Method::kS4R16, tables.r16.get());
+    table(Method::kS3R8, Method::kS4R8, tables.r8.get());
+    if (wanted(Method::kS3ClosedForm)) {
+      set(Method::kS3ClosedForm,
+          gtsoS3ClosedForm(tables.info.s3_closed_form.data(), s.A, s.cos_beta, s.r_p));
+    }
     for (std::size_t m = 0; m < std::size(cone_methods); ++m) {
-      const bool unused = cone_methods[m].first == Method::kConeUserU && !(cones.user > 0.0);
-      set(cone_methods[m].first, unused ? 0.0 : coneAt(x, apertures[s.roughness][m]));
+      const Method method = cone_methods[m].first;
+      const bool needed = wanted(method) || (method == Method::kConePaperU && paper_cone) ||
+                          (method == Method::kConeFittedU && fitted_cone);
+      if (!needed) continue;
+      const bool unused = method == Method::kConeUserU && !(cones.user > 0.0);
+      const double cone = unused ? 0.0 : coneAt(x, apertures[s.roughness][m]);
+      set(method, cone);
+      if (method == Method::kConePaperU) set(Method::kConeAo2PaperU, coneAo2(cone, s.A));
+      if (method == Method::kConeFittedU) set(Method::kConeAo2FittedU, coneAo2(cone, s.A));
     }
     set(Method::kNone, 1.0);
     set(Method::kAo, s.A);

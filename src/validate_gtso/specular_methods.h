@@ -55,9 +55,13 @@ enum class Method {
   kNone,
   kAo,
   kLagarde,
+  // The runtime pass's GTSO mode (docs/validate_gtso.md §1): the cone-to-cone value floored at A²
+  // (its "ao² grazing-angle compensation"), at u = 0.01 and at the fitted u.
+  kConeAo2PaperU,
+  kConeAo2FittedU,
   kConeUserU,  // --u U (scored only when given)
 };
-inline constexpr int kMethodCount = 18;
+inline constexpr int kMethodCount = 20;
 const char* methodName(Method m);         // JSON key, e.g. "S4_bc4"
 const char* methodDescription(Method m);  // one line for the page
 
@@ -94,10 +98,15 @@ double coneAt(const SpecularSample& s, double u, bool perceptual);
 // Lagarde and de Rousiers 2014 with r = α = r_p² (what Filament and HDRP pass), in float.
 float lagarde(float n_dot_v, float A, float r_p);
 
-// Every method's value at every sample: values[m][i]. progress (optional): one per sample.
+// The runtime pass's GTSO mode: max(S_cone, A²).
+double coneAo2(double cone, double A);
+
+// The value of every method in `methods` at every sample: values[m][i] (the other methods' rows
+// stay empty). progress (optional): one per sample.
 std::vector<std::vector<float>> evaluateMethods(const std::vector<SpecularSample>& samples,
                                                 const TablesLookups& tables,
                                                 const ConeConstants& cones,
+                                                const std::vector<Method>& methods,
                                                 Progress* progress = nullptr);
 
 struct ErrorStats {

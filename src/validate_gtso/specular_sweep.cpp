@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <utility>
 
 #include "common/error.h"
 #include "common/image_io.h"
@@ -144,6 +145,19 @@ SpecularSweep readSpecularSweep(const fs::path& dir) {
   }
   if (sweep.scenes.empty()) throw Error(json_path.string() + " lists no scenes");
   return sweep;
+}
+
+void useScreenEstimate(SpecularSweep* sweep, const AoInput& input) {
+  const ScreenEstimateSet set(input);
+  for (SpecularScene& scene : sweep->scenes) {
+    ImageEstimate e = set.read(scene.name, sweep->dir, true);
+    if (e.width != scene.width || e.height != scene.height || e.mask != scene.mask) {
+      throw Error(e.file + ": its mask is not the one of the sweep's image '" + scene.name +
+                  "' (screen-ao was run on another sweep; rerun it)");
+    }
+    scene.A = std::move(e.A);
+    scene.bent = std::move(e.bent);
+  }
 }
 
 }  // namespace gtbake

@@ -2,24 +2,42 @@
 
 #include <algorithm>
 
+#include "common/error.h"
 #include "common/progress.h"
+#include "common/input_limits.h"
+#include "common/output_set.h"
 
 namespace gtbake {
 
 namespace {
 
-std::vector<Method> scoredMethods(bool user_u) {
+namespace fs = std::filesystem;
+
+// What the runtime can use on an estimator's Â and b̂ (docs/validate_gtso.md §7): the shipped BC4
+// tables, the cone at the paper's and the shipped u, both floored at A², Lagarde and the two
+// trivial baselines. On the ray-traced inputs every method (--u's only when given).
+std::vector<Method> scoredMethods(const ValidateGtsoOptions& options) {
+  if (!options.input.rayTraced()) {
+    return {Method::kS3Bc4,       Method::kS4Bc4,         Method::kConePaperU,
+            Method::kConeFittedU, Method::kNone,          Method::kAo,
+            Method::kLagarde,     Method::kConeAo2PaperU, Method::kConeAo2FittedU};
+  }
   std::vector<Method> methods;
   for (int m = 0; m < kMethodCount; ++m) {
-    if (static_cast<Method>(m) == Method::kConeUserU && !user_u) continue;
+    if (static_cast<Method>(m) == Method::kConeUserU && !(options.u > 0.0)) continue;
     methods.push_back(static_cast<Method>(m));
   }
   return methods;
 }
 
+bool scores(const std::vector<Method>& methods, Method m) {
+  return std::find(methods.begin(), methods.end(), m) != methods.end();
+}
+
 Tables tabulate(const std::vector<SpecularSample>& samples,
-                const std::vector<std::vector<float>>& values, std::size_t scenes,
-                std::size_t roughness) {
+                const std::vector<std::vector<float>>& values, const std::vector<Method>& methods,
+                std::size_t scenes, std::size_t roughness) {
+  const bool formats = scores(methods, Method::kS3Float);
   Tables t;
   t.cell.assign(kMethodCount,
                 std::vector<std::vector<ErrorStats>>(scenes, std::vector<ErrorStats>(roughness)));
@@ -27,14 +45,15 @@ Tables tabulate(const std::vector<SpecularSample>& samples,
   t.overall.assign(kMethodCount, ErrorStats{});
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const SpecularSample& s = samples[i];
-    for (int m = 0; m < kMethodCount; ++m) {
+    for (Method method : methods) {
+      const int m = static_cast<int>(method);
       t.cell[m][s.scene][s.roughness].add(values[m][i] - s.truth, s.noise_var);
     }
     int bin = 0;
     while (bin + 1 < kPlaneBinCount && s.out_of_plane >= kPlaneBins[bin + 1]) ++bin;
     t.plane[0][bin].add(values[static_cast<int>(Method::kS4Bc4)][i] - s.truth, s.noise_var);
     t.plane[1][bin].add(values[static_cast<int>(Method::kS3Bc4)][i] - s.truth, s.noise_var);
-    for (int f = 0; f < kFormatMethodCount; ++f) {
+    for (int f = 0; f < (formats ? kFormatMethodCount : 0); ++f) {
       const auto [format, floats] = kFormatMethods[f];
       t.vs_float[f].add(values[static_cast<int>(format)][i] - values[static_cast<int>(floats)][i],
                         0.0);
@@ -64,42 +83,80 @@ std::vector<std::vector<Method>> rank(const Tables& t, const std::vector<Method>
   return ranking;
 }
 
+// The cone's u on the ray-traced inputs, fitted by the run without --estimator (<luts>/
+// validate_gtso.json, verified against its manifest): what export ships and an engine would
+// feed its estimate.
+double shippedU(const ValidateGtsoOptions& options) {
+  const fs::path file = options.luts / "validate_gtso.json";
+  if (!fs::is_regular_file(file)) {
+    throw Error("validate-gtso --estimator: no " + file.string() +
+                " (run `gtbake validate-gtso` on the ray-traced inputs first: its u is scored)");
+  }
+  const OutputManifest set = readOutputSet(options.luts, "validate_gtso");
+  const nlohmann::json j = parseJsonText(set.readVerified("validate_gtso.json"), file.string());
+  if (!j.is_object() || !j.contains("u") || !j["u"].is_number() ||
+      !(j["u"].get<double>() > 0.0 && j["u"].get<double>() < 1.0)) {
+    throw Error(file.string() + ": needs u in (0, 1) (rerun `gtbake validate-gtso`)");
+  }
+  return j["u"].get<double>();
+}
+
+// The sweep and tables read, the samples gathered; on an estimator's inputs A and b replaced.
+void readInputs(const ValidateGtsoOptions& options, StageParts& parts, Analysis& a) {
+  a.sweep = parts.run("reading the sweep", 1, [&](Progress&) {
+    SpecularSweep sweep = readSpecularSweep(options.sweep);
+    if (!options.input.rayTraced()) useScreenEstimate(&sweep, options.input);
+    return sweep;
+  });
+  a.samples = parts.run("gathering samples", 1, [&](Progress&) { return gatherSamples(a.sweep); });
+}
+
 }  // namespace
 
 Analysis analyse(const ValidateGtsoOptions& options) {
   StageParts parts("validate-gtso", options.progress);
   Analysis a;
-  a.sweep = parts.run("reading the sweep", 1,
-                      [&](Progress&) { return readSpecularSweep(options.sweep); });
+  a.estimator = options.input.estimator;
+  readInputs(options, parts, a);
   const TablesLookups tables = parts.run(
       "reading the tables", 1, [&](Progress&) { return makeTablesLookups(options.luts); });
   a.tables = tables.info;
-  a.samples = parts.run("gathering samples", 1, [&](Progress&) { return gatherSamples(a.sweep); });
   std::vector<int> cluster_of;
   const std::size_t clusters = sceneClusters(a.sweep, cluster_of).size();
-  const ConeSseTable table =
-      parts.run("cone SSE table on the log10 u grid", a.samples.size(), [&](Progress& bar) {
-        return coneSseTable(a.samples, cluster_of, clusters, a.sweep.roughness.size(), &bar);
-      });
-  parts.run("u fit (2 laws x 2 subsets)", 4, [&](Progress& bar) {
-    a.spec = fitConeU(a.samples, false, &table, &bar);
-    a.perceptual = fitConeU(a.samples, true, &table, &bar);
-    return 0;
-  });
   ConeConstants cones;
   cones.table_fit = tables.info.u_table_fit;
-  cones.fitted = a.spec.all.u;
-  cones.fitted_perceptual = a.perceptual.all.u;
   cones.user = options.u;
+  ConeSseTable table;
+  if (a.rayTraced()) {
+    table = parts.run("cone SSE table on the log10 u grid", a.samples.size(), [&](Progress& bar) {
+      return coneSseTable(a.samples, cluster_of, clusters, a.sweep.roughness.size(), &bar);
+    });
+    parts.run("u fit (2 laws x 2 subsets)", 4, [&](Progress& bar) {
+      a.spec = fitConeU(a.samples, false, &table, &bar);
+      a.perceptual = fitConeU(a.samples, true, &table, &bar);
+      return 0;
+    });
+    cones.fitted = a.spec.all.u;
+    cones.fitted_perceptual = a.perceptual.all.u;
+  } else {
+    cones.fitted = a.shipped_u = shippedU(options);
+  }
+  a.methods = scoredMethods(options);
   a.values = parts.run("every method at every sample", a.samples.size(), [&](Progress& bar) {
-    return evaluateMethods(a.samples, tables, cones, &bar);
+    return evaluateMethods(a.samples, tables, cones, a.methods, &bar);
   });
-  a.methods = scoredMethods(options.u > 0.0);
   a.t = parts.run("error tables", 1, [&](Progress&) {
-    return tabulate(a.samples, a.values, a.sweep.scenes.size(), a.sweep.roughness.size());
+    return tabulate(a.samples, a.values, a.methods, a.sweep.scenes.size(),
+                    a.sweep.roughness.size());
   });
   a.ranking = rank(a.t, a.methods, a.sweep.roughness.size());
-  a.scene_stats = sceneStatistics(a.sweep, a.samples, a.values, a.methods, table, parts);
+  if (a.rayTraced()) {
+    a.scene_stats = sceneStatistics(a.sweep, a.samples, a.values, a.methods, table, parts);
+  } else {
+    a.scene_stats.clusters = sceneClusters(a.sweep, a.scene_stats.cluster_of);
+    a.scene_stats.ranking =
+        rankingTests(a.sweep, a.samples, a.values, a.methods, a.scene_stats.cluster_of, parts);
+  }
   a.part_seconds = parts.seconds();
   return a;
 }

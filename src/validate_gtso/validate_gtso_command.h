@@ -4,6 +4,11 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fit/screen_estimate.h"
 
 namespace gtbake {
 
@@ -12,6 +17,11 @@ struct ValidateGtsoOptions {
   std::filesystem::path luts;   // holds gtso/ (gtso.json, *.f32) and encode's gtso*.dds
   std::filesystem::path out;    // validate_gtso.json, report/validate_gtso*; default: luts
   double u = 0.0;               // --u: also score the cone model with this u (0: not given)
+  // --estimator/--screen-ao: score on a screen-space estimator's Â and b̂ instead of the ray-traced
+  // A and b (docs/validate_gtso.md §7); out then defaults to luts/profiles/<estimator>.
+  AoInput input;
+  bool write_images = true;   // the per-scene PNGs of the report
+  bool print_summary = true;  // the one-screen summary on stdout
   bool progress = true;
 };
 
@@ -21,6 +31,7 @@ struct ValidateGtsoResult {
   double u_low = 0.0;
   double u_high = 0.0;
   double seconds = 0.0;
+  std::vector<std::pair<std::string, double>> rmse;  // every scored method's overall RMSE of S
 };
 
 ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options);
