@@ -43,7 +43,7 @@ struct StageTimes {
 };
 
 // One estimator's profile: Equation 10 refitted on its Â (docs/profiles.md), and specular
-// occlusion scored on its Â and b̂ (docs/validate_gtso.md §7).
+// occlusion scored on its Â and b̂ (docs/validate_gtso.md §6).
 struct Profile {
   std::string estimator;
   FitResult fit;

@@ -47,7 +47,7 @@ struct SpecularSweep {
 // missing one of them) is a one-line gtbake::Error naming --specular-roughness.
 SpecularSweep readSpecularSweep(const std::filesystem::path& dir);
 
-// What the runtime feeds its specular occlusion (docs/validate_gtso.md §7): every scene's A and
+// What the runtime feeds its specular occlusion (docs/validate_gtso.md §6): every scene's A and
 // bent normal replaced by a screen-space estimator's Â and b̂ (input.estimator of the screen-ao
 // set input.screen_ao). The set's images must be the sweep's: an image missing or a mask that
 // differs from the sweep's is a one-line gtbake::Error (ScreenEstimateSet checks the values).

@@ -13,7 +13,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// What the runtime can use on an estimator's Â and b̂ (docs/validate_gtso.md §7): the shipped BC4
+// What the runtime can use on an estimator's Â and b̂ (docs/validate_gtso.md §6): the shipped BC4
 // tables, the cone at the paper's and the shipped u, both floored at A², Lagarde and the two
 // trivial baselines. On the ray-traced inputs every method (--u's only when given).
 std::vector<Method> scoredMethods(const ValidateGtsoOptions& options) {

@@ -42,7 +42,7 @@ struct Tables {
 // the u fits and the tabulated errors.
 struct Analysis {
   // Empty: the ray-traced A and b of the sweep; else the screen-space estimator whose Â and b̂
-  // replaced them (no u fit, no floor: docs/validate_gtso.md §7).
+  // replaced them (no u fit, no floor: docs/validate_gtso.md §6).
   std::string estimator;
   bool rayTraced() const { return estimator.empty(); }
   double shipped_u = 0.0;  // on an estimator's inputs: the ray-traced run's u, scored as fitted

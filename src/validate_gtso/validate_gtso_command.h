@@ -18,7 +18,7 @@ struct ValidateGtsoOptions {
   std::filesystem::path out;    // validate_gtso.json, report/validate_gtso*; default: luts
   double u = 0.0;               // --u: also score the cone model with this u (0: not given)
   // --estimator/--screen-ao: score on a screen-space estimator's Â and b̂ instead of the ray-traced
-  // A and b (docs/validate_gtso.md §7); out then defaults to luts/profiles/<estimator>.
+  // A and b (docs/validate_gtso.md §6); out then defaults to luts/profiles/<estimator>.
   AoInput input;
   bool write_images = true;   // the per-scene PNGs of the report
   bool print_summary = true;  // the one-screen summary on stdout

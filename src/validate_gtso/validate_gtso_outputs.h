@@ -1,6 +1,6 @@
 // What validate-gtso writes from analyse()'s result, formatting only (docs/validate_gtso.md §4,
 // §5): validate_gtso.json, the HTML pages with the per-scene images, the one-screen summary. On
-// an estimator's inputs (docs/validate_gtso.md §7) the same tables without the u fits, the floor
+// an estimator's inputs (docs/validate_gtso.md §6) the same tables without the u fits, the floor
 // and the texel-format comparison, which belong to the ray-traced run.
 #pragma once
 

@@ -1,4 +1,4 @@
-// validate-gtso on a screen-space estimator's inputs (docs/validate_gtso.md §7): the methods read
+// validate-gtso on a screen-space estimator's inputs (docs/validate_gtso.md §6): the methods read
 // the estimator's Â and b̂ exactly as screen-ao stored them, checked against a brute-force
 // evaluation from the EXR channels with the plain cone of gtso/cone_intersection.h; bad screen-ao
 // sets and a missing ray-traced run are one-line errors that write nothing.
