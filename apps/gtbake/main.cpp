@@ -246,7 +246,7 @@ Subcommand addValidateGtsoCommand(CLI::App& app) {
   auto input = addAoInputOptions(
       parser,
       "Score on this screen-space estimator's A and bent normal instead of the ray-traced ones "
-      "(docs/validate_gtso.md section 7; reads <luts>/validate_gtso.json for the fitted u)");
+      "(docs/validate_gtso.md section 6; reads <luts>/validate_gtso.json for the fitted u)");
   parser->add_flag("--no-images", "Leave the per-scene PNGs out of the report");
   return {parser, [options, input, parser](const RunContext& context) {
             options->input = parseAoInput(input->estimator, input->screen_ao, options->sweep);

@@ -40,17 +40,22 @@ Json fitJson(const UFit& f) {
   return j;
 }
 
+// validate_gtso.json /sweep: what was read.
+Json sweepJson(const ValidateGtsoOptions& options, const fs::path& out, const Analysis& a) {
+  const SpecularSweep& sweep = a.sweep;
+  return {{"dir", relativePath(options.sweep, out)},
+          {"spp", sweep.spp},
+          {"specular_spp", sweep.specular_spp},
+          {"roughness", sweep.roughness},
+          {"scenes", sweep.scenes.size()},
+          {"pixels", a.samples.size() / sweep.roughness.size()}};
+}
+
 // validate_gtso.json: inputs, conventions and the u fits.
 void addSettingsJson(const ValidateGtsoOptions& options, const fs::path& out, const Analysis& a,
                      Json& json) {
-  const SpecularSweep& sweep = a.sweep;
   json["gtbake_version"] = GTBAKE_VERSION;
-  json["sweep"] = {{"dir", relativePath(options.sweep, out)},
-                   {"spp", sweep.spp},
-                   {"specular_spp", sweep.specular_spp},
-                   {"roughness", sweep.roughness},
-                   {"scenes", sweep.scenes.size()},
-                   {"pixels", a.samples.size() / sweep.roughness.size()}};
+  json["sweep"] = sweepJson(options, out, a);
   json["tables"] = {{"dir", relativePath(options.luts, out)}, {"bc4_source", a.tables.bc4_source},
                     {"r16_source", a.tables.r16_source},      {"r8_source", a.tables.r8_source},
                     {"layout_3d", a.tables.layout_3d},        {"layout_4d", a.tables.layout_4d},
@@ -162,7 +167,6 @@ void addBreakdownJson(const Analysis& a, Json& json) {
 // validate_gtso.json on an estimator's inputs: what replaced A and b, and the u values scored.
 void addEstimatorSettingsJson(const ValidateGtsoOptions& options, const fs::path& out,
                               const Analysis& a, Json& json) {
-  const SpecularSweep& sweep = a.sweep;
   json["gtbake_version"] = GTBAKE_VERSION;
   json["input"] = {
       {"estimator", a.estimator},
@@ -170,12 +174,7 @@ void addEstimatorSettingsJson(const ValidateGtsoOptions& options, const fs::path
       {"replaces",
        "A and the bent normal b at every pixel by the estimator's A and BN channels (world space) "
        "as screen-ao stored them: for gtao-runtime the RGBA8 values the runtime reads"}};
-  json["sweep"] = {{"dir", relativePath(options.sweep, out)},
-                   {"spp", sweep.spp},
-                   {"specular_spp", sweep.specular_spp},
-                   {"roughness", sweep.roughness},
-                   {"scenes", sweep.scenes.size()},
-                   {"pixels", a.samples.size() / sweep.roughness.size()}};
+  json["sweep"] = sweepJson(options, out, a);
   json["tables"] = {{"dir", relativePath(options.luts, out)},
                     {"bc4_source", a.tables.bc4_source},
                     {"layout_3d", a.tables.layout_3d},
