@@ -10,14 +10,17 @@
 //
 // usage: bench_gtso_axes 3|4 [--size N] [--seeds K] [--lobes L] [--cells C]
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "gtso/gtso_integrator.h"
 #include "gtso/gtso_tables.h"
+#include "texture/bc4_encoder.h"
 
 using namespace gtbake::gtso;
 using gtbake::TexelFormat;
@@ -76,8 +79,15 @@ int main(int argc, char** argv) {
   const Table t = bakeTable(o.dims, o.size, o.cells, nullptr);
   std::printf("%dD table %d per axis baked in %.1f s\n", o.dims, o.size,
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  for (TexelFormat f : {TexelFormat::kFloat32, TexelFormat::kBc4}) {
-    const EncodedTable e = encodeTable(t, f);
+  // BC4 in table order, as the axes were chosen (gtso itself writes only float32).
+  EncodedTable bc4;
+  bc4.format = TexelFormat::kBc4;
+  const std::vector<float> texels = toFloats(t);
+  const std::array<int, 3> v = t.volume();
+  bc4.bytes =
+      gtbake::encodeBc4Volume(gtbake::Bc4Encoder(), texels.data(), v[0], v[1], v[2], nullptr).bytes;
+  for (const EncodedTable& e : {floatTable(t), bc4}) {
+    const TexelFormat f = e.format;
     for (PointSet set : {PointSet::kUniform, PointSet::kStress}) {
       for (int s = 1; s <= o.seeds; ++s) {
         const int lobes = set == PointSet::kUniform ? o.lobes : std::max(1, o.lobes / 4);

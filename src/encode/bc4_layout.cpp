@@ -29,34 +29,6 @@ bool isIdentity(const GtsoLayout& l) {
   return l.axis[0] == 0 && l.axis[1] == 1 && l.axis[2] == 2;
 }
 
-struct Stats {
-  double rms = 0.0, max = 0.0;
-};
-
-// |runtime BC4 lookup in `layout` - exact S| over the points.
-Stats layoutLookupError(const GtsoTable& t, const LayoutChoice& c, const GtsoLayout& layout,
-                        const std::vector<std::uint64_t>& blocks, const gtso::ErrorPoints& pts) {
-  const int rank = static_cast<int>(t.dims.size());
-  const GtsoVolume v{GtsoTexelFormat::kBc4, blocks.data(), c.volume[0], c.volume[1], c.volume[2]};
-  std::vector<double> err(pts.points.size());
-  tbb::parallel_for(std::size_t{0}, err.size(), [&](std::size_t i) {
-    const gtso::GtsoPoint& p = pts.points[i];
-    const float A = static_cast<float>(p.A), cb = static_cast<float>(std::cos(p.beta));
-    const float rp = static_cast<float>(p.r_p);
-    const float s = rank == 3 ? gtso3DLookup(v, t.dims.data(), A, cb, rp, layout)
-                              : gtso4DLookup(v, t.dims.data(), A, cb, rp,
-                                             static_cast<float>(std::cos(p.thetaO)), layout);
-    err[i] = std::abs(s - pts.exact[i]);
-  });
-  Stats s;
-  for (double e : err) {
-    s.max = std::max(s.max, e);
-    s.rms += e * e;
-  }
-  s.rms = std::sqrt(s.rms / static_cast<double>(std::max<std::size_t>(err.size(), 1)));
-  return s;
-}
-
 nlohmann::json layoutJson(int dims, const GtsoLayout& l) {
   return {{"x", axisName(dims, l.axis[0])},
           {"y", axisName(dims, l.axis[1])},
@@ -108,6 +80,31 @@ std::vector<float> permuteToLayout(const GtsoTable& t, const GtsoLayout& l) {
     }
   }
   return out;
+}
+
+gtso::ErrorStats layoutLookupError(const GtsoTable& t, const GtsoVolume& v,
+                                   const GtsoLayout& layout, const gtso::ErrorPoints& pts) {
+  const int rank = static_cast<int>(t.dims.size());
+  std::vector<double> err(pts.points.size());
+  tbb::parallel_for(std::size_t{0}, err.size(), [&](std::size_t i) {
+    const gtso::GtsoPoint& p = pts.points[i];
+    const float A = static_cast<float>(p.A), cb = static_cast<float>(std::cos(p.beta));
+    const float rp = static_cast<float>(p.r_p);
+    const float s = rank == 3 ? gtso3DLookup(v, t.dims.data(), A, cb, rp, layout)
+                              : gtso4DLookup(v, t.dims.data(), A, cb, rp,
+                                             static_cast<float>(std::cos(p.thetaO)), layout);
+    err[i] = std::abs(s - pts.exact[i]);
+  });
+  gtso::ErrorStats s;
+  for (std::size_t i = 0; i < err.size(); ++i) {
+    if (err[i] > s.max) {
+      s.max = err[i];
+      s.worst = pts.points[i];
+    }
+    s.rms += err[i] * err[i];
+  }
+  s.rms = std::sqrt(s.rms / static_cast<double>(std::max<std::size_t>(err.size(), 1)));
+  return s;
 }
 
 std::string layoutSwizzle(const GtsoLayout& l) {
@@ -192,8 +189,9 @@ LayoutCandidate scoreCandidate(const GtsoTable& t, const LayoutChoice& c, const 
   const GtsoLayout& l = c.layout;
   LayoutCandidate k;
   k.layout = l;
+  const GtsoVolume v{GtsoTexelFormat::kBc4, blocks.data(), c.volume[0], c.volume[1], c.volume[2]};
   auto score = [&](const gtso::ErrorPoints& points, double* rms, double* max) {
-    const Stats e = layoutLookupError(t, c, l, blocks, points);
+    const gtso::ErrorStats e = layoutLookupError(t, v, l, points);
     *rms = e.rms;
     *max = e.max;
   };
@@ -302,6 +300,11 @@ LayoutChoice chooseLayout(const Bc4Encoder& encoder, const GtsoTable& t, const G
   out.candidates = std::move(scores);
   out.chosen = chosen;
   out.json = choiceJson(dims, out, o, points, cells);
+  out.report_uniform = points.report_uniform;
+  out.report_stress = points.report_stress;
+  out.lobes = o.lobes;
+  out.stress_lobes = points.stress_lobes;
+  out.exact_cells = cells;
   return out;
 }
 

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "export/export_inputs.h"
+#include "gtso/gtso_tables.h"
 #include "runtime/gtso_runtime.h"
 #include "texture/bc4_encoder.h"
 
@@ -57,7 +58,17 @@ struct LayoutChoice {
   std::vector<LayoutCandidate> candidates;
   int chosen = 0;
   nlohmann::json json;  // candidates, rule, points and choice for export.json
+  // The fresh report points (seed options.report_seed) with their exact S, the lobes they were
+  // drawn with and the integrator cells: the texel formats are measured on them too
+  // (format_errors.h).
+  gtso::ErrorPoints report_uniform, report_stress;
+  int lobes = 0, stress_lobes = 0, exact_cells = 0;
 };
+
+// |runtime lookup of volume v (any texel format) in `layout` − exact S| over the points: max,
+// RMS and the worst point.
+gtso::ErrorStats layoutLookupError(const GtsoTable& t, const GtsoVolume& v,
+                                   const GtsoLayout& layout, const gtso::ErrorPoints& pts);
 
 // The candidates of a table: 3D every permutation of (A, theta_o, r_p); 4D the three block planes
 // of (A, beta, r_p) (x before y: swapping x and y keeps every block's 16 texels, so the exact

@@ -11,6 +11,7 @@
 #include "common/output_set.h"
 #include "common/threads.h"
 #include "encode/bc4_layout.h"
+#include "encode/format_errors.h"
 #include "encode/shipped_volumes.h"
 #include "export/export_inputs.h"
 #include "gtbake_version.h"
@@ -46,7 +47,7 @@ void addVolumes(OutputSet& output, const std::string& base, const LayoutChoice& 
 }
 
 nlohmann::ordered_json encodeJson(const EncodeOptions& options, const GtsoInput& gtso,
-                                  const GtsoLayouts& layouts) {
+                                  const GtsoLayouts& layouts, const nlohmann::json& end_to_end) {
   nlohmann::ordered_json j;
   j["gtbake_version"] = GTBAKE_VERSION;
   j["inputs"] = {{"gtso3d.f32", gtsoTableHash(options.gtso, gtso.table3d.file)},
@@ -60,11 +61,12 @@ nlohmann::ordered_json encodeJson(const EncodeOptions& options, const GtsoInput&
     j["bc4"][key] = {
         {"rmse", c->bc4.rmse}, {"max_abs", c->bc4.max_abs}, {"seconds", c->bc4.seconds}};
   }
+  j["end_to_end"] = end_to_end;
   return j;
 }
 
 void printSummary(const EncodeOptions& options, const GtsoInput& gtso, const GtsoLayouts& l,
-                  int threads, double seconds) {
+                  const nlohmann::json& end_to_end, int threads, double seconds) {
   std::printf("gtbake encode: %s (threads: %d)\n", options.out.string().c_str(), threads);
   std::printf("  table  volume         layout  BC4 RMSE    BC4 max     encode\n");
   const std::pair<const GtsoTable*, const LayoutChoice*> rows[] = {{&gtso.table3d, &l.t3},
@@ -79,6 +81,15 @@ void printSummary(const EncodeOptions& options, const GtsoInput& gtso, const Gts
       std::printf("         candidate %s: end-to-end uniform RMS %.5f max %.4f, stress max %.4f\n",
                   layoutSwizzle(k.layout).c_str(), k.uniform_rms, k.uniform_max, k.stress_max);
     }
+  }
+  for (const char* key : {"3d", "4d"}) {
+    const nlohmann::json& t = end_to_end[key];
+    std::printf("  %s as shipped, end to end (max over 2 seeds / mean RMS):", key);
+    for (const auto& [format, e] : t["formats"].items()) {
+      std::printf(" %s %.4f/%.5f", format.c_str(), e["uniform"]["max"].get<double>(),
+                  e["uniform"]["rms"].get<double>());
+    }
+    std::printf("; recommended %s\n", t["recommended"].get<std::string>().c_str());
   }
   std::printf("  wrote gtso{3d,4d}{,_r16,_r8}.{dds,ktx2}, encode.json in %.2f s\n", seconds);
 }
@@ -98,16 +109,17 @@ EncodeResult runEncode(const EncodeOptions& options) {
   const auto f4 = forcedLayout(options.force_layout_4d);
   const GtsoLayouts layouts = chooseLayouts(gtso, options.layout_lobes, f3 ? &*f3 : nullptr,
                                             f4 ? &*f4 : nullptr, options.progress);
+  const nlohmann::json end_to_end = endToEndJson(gtso, layouts, options.progress);
   const std::string writer = std::string("gtbake ") + GTBAKE_VERSION;
   OutputSet output(options.out, "encode");  // 12 volumes + encode.json, committed as one set
   addVolumes(output, "gtso3d", layouts.t3, writer);
   addVolumes(output, "gtso4d", layouts.t4, writer);
-  output.add("encode.json", encodeJson(options, gtso, layouts).dump(2) + "\n");
+  output.add("encode.json", encodeJson(options, gtso, layouts, end_to_end).dump(2) + "\n");
   output.setSettings({{"gtso", relativePath(options.gtso, options.out)}});
   output.commit();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  printSummary(options, gtso, layouts, limit.threads(), seconds);
+  printSummary(options, gtso, layouts, end_to_end, limit.threads(), seconds);
   return {layouts.t3.bc4.rmse, layouts.t3.bc4.max_abs, layouts.t4.bc4.rmse, layouts.t4.bc4.max_abs,
           seconds};
 }

@@ -19,18 +19,6 @@
 namespace gtbake {
 namespace {
 
-// The chosen layout's end-to-end BC4 errors on the report seed, from encode.json layouts/<3d|4d>.
-std::optional<EmbeddedBc4Errors> embeddedErrors(const nlohmann::json& layout) {
-  const char* keys[4] = {"report_uniform_max", "report_uniform_rms", "report_stress_max",
-                         "report_stress_rms"};
-  double v[4];
-  for (int i = 0; i < 4; ++i) {
-    if (!layout.contains(keys[i]) || !layout[keys[i]].is_number()) return std::nullopt;
-    v[i] = layout[keys[i]].get<double>();
-  }
-  return EmbeddedBc4Errors{v[0], v[1], v[2], v[3]};
-}
-
 std::size_t outsideUnitInterval(const std::vector<float>& values) {
   std::size_t n = 0;
   for (float v : values) n += (v < 0.0f || v > 1.0f) ? 1 : 0;
@@ -91,8 +79,7 @@ ExportResult runExport(const ExportOptions& options) {
   code.layout_4d = volumes.t4.layout;
   code.volume_3d = volumes.t3.volume;
   code.volume_4d = volumes.t4.volume;
-  code.embedded_3d = embeddedErrors(volumes.t3.layout_json);
-  code.embedded_4d = embeddedErrors(volumes.t4.layout_json);
+  code.end_to_end = volumes.json.contains("end_to_end") ? volumes.json["end_to_end"] : nullptr;
   code.command_line = options.command_line.empty() ? "gtbake export" : options.command_line;
   code.version = GTBAKE_VERSION;
   OutputSet output(options.out, "export");  // the header and the includes, committed as one set

@@ -7,7 +7,7 @@
 #pragma once
 
 #include <array>
-#include <optional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -16,11 +16,6 @@
 #include "texture/bc4_encoder.h"
 
 namespace gtbake {
-
-// End-to-end errors of a shipped BC4 volume as the runtime reads it (max and RMS of |lookup - S|).
-struct EmbeddedBc4Errors {
-  double uniform_max = 0.0, uniform_rms = 0.0, stress_max = 0.0, stress_rms = 0.0;
-};
 
 struct GeneratedCodeInput {
   const FitInput* fit = nullptr;
@@ -31,10 +26,9 @@ struct GeneratedCodeInput {
   // The texture layouts export chose (bc4_layout.h) and the volumes' extents in them.
   GtsoLayout layout_3d = kGtsoIdentityLayout, layout_4d = kGtsoIdentityLayout;
   std::array<int, 3> volume_3d{}, volume_4d{};
-  // The embedded layouts' end-to-end BC4 errors on the layout choice's report seed
-  // (encode.json, bc4_layout.h); empty: the provenance quotes gtso.json's table-order encoding
-  // only.
-  std::optional<EmbeddedBc4Errors> embedded_3d, embedded_4d;
+  // encode.json end_to_end (format_errors.h): every texel format's end-to-end error as shipped
+  // and the recommended format per table; null: "n/a" in the provenance.
+  nlohmann::json end_to_end;
   std::string command_line;
   std::string version;
 };

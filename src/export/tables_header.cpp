@@ -80,10 +80,11 @@ void emitBlocks(std::ostringstream& o, const char* name, const Bc4Volume& volume
     << ": one uint64 per 4x4 block\");\n\n";
 }
 
-// The end-to-end error of one format from gtso.json, as "uniform max/RMS, stress max/RMS".
-std::string endToEnd(const nlohmann::json& gj, const char* table, const char* format) {
-  const nlohmann::json* p = &gj;
-  for (const char* key : {"end_to_end", table, "formats", format}) {
+// The end-to-end error of one format, as "uniform max/RMS, stress max/RMS", from an end_to_end
+// object (gtso.json's for float32 in table order, encode.json's for every format as shipped).
+std::string endToEnd(const nlohmann::json& e2e, const char* table, const char* format) {
+  const nlohmann::json* p = &e2e;
+  for (const char* key : {table, "formats", format}) {
     if (!p->is_object() || !p->contains(key)) return "n/a";
     p = &p->at(key);
   }
@@ -91,17 +92,6 @@ std::string endToEnd(const nlohmann::json& gj, const char* table, const char* fo
     return jsonAt(*p, {set, "max"}) + " / " + jsonAt(*p, {set, "rms"});
   };
   return "uniform max/RMS " + pair("uniform") + ", stress " + pair("stress");
-}
-
-// The end-to-end BC4 errors of the layout the header embeds (the layout choice's report seed), or
-// nothing.
-std::string embeddedBc4(const std::optional<EmbeddedBc4Errors>& e, const GtsoLayout& layout) {
-  if (!e) return "";
-  std::ostringstream o;
-  o << "\n//       BC4 as embedded (layout " << layoutSwizzle(layout) << ", report seed "
-    << kLayoutReportSeed << "): uniform max/RMS " << g9(e->uniform_max) << " / "
-    << g9(e->uniform_rms) << ", stress " << g9(e->stress_max) << " / " << g9(e->stress_rms);
-  return o.str();
 }
 
 // "texture x = theta_o, y = r_p, z = A" for a layout.
@@ -369,6 +359,7 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
   for (const GtsoTable* t : {&in.gtso->table3d, &in.gtso->table4d}) {
     const std::string reference_error = jsonAt(t->meta, {"max_abs_error_vs_reference"});
     const char* key = t == &in.gtso->table3d ? "3d" : "4d";
+    const GtsoLayout& layout = t == &in.gtso->table3d ? in.layout_3d : in.layout_4d;
     o << "//   " << oneLine(t->file) << ": lobe-grid rectangles "
       << jsonAt(t->meta, {"lobe_grid_rectangles"}) << ", max |S - reference| "
       << (reference_error == "null" ? "over all texels not measured by this run" : reference_error)
@@ -378,14 +369,14 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
       << jsonAt(t->meta, {"texel_check", "lines"})
       << " random lines, half at the theta_o ends (seed "
       << jsonAt(t->meta, {"texel_check", "seed"}) << ")"
-      << "\n//     end to end vs direct integration (max over seeds / mean RMS): BC4 in table "
+      << "\n//     end to end vs direct integration (max over seeds / mean RMS): float32 in table "
          "order (gtso.json) "
-      << endToEnd(gj, key, "bc4")
-      << (t == &in.gtso->table3d ? embeddedBc4(in.embedded_3d, in.layout_3d)
-                                 : embeddedBc4(in.embedded_4d, in.layout_4d))
-      << "\n//       R16 " << endToEnd(gj, key, "r16") << "\n//       R8 "
-      << endToEnd(gj, key, "r8") << "; recommended "
-      << jsonAt(gj, {"end_to_end", key, "recommended"}) << "\n";
+      << endToEnd(gj.contains("end_to_end") ? gj["end_to_end"] : nlohmann::json(), key, "float32")
+      << "\n//       as shipped (layout " << layoutSwizzle(layout) << ", encode.json): BC4 "
+      << endToEnd(in.end_to_end, key, "bc4") << "\n//       R16 "
+      << endToEnd(in.end_to_end, key, "r16") << "\n//       R8 "
+      << endToEnd(in.end_to_end, key, "r8") << "; recommended "
+      << jsonAt(in.end_to_end, {key, "recommended"}) << "\n";
   }
   coneProvenance(o, in);
   o << "//   errors of S_cone vs S3: " << jsonAt(gj, {"cone", "errors"}) << "\n"

@@ -11,8 +11,6 @@
 #include "common/rng.h"
 #include "gtso/gtso_integrator.h"
 #include "runtime/gtso_runtime.h"
-#include "texture/bc4_encoder.h"
-#include "texture/texture_containers.h"
 
 namespace gtbake::gtso {
 
@@ -148,28 +146,16 @@ std::vector<float> toFloats(const Table& t) {
   return std::vector<float>(t.values.begin(), t.values.end());
 }
 
-EncodedTable encodeTable(const Table& t, TexelFormat format) {
+EncodedTable floatTable(const Table& t) {
   EncodedTable e;
-  e.format = format;
+  e.format = TexelFormat::kFloat32;
   const std::vector<float> f = toFloats(t);
   const std::size_t n = f.size();
-  std::vector<float> decoded(n);
-  if (format == TexelFormat::kFloat32) {
-    e.bytes.resize(n * 4);
-    std::copy(reinterpret_cast<const std::uint8_t*>(f.data()),
-              reinterpret_cast<const std::uint8_t*>(f.data()) + n * 4, e.bytes.begin());
-    decoded = f;
-  } else if (format == TexelFormat::kBc4) {
-    static const Bc4Encoder encoder;
-    const std::array<int, 3> v = t.volume();
-    e.bytes = encodeBc4Volume(encoder, f.data(), v[0], v[1], v[2], nullptr).bytes;
-    decoded = decodeBc4Volume(e.bytes.data(), v[0], v[1], v[2]);
-  } else {
-    e.bytes = quantizeUnorm(f.data(), n, format);
-    decoded = dequantizeUnorm(e.bytes, format);
-  }
+  e.bytes.resize(n * 4);
+  std::copy(reinterpret_cast<const std::uint8_t*>(f.data()),
+            reinterpret_cast<const std::uint8_t*>(f.data()) + n * 4, e.bytes.begin());
   for (std::size_t i = 0; i < n; ++i) {
-    const double d = std::abs(decoded[i] - t.values[i]);
+    const double d = std::abs(f[i] - t.values[i]);
     e.texel_max = std::max(e.texel_max, d);
     e.texel_rms += d * d;
   }

@@ -57,15 +57,17 @@ double evaluateS(int dims, const GtsoPoint& p, int cells);
 
 // ---- texel formats ----
 
-// A table as one texture format: raw texel bytes in texture memory order (BC4: blocks).
+// A table as one texture format: raw texel bytes in texture memory order (BC4: blocks). gtso
+// makes only the float32 one (floatTable); `gtbake encode` makes the others (docs/export.md §2).
 struct EncodedTable {
   TexelFormat format = TexelFormat::kFloat32;
   std::vector<std::uint8_t> bytes;
   double texel_max = 0.0, texel_rms = 0.0;  // decoded texels vs the float64 table
 };
-// R16/R8: round(clamp(v, 0, 1) * (2^bits - 1)); BC4: the exact encoder of src/export.
-EncodedTable encodeTable(const Table& t, TexelFormat format);
-// The runtime lookup (gtso_runtime.h) on an encoded table at physical parameters.
+// The table's float32 texels, texture order (texel_max, texel_rms: its float rounding).
+EncodedTable floatTable(const Table& t);
+// The runtime lookup (gtso_runtime.h) on a table in any texel format, texture order (identity
+// layout), at physical parameters.
 float runtimeLookup(const Table& t, const EncodedTable& e, const GtsoPoint& p);
 
 // ---- end-to-end error ----

@@ -224,6 +224,53 @@ TEST_F(ExportTest, UnormVolumesFieldsAndPayload) {
   }
 }
 
+// encode.json end_to_end: every format of each table measured as shipped (docs/export.md §2b), on
+// two fresh seeds; BC4 on the report seed is the layout choice's own report of the same blocks,
+// R16 is float32 within its quantisation, and the recommendation follows its rule.
+TEST_F(ExportTest, EncodedFormatsAreMeasuredAsShipped) {
+  exportAll();
+  const nlohmann::json e = nlohmann::json::parse(slurp(options_.out / "encode.json"));
+  for (const auto& [key, n] :
+       {std::pair{"3d", std::size_t{8 * 8 * 6}}, std::pair{"4d", std::size_t{8 * 8 * 12}}}) {
+    const nlohmann::json& t = e["end_to_end"][key];
+    const nlohmann::json& f = t["formats"];
+    ASSERT_EQ(f.size(), 4u) << key;
+    EXPECT_EQ(f["float32"]["bytes"].get<std::size_t>(), 4 * n);
+    EXPECT_EQ(f["bc4"]["bytes"].get<std::size_t>(), n / 2);  // 8 bytes per 4x4 block
+    EXPECT_EQ(f["r16"]["bytes"].get<std::size_t>(), 2 * n);
+    EXPECT_EQ(f["r8"]["bytes"].get<std::size_t>(), n);
+    EXPECT_EQ(f["float32"]["texel_max_error"].get<double>(), 0.0);
+    EXPECT_LE(f["r16"]["texel_max_error"].get<double>(), 0.5 / 65535 + 1e-7);
+    EXPECT_LE(f["r8"]["texel_max_error"].get<double>(), 0.5 / 255 + 1e-7);
+    EXPECT_GT(f["r8"]["texel_max_error"].get<double>(), 0.25 / 255);  // not exact by accident
+    for (const auto& [name, format] : f.items()) {
+      const nlohmann::json& seeds = format["uniform"]["per_seed"];
+      ASSERT_EQ(seeds.size(), 2u) << name;
+      EXPECT_EQ(seeds[0]["seed"], 1002);
+      EXPECT_EQ(seeds[1]["seed"], 1003);
+      EXPECT_EQ(format["uniform"]["max"].get<double>(),
+                std::max(seeds[0]["max"].get<double>(), seeds[1]["max"].get<double>()));
+    }
+    const nlohmann::json& layout = e["layouts"][key];
+    EXPECT_EQ(f["bc4"]["uniform"]["per_seed"][0]["max"], layout["report_uniform_max"]);
+    EXPECT_EQ(f["bc4"]["uniform"]["per_seed"][0]["rms"], layout["report_uniform_rms"]);
+    EXPECT_NEAR(f["r16"]["uniform"]["rms"].get<double>(),
+                f["float32"]["uniform"]["rms"].get<double>(), 1e-5);
+    // The rule by hand: the smallest format within 1.5x float32 on uniform max, RMS, stress max.
+    std::string best = "float32";
+    for (const char* name : {"bc4", "r16", "r8"}) {
+      auto within = [&](const char* set, const char* k) {
+        return f[name][set][k].get<double>() <= 1.5 * f["float32"][set][k].get<double>();
+      };
+      if (within("uniform", "max") && within("uniform", "rms") && within("stress", "max") &&
+          f[name]["bytes"].get<std::size_t>() < f[best]["bytes"].get<std::size_t>()) {
+        best = name;
+      }
+    }
+    EXPECT_EQ(t["recommended"], best) << key;
+  }
+}
+
 TEST_F(ExportTest, Ktx2FieldsAndPayload) {
   const ExportResult r = exportAll();
   const std::string s = slurp(options_.out / "gtso3d.ktx2");
