@@ -16,6 +16,7 @@
 #include "scene/scenes_command.h"
 #include "screen_ao/screen_ao_command.h"
 #include "sweep/sweep_command.h"
+#include "validate_gtso/specular_sweep.h"
 #include "validate_gtso/validate_gtso_command.h"
 
 namespace gtbake {
@@ -63,9 +64,11 @@ double specularRmse(const ValidateGtsoResult& r, const char* method) {
 double specularProfiles(const AllOptions& options, std::vector<Profile>* profiles) {
   banner("validate-gtso per estimator", options.progress);
   const auto t = std::chrono::steady_clock::now();
+  const SpecularSweep sweep = readSpecularSweep(options.out);  // once for every estimator
   for (Profile& p : *profiles) {
     ValidateGtsoOptions v;
     v.sweep = options.out;
+    v.sweep_data = &sweep;
     v.luts = options.out;
     v.input.estimator = p.estimator;
     v.input.screen_ao = options.out / "screen_ao";

@@ -33,8 +33,19 @@ void setConeAngles(SpecularSample* s, double beta) {
 }
 
 std::vector<SpecularSample> gatherSamples(const SpecularSweep& sweep) {
-  std::vector<SpecularSample> samples;
+  // Scenes in parallel, each writing its own range (unmasked pixels × roughness values, in scene
+  // order): the order of a serial pass.
+  const std::size_t R = sweep.roughness.size();
+  std::vector<std::size_t> begin(sweep.scenes.size() + 1, 0);
   for (std::size_t si = 0; si < sweep.scenes.size(); ++si) {
+    const std::vector<std::uint8_t>& mask = sweep.scenes[si].mask;
+    begin[si + 1] =
+        begin[si] + R * static_cast<std::size_t>(std::count_if(
+                            mask.begin(), mask.end(), [](std::uint8_t m) { return m != 0; }));
+  }
+  std::vector<SpecularSample> samples(begin.back());
+  tbb::parallel_for(std::size_t{0}, sweep.scenes.size(), [&](std::size_t si) {
+    std::size_t next = begin[si];
     const SpecularScene& scene = sweep.scenes[si];
     for (std::size_t p = 0; p < scene.mask.size(); ++p) {
       if (scene.mask[p] == 0) continue;
@@ -71,10 +82,10 @@ std::vector<SpecularSample> gatherSamples(const SpecularSweep& sweep) {
         s.truth = scene.S[j][p];
         const double d = static_cast<double>(scene.H0[j][p]) - scene.H1[j][p];
         s.noise_var = 0.25 * d * d;
-        samples.push_back(s);
+        samples[next++] = s;
       }
     }
-  }
+  });
   if (samples.empty()) throw Error("sweep " + sweep.dir.string() + " has no unmasked pixels");
   return samples;
 }

@@ -3,9 +3,9 @@
 #include <algorithm>
 
 #include "common/error.h"
-#include "common/progress.h"
 #include "common/input_limits.h"
 #include "common/output_set.h"
+#include "common/progress.h"
 
 namespace gtbake {
 
@@ -104,7 +104,8 @@ double shippedU(const ValidateGtsoOptions& options) {
 // The sweep and tables read, the samples gathered; on an estimator's inputs A and b replaced.
 void readInputs(const ValidateGtsoOptions& options, StageParts& parts, Analysis& a) {
   a.sweep = parts.run("reading the sweep", 1, [&](Progress&) {
-    SpecularSweep sweep = readSpecularSweep(options.sweep);
+    SpecularSweep sweep =
+        options.sweep_data ? *options.sweep_data : readSpecularSweep(options.sweep);
     if (!options.input.rayTraced()) useScreenEstimate(&sweep, options.input);
     return sweep;
   });

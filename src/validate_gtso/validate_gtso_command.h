@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "fit/screen_estimate.h"
+#include "validate_gtso/specular_sweep.h"
 
 namespace gtbake {
 
@@ -20,6 +21,9 @@ struct ValidateGtsoOptions {
   // --estimator/--screen-ao: score on a screen-space estimator's Â and b̂ instead of the ray-traced
   // A and b (docs/validate_gtso.md §6); out then defaults to luts/profiles/<estimator>.
   AoInput input;
+  // The sweep already read from `sweep` (gtbake all reads it once for every estimator); null:
+  // read here.
+  const SpecularSweep* sweep_data = nullptr;
   bool write_images = true;   // the per-scene PNGs of the report
   bool print_summary = true;  // the one-screen summary on stdout
   bool progress = true;
