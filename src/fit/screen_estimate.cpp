@@ -15,10 +15,6 @@ namespace gtbake {
 
 namespace {
 
-// Float rounding of an estimator's slice integrals may leave Â a few ulps outside [0, 1]
-// (1.00000012 on an open pixel); such values are clamped, anything farther is an error.
-constexpr float kEstimateRounding = 1e-5f;
-
 // screen_ao.json's images by name: the EXR file of each and the estimators it holds.
 struct ScreenAoSet {
   OutputManifest manifest;
