@@ -52,7 +52,8 @@ GridValueScore runAndScore(SweepData* data, const SweepImages& images, const Clu
     bar.add(1);
   }
   useEstimates(data, images.images, estimates, estimator);
-  return scoreRun(clusterStatistics(*data, clusters, q), data->albedos, profileFitSettings());
+  return scoreRun(clusterStatistics(*data, clusters, q), clusters.names, data->albedos,
+                  profileFitSettings());
 }
 
 // Runs every value of one setting's grid (the default value's run shared by the estimator's
@@ -95,7 +96,8 @@ FitSettings profileFitSettings() {
 }
 
 GridValueScore scoreRun(const std::vector<ClusterStatistics>& stats,
-                        const std::vector<double>& albedos, const FitSettings& settings) {
+                        const std::vector<std::string>& names, const std::vector<double>& albedos,
+                        const FitSettings& settings) {
   const std::size_t S = stats.size();
   GridValueScore out;
   const ClusterStatistics total = sumClusters(stats);
@@ -110,7 +112,14 @@ GridValueScore scoreRun(const std::vector<ClusterStatistics>& stats,
     std::vector<bool> include(S, true);
     include[s] = false;
     const ClusterStatistics without = sumClusters(stats, include);
-    const MultiBounceCoeffs k = refitCoefficients(without, albedos, settings);
+    MultiBounceCoeffs k{};
+    try {
+      k = refitCoefficients(without, albedos, settings);
+    } catch (const Error& e) {
+      throw Error("tune: the profile refit without scene '" + names[s] +
+                  "' is not determined by the other scenes (" + e.what() +
+                  "), so there is no scene-level interval; tune needs more varied scenes");
+    }
     out.held_out_sse[s] = sumSquaredError(stats[s], albedos, k);
     out.profile_replica_sse[s] = sumSquaredError(without, albedos, k);
   });

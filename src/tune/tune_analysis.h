@@ -35,8 +35,11 @@ struct GridValueScore {
 };
 
 // Scores statistics of one run: S + 1 refits (clusters in parallel, each into its own slot).
+// A refit without one cluster (names: the clusters') that the others do not determine is a
+// one-line gtbake::Error.
 GridValueScore scoreRun(const std::vector<ClusterStatistics>& stats,
-                        const std::vector<double>& albedos, const FitSettings& settings);
+                        const std::vector<std::string>& names, const std::vector<double>& albedos,
+                        const FitSettings& settings);
 
 struct SettingResult {
   SettingGrid grid;

@@ -23,8 +23,9 @@ struct SceneInterval {
   double low = 0.0, high = 0.0;    // z ∓ t·SE_J, on the axis
   std::vector<double> replicates;  // z without each cluster
   std::size_t replicates_at_bound = 0;
-  // The grid nodes next to the minimum whose objective is within kFlatFraction of it, outward
-  // from the grid minimum while that holds: the flat range, on the axis.
+  // The flat range, on the axis: the grid nodes whose objective is within kFlatFraction of the
+  // smallest sampled one, outward from that node while this holds. A range of grid values (it
+  // holds the grid minimum, not necessarily the interpolated z when the grid is coarse).
   double flat_low = 0.0, flat_high = 0.0;
 };
 
