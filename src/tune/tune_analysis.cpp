@@ -10,6 +10,7 @@
 #include "common/text_format.h"
 #include "fit/scene_jackknife.h"
 #include "fit/screen_estimate.h"
+#include "screen_ao/visibility_bitmask.h"
 
 namespace gtbake {
 
@@ -41,37 +42,57 @@ void requireSameViews(const SweepData& data, const SweepImages& images) {
   }
 }
 
-// Runs the estimator at `settings` on every image and scores it.
-GridValueScore runAndScore(SweepData* data, const SweepImages& images, const Clusters& clusters,
-                           const std::vector<std::vector<long double>>& q,
-                           const ScreenAoSettings& settings, const std::string& estimator,
-                           Progress& bar) {
-  std::vector<std::vector<float>> estimates;
-  for (const SweepImage& image : images.images) {
-    estimates.push_back(runEstimator(settings, estimator, image.gbuffer).a);
-    bar.add(1);
+// Â of every image at each value ([value][image]): the bitmasks' thickness values in one pass
+// per image (visibilityBitmasks shares the samples; the same bytes as one run per value), any
+// other setting one run per value.
+std::vector<std::vector<std::vector<float>>> runValues(const SweepImages& images,
+                                                       const SettingGrid& grid,
+                                                       const std::vector<double>& values,
+                                                       Progress& bar) {
+  std::vector<std::vector<std::vector<float>>> out(values.size());
+  if (grid.key == "thickness") {
+    const ScreenAoSettings s;
+    const BitmaskSettings& b =
+        grid.estimator == "bitmask-uniform" ? s.bitmask_uniform : s.bitmask_cosine;
+    for (const SweepImage& image : images.images) {
+      std::vector<AoEstimate> e = visibilityBitmasks(image.gbuffer, b, values);
+      for (std::size_t k = 0; k < values.size(); ++k) out[k].push_back(std::move(e[k].a));
+      bar.add(values.size());
+    }
+    return out;
   }
-  useEstimates(data, images.images, estimates, estimator);
-  return scoreRun(clusterStatistics(*data, clusters, q), clusters.names, data->albedos,
-                  profileFitSettings());
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    const ScreenAoSettings s = settingsAt(grid, values[k]);
+    for (const SweepImage& image : images.images) {
+      out[k].push_back(runEstimator(s, grid.estimator, image.gbuffer).a);
+      bar.add(1);
+    }
+  }
+  return out;
 }
 
-// Runs every value of one setting's grid (the default value's run shared by the estimator's
+// Scores every value of one setting's grid (the default value's run shared by the estimator's
 // settings through *at_default).
 std::vector<GridValueScore> runGrid(SweepData* data, const SweepImages& images,
                                     const Clusters& clusters,
                                     const std::vector<std::vector<long double>>& q,
                                     const SettingGrid& grid,
                                     std::optional<GridValueScore>* at_default, Progress& bar) {
+  std::vector<double> to_run;
+  for (double value : grid.values) {
+    if (value != grid.default_value || !at_default->has_value()) to_run.push_back(value);
+  }
+  const auto estimates = runValues(images, grid, to_run, bar);
   std::vector<GridValueScore> scores;
   for (double value : grid.values) {
-    if (value == grid.default_value && at_default->has_value()) {
+    const auto run = std::find(to_run.begin(), to_run.end(), value);
+    if (run == to_run.end()) {
       scores.push_back(**at_default);
-      scores.back().value = value;
-      continue;
+    } else {
+      useEstimates(data, images.images, estimates[run - to_run.begin()], grid.estimator);
+      scores.push_back(scoreRun(clusterStatistics(*data, clusters, q), clusters.names,
+                                data->albedos, profileFitSettings()));
     }
-    scores.push_back(
-        runAndScore(data, images, clusters, q, settingsAt(grid, value), grid.estimator, bar));
     scores.back().value = value;
     if (value == grid.default_value) *at_default = scores.back();
   }
