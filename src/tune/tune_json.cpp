@@ -129,18 +129,20 @@ Json tuneJson(const TuneAnalysis& a, const std::vector<SettingGrid>& grids,
 }
 
 void printTuneSummary(const TuneAnalysis& a) {
-  std::printf("%-16s %-18s %8s | %-30s | %-30s\n", "estimator", "setting", "default",
-              "paper: best [95% interval]", "profile: best [95% interval]");
+  std::printf("%-16s %-18s %7s | %-28s | %-28s | %s\n", "estimator", "setting", "default",
+              "paper: best [95% interval]", "profile: best [95% interval]", "profile within 5%");
   for (const SettingResult& r : a.settings) {
-    char cells[2][64];
+    char cells[3][64];
     int k = 0;
     for (const SceneInterval* o : {&r.paper, &r.profile}) {
       std::snprintf(cells[k++], sizeof cells[0], "%.3g [%.3g, %.3g]%s", optimumValue(r, o->z),
                     optimumValue(r, o->low), optimumValue(r, o->high),
                     o->at_bound ? " at bound" : "");
     }
-    std::printf("%-16s %-18s %8.3g | %-30s | %-30s\n", r.grid.estimator.c_str(), r.grid.key.c_str(),
-                r.grid.default_value, cells[0], cells[1]);
+    std::snprintf(cells[2], sizeof cells[2], "%.3g-%.3g", optimumValue(r, r.profile.flat_low),
+                  optimumValue(r, r.profile.flat_high));
+    std::printf("%-16s %-18s %7.3g | %-28s | %-28s | %s\n", r.grid.estimator.c_str(),
+                r.grid.key.c_str(), r.grid.default_value, cells[0], cells[1], cells[2]);
   }
   std::fflush(stdout);
 }
