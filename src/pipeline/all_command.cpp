@@ -185,7 +185,12 @@ void runAll(const AllOptions& options) {
   tune.out = options.out / "tune";
   tune.threads = limit.threads();
   tune.progress = options.progress;
-  const TuneResult tuned = runTune(tune);
+  TuneResult tuned;
+  try {
+    tuned = runTune(tune);
+  } catch (const TuneNotApplicable& e) {  // too few scenes for its intervals: nothing written
+    std::fprintf(stderr, "gtbake all: tune skipped: %s\n", e.what());
+  }
 
   banner("gtso", options.progress);
   GtsoOptions gtso;

@@ -137,9 +137,10 @@ GridValueScore scoreRun(const std::vector<ClusterStatistics>& stats,
     try {
       k = refitCoefficients(without, albedos, settings);
     } catch (const Error& e) {
-      throw Error("tune: the profile refit without scene '" + names[s] +
-                  "' is not determined by the other scenes (" + e.what() +
-                  "), so there is no scene-level interval; tune needs more varied scenes");
+      throw TuneNotApplicable(
+          "tune: the profile refit without scene '" + names[s] +
+          "' is not determined by the other scenes (" + e.what() +
+          "), so there is no scene-level interval; tune needs more varied scenes");
     }
     out.held_out_sse[s] = sumSquaredError(stats[s], albedos, k);
     out.profile_replica_sse[s] = sumSquaredError(without, albedos, k);
@@ -214,9 +215,9 @@ TuneAnalysis analyzeTune(const std::filesystem::path& sweep, const std::vector<S
   requireSameViews(data, images);
   const Clusters clusters = sweepClusters(data);
   if (clusters.names.size() < kMinJackknifeScenes) {
-    throw Error("tune: the sweep has " + std::to_string(clusters.names.size()) +
-                " scene(s); the scene-level interval needs at least " +
-                std::to_string(kMinJackknifeScenes));
+    throw TuneNotApplicable("tune: the sweep has " + std::to_string(clusters.names.size()) +
+                            " scene(s); the scene-level interval needs at least " +
+                            std::to_string(kMinJackknifeScenes));
   }
   TuneAnalysis a;
   a.clusters = clusters.names;

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/error.h"
 #include "common/progress.h"
 #include "fit/multibounce_coeffs.h"
 #include "fit/multibounce_fit.h"
@@ -35,8 +36,8 @@ struct GridValueScore {
 };
 
 // Scores statistics of one run: S + 1 refits (clusters in parallel, each into its own slot).
-// A refit without one cluster (names: the clusters') that the others do not determine is a
-// one-line gtbake::Error.
+// A refit without one cluster (names: the clusters') that the others do not determine throws
+// TuneNotApplicable.
 GridValueScore scoreRun(const std::vector<ClusterStatistics>& stats,
                         const std::vector<std::string>& names, const std::vector<double>& albedos,
                         const FitSettings& settings);
@@ -69,9 +70,17 @@ struct TuneAnalysis {
   std::vector<std::pair<std::string, double>> part_seconds;
 };
 
+// The sweep is valid but cannot be tuned: fewer than kMinJackknifeScenes scene clusters, or a
+// refit without one of them that the others do not determine (no scene-level interval). A
+// gtbake::Error like any other; `gtbake all` skips the stage on it (a user's one or two scenes).
+class TuneNotApplicable : public Error {
+ public:
+  using Error::Error;
+};
+
 // Reads the sweep (loadSweep for G, readSweepImages for the G-buffer) and scores every grid.
-// Throws a one-line gtbake::Error on a sweep without G-buffer channels or with fewer than
-// kMinJackknifeScenes clusters (before any estimator runs).
+// Throws a one-line gtbake::Error on a sweep without G-buffer channels, TuneNotApplicable with
+// fewer than kMinJackknifeScenes clusters (before any estimator runs).
 TuneAnalysis analyzeTune(const std::filesystem::path& sweep, const std::vector<SettingGrid>& grids,
                          bool progress);
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "tune/tune_analysis.h"
 #include "tune/tune_grid.h"
 
 namespace gtbake {
@@ -28,7 +29,8 @@ struct TuneResult {
 
 // Writes <out>/tune.json and <out>/report/tune.html as one output set (tune.manifest.json) and
 // prints the optima. Bad input (an unknown estimator or key, a bad grid, a sweep without G-buffer
-// channels, fewer than three scenes) throws a one-line gtbake::Error with nothing written.
+// channels, fewer than three scenes) throws a one-line gtbake::Error with nothing written
+// (TuneNotApplicable for a valid sweep that has too few scenes for the intervals).
 TuneResult runTune(const TuneOptions& options);
 
 // The grids of a run: the defaults of options.estimators with options.grids applied.
