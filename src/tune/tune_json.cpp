@@ -135,9 +135,13 @@ void printTuneSummary(const TuneAnalysis& a) {
     char cells[3][64];
     int k = 0;
     for (const SceneInterval* o : {&r.paper, &r.profile}) {
-      std::snprintf(cells[k++], sizeof cells[0], "%.3g [%.3g, %.3g]%s", optimumValue(r, o->z),
-                    optimumValue(r, o->low), optimumValue(r, o->high),
-                    o->at_bound ? " at bound" : "");
+      if (o->at_bound) {  // the interval says nothing there: how many replicas agree does
+        std::snprintf(cells[k++], sizeof cells[0], "%.3g grid end (%zu/%zu replicas)",
+                      optimumValue(r, o->z), o->replicates_at_bound, o->replicates.size());
+      } else {
+        std::snprintf(cells[k++], sizeof cells[0], "%.3g [%.3g, %.3g]", optimumValue(r, o->z),
+                      optimumValue(r, o->low), optimumValue(r, o->high));
+      }
     }
     std::snprintf(cells[2], sizeof cells[2], "%.3g-%.3g", optimumValue(r, r.profile.flat_low),
                   optimumValue(r, r.profile.flat_high));

@@ -26,7 +26,10 @@ void markOptimum(SvgPlot& plot, const SceneInterval& o, const std::vector<double
   const std::size_t k1 = std::min(k + 1, x.size() - 1);
   const double w = k1 == k ? 0.0 : std::clamp((o.z - x[k]) / (x[k1] - x[k]), 0.0, 1.0);
   const double at = (1.0 - w) * y[k] + w * y[k1];
-  plot.curve({std::max(o.low, x.front()), std::min(o.high, x.back())}, {at, at}, color, false, 3.0);
+  if (!o.at_bound) {
+    plot.curve({std::max(o.low, x.front()), std::min(o.high, x.back())}, {at, at}, color, false,
+               3.0);
+  }
   plot.points({o.z}, {at}, color, 4.0);
 }
 
@@ -60,10 +63,15 @@ std::string settingPlot(const SettingResult& r) {
   return plot.str();
 }
 
+// At a grid end the interval says nothing; how many replicas are there too does.
 std::string optimumCell(const SettingResult& r, const SceneInterval& o) {
-  return formatNumber(optimumValue(r, o.z), "%.3g") + " [" +
-         formatNumber(optimumValue(r, o.low), "%.3g") + ", " +
-         formatNumber(optimumValue(r, o.high), "%.3g") + "]" + (o.at_bound ? " at bound" : "");
+  const std::string value = formatNumber(optimumValue(r, o.z), "%.3g");
+  if (o.at_bound) {
+    return value + " at the grid's end (" + std::to_string(o.replicates_at_bound) + " of " +
+           std::to_string(o.replicates.size()) + " replicas too)";
+  }
+  return value + " [" + formatNumber(optimumValue(r, o.low), "%.3g") + ", " +
+         formatNumber(optimumValue(r, o.high), "%.3g") + "]";
 }
 
 }  // namespace
