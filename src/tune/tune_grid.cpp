@@ -11,7 +11,8 @@ namespace gtbake {
 namespace {
 
 // The settings searched per estimator, their axes and default grids (docs/tune.md §1). Each grid
-// holds the estimator's default (radius 1 m, intensity 1, thin_compensation 0, thickness 0.5 m).
+// holds the estimator's default (radius 1 m, intensity 1, thin_compensation 0, thickness 0.5 m);
+// radius and intensity reach 16 m and 8 because the error of G still falls at 4 m and 2.
 struct GridSpec {
   const char* key;
   bool log_axis;
@@ -20,8 +21,8 @@ struct GridSpec {
 
 std::vector<GridSpec> gridSpecs(const std::string& estimator) {
   if (estimator == "gtao-runtime") {
-    return {{"radius", true, {0.25, 0.5, 1.0, 2.0, 4.0}},
-            {"intensity", false, {0.5, 0.75, 1.0, 1.5, 2.0}},
+    return {{"radius", true, {0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0}},
+            {"intensity", false, {0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0}},
             {"thin_compensation", false, {0.0, 0.25, 0.5, 0.75, 1.0}}};
   }
   return {{"thickness", true, {0.125, 0.25, 0.5, 1.0, 2.0, 4.0}}};

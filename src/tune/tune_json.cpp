@@ -57,7 +57,7 @@ Json optimumJson(const SettingResult& r, bool paper) {
           {"interval_axis", {o.low, o.high}},
           {"replicates", o.replicates},
           {"replicates_at_bound", o.replicates_at_bound},
-          {"flat_range", {optimumValue(r, o.flat_low), optimumValue(r, o.flat_high)}},
+          {"flat_range", {r.grid.values[o.flat_first], r.grid.values[o.flat_last]}},
           {"grid_best",
            {{"value", r.scores[best].value},
             {"paper", r.scores[best].paper_rmse},
@@ -143,8 +143,8 @@ void printTuneSummary(const TuneAnalysis& a) {
                       optimumValue(r, o->low), optimumValue(r, o->high));
       }
     }
-    std::snprintf(cells[2], sizeof cells[2], "%.3g-%.3g", optimumValue(r, r.profile.flat_low),
-                  optimumValue(r, r.profile.flat_high));
+    std::snprintf(cells[2], sizeof cells[2], "%.3g-%.3g", r.grid.values[r.profile.flat_first],
+                  r.grid.values[r.profile.flat_last]);
     std::printf("%-16s %-18s %7.3g | %-28s | %-28s | %s\n", r.grid.estimator.c_str(),
                 r.grid.key.c_str(), r.grid.default_value, cells[0], cells[1], cells[2]);
   }

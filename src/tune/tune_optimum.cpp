@@ -52,8 +52,8 @@ SceneInterval sceneInterval(const std::vector<double>& x, const std::vector<doub
   std::size_t lo = k, hi = k;
   while (lo > 0 && pooled[lo - 1] <= limit) --lo;
   while (hi + 1 < pooled.size() && pooled[hi + 1] <= limit) ++hi;
-  out.flat_low = x[lo];
-  out.flat_high = x[hi];
+  out.flat_first = lo;
+  out.flat_last = hi;
   return out;
 }
 

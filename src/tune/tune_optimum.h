@@ -23,10 +23,10 @@ struct SceneInterval {
   double low = 0.0, high = 0.0;    // z ∓ t·SE_J, on the axis
   std::vector<double> replicates;  // z without each cluster
   std::size_t replicates_at_bound = 0;
-  // The flat range, on the axis: the grid nodes whose objective is within kFlatFraction of the
-  // smallest sampled one, outward from that node while this holds. A range of grid values (it
-  // holds the grid minimum, not necessarily the interpolated z when the grid is coarse).
-  double flat_low = 0.0, flat_high = 0.0;
+  // The flat range: the grid nodes [flat_first, flat_last] whose objective is within
+  // kFlatFraction of the smallest sampled one, outward from that node while this holds. A range of
+  // grid values (it holds the grid minimum, not necessarily the interpolated z on a coarse grid).
+  std::size_t flat_first = 0, flat_last = 0;
 };
 
 // Objective within this fraction of the minimum counts as flat (5 %).

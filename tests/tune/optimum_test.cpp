@@ -65,9 +65,9 @@ TEST(TuneOptimum, RecoversAKnownMinimumAndItsIntervalCoversIt) {
   EXPECT_LT(o.se, 0.15);
   EXPECT_NEAR(o.t, 2.093, 1e-3);  // t_{0.975, 19}
   EXPECT_EQ(o.replicates.size(), kClusters);
-  // The flat range is of grid nodes: here the node 0 alone (0.25 costs more than 5 %).
-  EXPECT_EQ(o.flat_low, 0.0);
-  EXPECT_EQ(o.flat_high, 0.0);
+  // The flat range is of grid nodes: here the node z = 0 alone (0.25 costs more than 5 %).
+  EXPECT_EQ(c.x[o.flat_first], 0.0);
+  EXPECT_EQ(o.flat_last, o.flat_first);
 }
 
 TEST(TuneOptimum, ParabolaVertexOnAnUnevenGrid) {
@@ -87,8 +87,8 @@ TEST(TuneOptimum, CurveFallingToTheGridEndIsAtBound) {
   EXPECT_TRUE(o.at_bound);
   EXPECT_EQ(o.z, 0.5);
   EXPECT_EQ(o.replicates_at_bound, 4u);
-  EXPECT_EQ(o.flat_low, 0.5);
-  EXPECT_EQ(o.flat_high, 0.5);
+  EXPECT_EQ(o.flat_first, 3u);
+  EXPECT_EQ(o.flat_last, 3u);
 }
 
 TEST(TuneOptimum, FewerThanThreeClustersIsAnError) {
