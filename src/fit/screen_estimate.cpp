@@ -15,10 +15,6 @@ namespace gtbake {
 
 namespace {
 
-// Float rounding of an estimator's slice integrals may leave Â a few ulps outside [0, 1]
-// (1.00000012 on an open pixel); such values are clamped, anything farther is an error.
-constexpr float kEstimateRounding = 1e-5f;
-
 // A bent normal further than this from unit length is not one (screen-ao stores normalised
 // vectors; RGBA8 decoding and float rounding stay far below it).
 constexpr float kUnitTolerance = 1e-3f;

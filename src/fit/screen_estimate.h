@@ -21,6 +21,10 @@
 
 namespace gtbake {
 
+// Float rounding of an estimator's slice integrals may leave Â a few ulps outside [0, 1]
+// (1.00000012 on an open pixel); such values are clamped, anything farther is an error.
+inline constexpr float kEstimateRounding = 1e-5f;
+
 // Which A a fit reads: the sweep's ray-traced A (estimator empty) or a screen-space estimate.
 struct AoInput {
   std::string estimator;            // "" = ray-traced; else a `gtbake screen-ao` estimator name

@@ -16,6 +16,7 @@
 #include "scene/scenes_command.h"
 #include "screen_ao/screen_ao_command.h"
 #include "sweep/sweep_command.h"
+#include "tune/tune_command.h"
 #include "validate_gtso/specular_sweep.h"
 #include "validate_gtso/validate_gtso_command.h"
 
@@ -40,7 +41,7 @@ void banner(const char* stage, bool enabled) {
 
 // The seconds of the stages whose results carry no time of their own.
 struct StageTimes {
-  double scenes, fit, profiles, specular_profiles, exporter, total;
+  double scenes, fit, profiles, tune, specular_profiles, exporter, total;
 };
 
 // One estimator's profile: Equation 10 refitted on its Â (docs/profiles.md), and specular
@@ -156,10 +157,10 @@ void printSummary(const AllOptions& options, const SweepResult& swept, const Fit
   }
   std::printf(
       "  time             scenes %.1f s, sweep %.1f s (%.1f Mrays/s), fit %.1f s, screen-ao %.1f s,"
-      " profiles %.1f s, gtso %.1f s, encode %.1f s, validate-gtso %.1f s (per estimator"
-      " %.1f s), export %.1f s; total %.1f s\n",
+      " profiles %.1f s, tune %.1f s, gtso %.1f s, encode %.1f s, validate-gtso %.1f s (per"
+      " estimator %.1f s), export %.1f s; total %.1f s\n",
       times.scenes, swept.seconds, swept.seconds > 0 ? swept.rays / swept.seconds * 1e-6 : 0.0,
-      times.fit, screened.seconds, times.profiles, baked.seconds, encoded.seconds,
+      times.fit, screened.seconds, times.profiles, times.tune, baked.seconds, encoded.seconds,
       validated.seconds, times.specular_profiles, times.exporter, times.total);
 }
 
@@ -219,6 +220,19 @@ void runAll(const AllOptions& options) {
   const ScreenAoResult screened =
       screenAndProfiles(options, limit.threads(), &profiles, &profile_seconds);
 
+  banner("tune", options.progress);  // the estimators' settings against G (docs/tune.md)
+  TuneOptions tune;
+  tune.sweep = swept_dir;
+  tune.out = options.out / "tune";
+  tune.threads = limit.threads();
+  tune.progress = options.progress;
+  TuneResult tuned;
+  try {
+    tuned = runTune(tune);
+  } catch (const TuneNotApplicable& e) {  // too few scenes for its intervals: nothing written
+    std::fprintf(stderr, "gtbake all: tune skipped: %s\n", e.what());
+  }
+
   banner("gtso", options.progress);
   GtsoOptions gtso;
   gtso.out = options.out / "gtso";
@@ -255,7 +269,7 @@ void runAll(const AllOptions& options) {
   runExport(exporter);
   const double export_seconds = secondsSince(t);
 
-  StageTimes times{scenes_seconds,           fit_seconds,    profile_seconds,
+  StageTimes times{scenes_seconds,           fit_seconds,    profile_seconds,    tuned.seconds,
                    specular_profile_seconds, export_seconds, secondsSince(start)};
   printSummary(options, swept, fitted, baked, encoded, validated, screened, profiles, times);
 }

@@ -21,6 +21,10 @@ AoEstimate makeEstimate(const GBuffer& g);
 template <typename F>
 AoEstimate estimatePerPixel(const GBuffer& g, F perPixel);
 
+// Stores one pixel's Â (clamped to [0, 1]) and view-space bent normal as estimatePerPixel does.
+inline void storePixel(const GBuffer& g, std::size_t p, double a, const Eigen::Vector3d& bent,
+                       AoEstimate* e);
+
 }  // namespace gtbake
 
 #include "screen_ao/estimate_impl.h"

@@ -8,6 +8,19 @@
 
 namespace gtbake {
 
+inline void storePixel(const GBuffer& g, std::size_t p, double a, const Eigen::Vector3d& bent,
+                       AoEstimate* e) {
+  Eigen::Vector3d world = g.viewToWorld(bent);
+  if (!(world.norm() > 1e-12)) {
+    world = Eigen::Vector3d(g.normal[3 * p], g.normal[3 * p + 1], g.normal[3 * p + 2]);
+  }
+  world.normalize();
+  // Â is a visibility fraction: the rounding of the slice integrals (and of the bitmask's
+  // cosine remap at grazing views, up to 3e-5) may leave it just outside [0, 1].
+  e->a[p] = static_cast<float>(std::clamp(a, 0.0, 1.0));
+  for (int c = 0; c < 3; ++c) e->bent[3 * p + c] = static_cast<float>(world[c]);
+}
+
 template <typename F>
 AoEstimate estimatePerPixel(const GBuffer& g, F perPixel) {
   AoEstimate e = makeEstimate(g);
@@ -15,15 +28,7 @@ AoEstimate estimatePerPixel(const GBuffer& g, F perPixel) {
     double a = 0.0;
     Eigen::Vector3d bent = Eigen::Vector3d::Zero();
     perPixel(i, j, p, &a, &bent);
-    Eigen::Vector3d world = g.viewToWorld(bent);
-    if (!(world.norm() > 1e-12)) {
-      world = Eigen::Vector3d(g.normal[3 * p], g.normal[3 * p + 1], g.normal[3 * p + 2]);
-    }
-    world.normalize();
-    // Â is a visibility fraction: the rounding of the slice integrals (and of the bitmask's
-    // cosine remap at grazing views, up to 3e-5) may leave it just outside [0, 1].
-    e.a[p] = static_cast<float>(std::clamp(a, 0.0, 1.0));
-    for (int c = 0; c < 3; ++c) e.bent[3 * p + c] = static_cast<float>(world[c]);
+    storePixel(g, p, a, bent, &e);
   });
   return e;
 }

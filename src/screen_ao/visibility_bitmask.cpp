@@ -1,6 +1,7 @@
 #include "screen_ao/visibility_bitmask.h"
 
 #include <bitset>
+#include <vector>
 
 #include "common/error.h"
 #include "screen_ao/slice_geometry.h"
@@ -84,11 +85,13 @@ Angle sliceAngle(double c, double sign) {
   return {sign * std::acos(cc), sign * std::sqrt(1.0 - cc * cc), cc};
 }
 
-// One slice's 32 sectors from both sides' samples.
-std::uint32_t sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
-                        const Eigen::Vector3d& v, const Slice& slice, const SectorMap& map,
-                        double radius_px, const BitmaskSettings& s) {
-  std::uint32_t bits = 0;
+// One slice's 32 sectors from both sides' samples, for each thickness (bits[k] for
+// thicknesses[k]): the samples and their front angles are shared, each thickness adds its own
+// back angles.
+void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const Eigen::Vector3d& v,
+               const Slice& slice, const SectorMap& map, double radius_px, const BitmaskSettings& s,
+               const std::vector<double>& thicknesses, std::uint32_t* bits) {
+  std::fill(bits, bits + thicknesses.size(), 0u);
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
     for (int step = 0; step < s.steps; ++step) {
@@ -101,45 +104,55 @@ std::uint32_t sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x
       const Eigen::Vector3d front = sample - x;
       const double length = front.norm();
       if (length > s.radius || !(length > 0.0)) continue;
-      const Eigen::Vector3d back = front - s.thickness * v;
-      bits |= sectorBits(map.coordinate(sliceAngle(front.dot(v) / length, sign)),
-                         map.coordinate(sliceAngle(back.normalized().dot(v), sign)));
+      const double u_front = map.coordinate(sliceAngle(front.dot(v) / length, sign));
+      for (std::size_t k = 0; k < thicknesses.size(); ++k) {
+        const Eigen::Vector3d back = front - thicknesses[k] * v;
+        bits[k] |= sectorBits(u_front, map.coordinate(sliceAngle(back.normalized().dot(v), sign)));
+      }
     }
   }
-  return bits;
 }
 
+// One slice's visibility and bent-normal terms from its sectors.
+void addSlice(std::uint32_t bits, const Slice& slice, const SectorMap& map,
+              const Eigen::Vector3d& v, SectorWeights weights, double* visibility,
+              Eigen::Vector3d* sum) {
+  const double clear = 1.0 - static_cast<double>(std::bitset<32>(bits).count()) / kSectors;
+  *visibility +=
+      weights == SectorWeights::kUniform ? clear : slice.projected_length * map.openMass() * clear;
+  for (int run = 0; run < kSectors;) {  // each run of clear sectors
+    if ((bits >> run) & 1u) {
+      ++run;
+      continue;
+    }
+    int end = run;
+    while (end < kSectors && !((bits >> end) & 1u)) ++end;
+    double t0 = 0.0;
+    double t1 = 0.0;
+    bentOver(map.angle(static_cast<double>(run) / kSectors),
+             map.angle(static_cast<double>(end) / kSectors), slice, &t0, &t1);
+    *sum += slice.projected_length * (t0 * slice.o + t1 * v);
+    run = end;
+  }
+}
+
+// Pixel p at every thickness: Â and the view-space bent normal into a[k], bent[k].
 void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSettings& s,
-                  double* a, Eigen::Vector3d* bent) {
+                  const std::vector<double>& thicknesses, double* a, Eigen::Vector3d* bent) {
   const auto [x, v, normal] = pixelFrame(g, p);
   const double radius_px = s.radius * g.pixelsPerMetre(g.depth[p]);
-  double visibility = 0.0;
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  const std::size_t T = thicknesses.size();
+  std::vector<std::uint32_t> bits(T);
+  std::fill(a, a + T, 0.0);
+  std::fill(bent, bent + T, Eigen::Vector3d::Zero());
   for (int k = 0; k < s.slices; ++k) {
     const Slice slice = makeViewSlice(g, x, v, normal, kPi * (k + 0.5) / s.slices);
     const SectorMap map(slice.n, s.weights);
-    const std::uint32_t bits = sliceBits(g, i, j, x, v, slice, map, radius_px, s);
-    const double clear = 1.0 - static_cast<double>(std::bitset<32>(bits).count()) / kSectors;
-    visibility += s.weights == SectorWeights::kUniform
-                      ? clear
-                      : slice.projected_length * map.openMass() * clear;
-    for (int run = 0; run < kSectors;) {  // each run of clear sectors
-      if ((bits >> run) & 1u) {
-        ++run;
-        continue;
-      }
-      int end = run;
-      while (end < kSectors && !((bits >> end) & 1u)) ++end;
-      double t0 = 0.0;
-      double t1 = 0.0;
-      bentOver(map.angle(static_cast<double>(run) / kSectors),
-               map.angle(static_cast<double>(end) / kSectors), slice, &t0, &t1);
-      sum += slice.projected_length * (t0 * slice.o + t1 * v);
-      run = end;
-    }
+    sliceBits(g, i, j, x, v, slice, map, radius_px, s, thicknesses, bits.data());
+    for (std::size_t t = 0; t < T; ++t)
+      addSlice(bits[t], slice, map, v, s.weights, &a[t], &bent[t]);
   }
-  *a = visibility / s.slices;
-  *bent = sum;
+  for (std::size_t t = 0; t < T; ++t) a[t] /= s.slices;
 }
 
 }  // namespace
@@ -173,9 +186,28 @@ void validate(const BitmaskSettings& s) {
 
 AoEstimate visibilityBitmask(const GBuffer& g, const BitmaskSettings& s) {
   validate(s);
+  const std::vector<double> thickness = {s.thickness};
   return estimatePerPixel(g, [&](int i, int j, std::size_t p, double* a, Eigen::Vector3d* bent) {
-    bitmaskPixel(g, i, j, p, s, a, bent);
+    bitmaskPixel(g, i, j, p, s, thickness, a, bent);
   });
+}
+
+std::vector<AoEstimate> visibilityBitmasks(const GBuffer& g, const BitmaskSettings& s,
+                                           const std::vector<double>& thicknesses) {
+  std::vector<AoEstimate> out;
+  for (double t : thicknesses) {
+    BitmaskSettings at = s;
+    at.thickness = t;
+    validate(at);
+    out.push_back(makeEstimate(g));
+  }
+  forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
+    std::vector<double> a(thicknesses.size());
+    std::vector<Eigen::Vector3d> bent(thicknesses.size());
+    bitmaskPixel(g, i, j, p, s, thicknesses, a.data(), bent.data());
+    for (std::size_t k = 0; k < thicknesses.size(); ++k) storePixel(g, p, a[k], bent[k], &out[k]);
+  });
+  return out;
 }
 
 }  // namespace gtbake

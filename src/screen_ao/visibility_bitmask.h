@@ -10,6 +10,8 @@
 // clear runs of sectors.
 #pragma once
 
+#include <vector>
+
 #include "screen_ao/estimate.h"
 
 namespace gtbake {
@@ -28,6 +30,11 @@ inline constexpr int kSectors = 32;
 
 void validate(const BitmaskSettings& s);
 AoEstimate visibilityBitmask(const GBuffer& g, const BitmaskSettings& s);
+// The estimate at each of several thicknesses (s.thickness is not read) in one pass: the samples,
+// their slices and front angles are shared, and each result has the bytes visibilityBitmask gives
+// at that thickness.
+std::vector<AoEstimate> visibilityBitmasks(const GBuffer& g, const BitmaskSettings& s,
+                                           const std::vector<double>& thicknesses);
 
 // Sector coordinate u ∈ [0, 1] of the slice angle θ (clamped to the hemisphere about n).
 double sectorCoordinate(double theta, double n, SectorWeights weights);

@@ -50,6 +50,17 @@ std::vector<BadInvocation> badInvocations() {
       {"validate_coeffs_text", "validate --sweep /nonexistent --coeffs 1,2,3,4,5,x"},
       {"gtso_bad_size", "gtso --out {out} --size 1"},
       {"export_missing_fit", "export --fit /nonexistent/fit.json --gtso /nonexistent --out {out}"},
+      {"tune_missing_sweep", "tune --sweep /nonexistent --out {out}"},
+      {"tune_unknown_estimator", "tune --sweep /nonexistent --out {out} --estimators hbao"},
+      {"tune_unknown_key", "tune --sweep /nonexistent --out {out} --grid gtao-runtime.steps=2,4"},
+      {"tune_grid_without_default",
+       "tune --sweep /nonexistent --out {out} --grid gtao-runtime.radius=0.5,2"},
+      {"tune_grid_one_value",
+       "tune --sweep /nonexistent --out {out} --grid bitmask-cosine.thickness=0.5"},
+      {"tune_grid_not_finite",
+       "tune --sweep /nonexistent --out {out} --grid gtao-runtime.intensity=1,nan"},
+      {"tune_grid_out_of_range",
+       "tune --sweep /nonexistent --out {out} --grid gtao-runtime.thin_compensation=0,20"},
   };
 }
 

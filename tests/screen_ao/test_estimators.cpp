@@ -209,5 +209,23 @@ TEST(Estimators, SameBytesOnOneAndTwoThreads) {
   }
 }
 
+// Several thicknesses in one pass (what gtbake tune runs) give each thickness's own run's bytes.
+TEST(Estimators, BitmaskThicknessesInOnePassMatchOneRunEach) {
+  const SweepImage image = test::traceImage(test::cornerField(0.3), 40, 40, 2, 0.3, 1);
+  const std::vector<double> thicknesses = {0.125, 0.5, 4.0};
+  for (BitmaskSettings s :
+       {ScreenAoSettings{}.bitmask_uniform, ScreenAoSettings{}.bitmask_cosine}) {
+    const std::vector<AoEstimate> shared = visibilityBitmasks(image.gbuffer, s, thicknesses);
+    ASSERT_EQ(shared.size(), thicknesses.size());
+    for (std::size_t k = 0; k < thicknesses.size(); ++k) {
+      s.thickness = thicknesses[k];
+      const AoEstimate one = visibilityBitmask(image.gbuffer, s);
+      EXPECT_EQ(shared[k].a, one.a) << thicknesses[k];
+      EXPECT_EQ(shared[k].bent, one.bent) << thicknesses[k];
+    }
+    EXPECT_NE(shared[0].a, shared[2].a);  // the thickness matters on this scene
+  }
+}
+
 }  // namespace
 }  // namespace gtbake

@@ -1,0 +1,250 @@
+#include "tune/tune_analysis.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "common/error.h"
+#include "common/text_format.h"
+#include "fit/scene_jackknife.h"
+#include "fit/screen_estimate.h"
+#include "screen_ao/visibility_bitmask.h"
+
+namespace gtbake {
+
+namespace {
+
+double rmse(double sse, std::size_t points, std::size_t albedos) {
+  return std::sqrt(sse / (static_cast<double>(points) * static_cast<double>(albedos)));
+}
+
+double sum(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x;
+  return s;
+}
+
+// The sweep's views and its G-buffer images are the same list (both follow sweep.json).
+void requireSameViews(const SweepData& data, const SweepImages& images) {
+  if (images.images.size() != data.scenes.size()) {
+    throw Error("tune: the sweep's EXRs and its G-buffer list different images");
+  }
+  for (std::size_t v = 0; v < data.scenes.size(); ++v) {
+    const GBuffer& g = images.images[v].gbuffer;
+    const auto unmasked = static_cast<std::size_t>(std::count(g.mask.begin(), g.mask.end(), 1));
+    if (images.images[v].name != data.scenes[v].name ||
+        unmasked != data.scenes[v].end - data.scenes[v].begin) {
+      throw Error("tune: the G-buffer of '" + images.images[v].name +
+                  "' does not match the sweep's points");
+    }
+  }
+}
+
+// Â of every image at each value ([value][image]): the bitmasks' thickness values in one pass
+// per image (visibilityBitmasks shares the samples; the same bytes as one run per value), any
+// other setting one run per value.
+std::vector<std::vector<std::vector<float>>> runValues(const SweepImages& images,
+                                                       const SettingGrid& grid,
+                                                       const std::vector<double>& values,
+                                                       Progress& bar) {
+  std::vector<std::vector<std::vector<float>>> out(values.size());
+  if (grid.key == "thickness") {
+    const ScreenAoSettings s;
+    const BitmaskSettings& b =
+        grid.estimator == "bitmask-uniform" ? s.bitmask_uniform : s.bitmask_cosine;
+    for (const SweepImage& image : images.images) {
+      std::vector<AoEstimate> e = visibilityBitmasks(image.gbuffer, b, values);
+      for (std::size_t k = 0; k < values.size(); ++k) out[k].push_back(std::move(e[k].a));
+      bar.add(values.size());
+    }
+    return out;
+  }
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    const ScreenAoSettings s = settingsAt(grid, values[k]);
+    for (const SweepImage& image : images.images) {
+      out[k].push_back(runEstimator(s, grid.estimator, image.gbuffer).a);
+      bar.add(1);
+    }
+  }
+  return out;
+}
+
+// Scores every value of one setting's grid (the default value's run shared by the estimator's
+// settings through *at_default).
+std::vector<GridValueScore> runGrid(SweepData* data, const SweepImages& images,
+                                    const Clusters& clusters,
+                                    const std::vector<std::vector<long double>>& q,
+                                    const SettingGrid& grid,
+                                    std::optional<GridValueScore>* at_default, Progress& bar) {
+  std::vector<double> to_run;
+  for (double value : grid.values) {
+    if (value != grid.default_value || !at_default->has_value()) to_run.push_back(value);
+  }
+  const auto estimates = runValues(images, grid, to_run, bar);
+  std::vector<GridValueScore> scores;
+  for (double value : grid.values) {
+    const auto run = std::find(to_run.begin(), to_run.end(), value);
+    if (run == to_run.end()) {
+      scores.push_back(**at_default);
+    } else {
+      useEstimates(data, images.images, estimates[run - to_run.begin()], grid.estimator);
+      scores.push_back(scoreRun(clusterStatistics(*data, clusters, q), clusters.names,
+                                data->albedos, profileFitSettings()));
+    }
+    scores.back().value = value;
+    if (value == grid.default_value) *at_default = scores.back();
+  }
+  return scores;
+}
+
+void findOptima(SettingResult* r, const TuneAnalysis& a) {
+  std::vector<double> x;
+  for (double v : r->grid.values) x.push_back(axisValue(r->grid, v));
+  const ObjectiveCurves paper = paperCurves(*r, a.cluster_points, a.albedos.size());
+  const ObjectiveCurves profile = profileCurves(*r, a.cluster_points, a.albedos.size());
+  r->paper = sceneInterval(x, paper.pooled, paper.replicas);
+  r->profile = sceneInterval(x, profile.pooled, profile.replicas);
+}
+
+}  // namespace
+
+FitSettings profileFitSettings() {
+  FitSettings s;
+  s.eiv_correction = false;
+  return s;
+}
+
+GridValueScore scoreRun(const std::vector<ClusterStatistics>& stats,
+                        const std::vector<std::string>& names, const std::vector<double>& albedos,
+                        const FitSettings& settings) {
+  const std::size_t S = stats.size();
+  GridValueScore out;
+  const ClusterStatistics total = sumClusters(stats);
+  out.refit = refitCoefficients(total, albedos, settings);
+  out.paper_sse.resize(S);
+  out.profile_sse.resize(S);
+  out.held_out_sse.resize(S);
+  out.profile_replica_sse.resize(S);
+  tbb::parallel_for(std::size_t{0}, S, [&](std::size_t s) {
+    out.paper_sse[s] = sumSquaredError(stats[s], albedos, kPaperCoeffs);
+    out.profile_sse[s] = sumSquaredError(stats[s], albedos, out.refit);
+    std::vector<bool> include(S, true);
+    include[s] = false;
+    const ClusterStatistics without = sumClusters(stats, include);
+    MultiBounceCoeffs k{};
+    try {
+      k = refitCoefficients(without, albedos, settings);
+    } catch (const Error& e) {
+      throw TuneNotApplicable(
+          "tune: the profile refit without scene '" + names[s] +
+          "' is not determined by the other scenes (" + e.what() +
+          "), so there is no scene-level interval; tune needs more varied scenes");
+    }
+    out.held_out_sse[s] = sumSquaredError(stats[s], albedos, k);
+    out.profile_replica_sse[s] = sumSquaredError(without, albedos, k);
+  });
+  const std::size_t n = total.sums.points, M = albedos.size();
+  out.paper_rmse = rmse(sum(out.paper_sse), n, M);
+  out.profile_rmse = rmse(sum(out.profile_sse), n, M);
+  out.held_out_rmse = rmse(sum(out.held_out_sse), n, M);
+  return out;
+}
+
+ObjectiveCurves paperCurves(const SettingResult& r, const std::vector<std::size_t>& points,
+                            std::size_t albedos) {
+  ObjectiveCurves c;
+  std::size_t n = 0;
+  for (std::size_t p : points) n += p;
+  c.replicas.assign(points.size(), {});
+  for (const GridValueScore& g : r.scores) {
+    c.pooled.push_back(g.paper_rmse);
+    const double total = sum(g.paper_sse);
+    for (std::size_t s = 0; s < points.size(); ++s) {
+      c.replicas[s].push_back(rmse(total - g.paper_sse[s], n - points[s], albedos));
+    }
+  }
+  return c;
+}
+
+ObjectiveCurves profileCurves(const SettingResult& r, const std::vector<std::size_t>& points,
+                              std::size_t albedos) {
+  ObjectiveCurves c;
+  std::size_t n = 0;
+  for (std::size_t p : points) n += p;
+  c.replicas.assign(points.size(), {});
+  for (const GridValueScore& g : r.scores) {
+    c.pooled.push_back(g.profile_rmse);
+    for (std::size_t s = 0; s < points.size(); ++s) {
+      c.replicas[s].push_back(rmse(g.profile_replica_sse[s], n - points[s], albedos));
+    }
+  }
+  return c;
+}
+
+void useEstimates(SweepData* data, const std::vector<SweepImage>& images,
+                  const std::vector<std::vector<float>>& estimates, const std::string& estimator) {
+  for (std::size_t v = 0; v < images.size(); ++v) {
+    const GBuffer& g = images[v].gbuffer;
+    std::size_t i = data->scenes[v].begin;
+    for (std::size_t p = 0; p < g.pixels(); ++p) {
+      if (g.mask[p] == 0) continue;
+      const float a = estimates[v][p];
+      if (!(a >= -kEstimateRounding && a <= 1.0f + kEstimateRounding)) {
+        throw Error("tune: " + estimator + " gave A = " + formatNumber(a, "%.9g") +
+                    " outside [0, 1] on '" + images[v].name + "'");
+      }
+      data->full.A[i++] = std::clamp(static_cast<double>(a), 0.0, 1.0);
+    }
+  }
+}
+
+TuneAnalysis analyzeTune(const std::filesystem::path& sweep, const std::vector<SettingGrid>& grids,
+                         bool progress) {
+  StageParts parts("tune", progress);
+  SweepData data;
+  SweepImages images;
+  parts.run("read the sweep", 2, [&](Progress& bar) {
+    data = loadSweep(sweep);
+    bar.add(1);
+    images = readSweepImages(sweep);
+    bar.add(1);
+    return 0;
+  });
+  requireSameViews(data, images);
+  const Clusters clusters = sweepClusters(data);
+  if (clusters.names.size() < kMinJackknifeScenes) {
+    throw TuneNotApplicable("tune: the sweep has " + std::to_string(clusters.names.size()) +
+                            " scene(s); the scene-level interval needs at least " +
+                            std::to_string(kMinJackknifeScenes));
+  }
+  TuneAnalysis a;
+  a.clusters = clusters.names;
+  a.cluster_points.assign(clusters.names.size(), 0);
+  for (std::size_t v = 0; v < data.scenes.size(); ++v) {
+    a.cluster_points[clusters.of[v]] += data.scenes[v].end - data.scenes[v].begin;
+  }
+  a.points = data.points();
+  a.albedos = data.albedos;
+  a.sweep_version = images.sweep_version;
+  const auto q = clusterTargetSquares(data, clusters);
+  std::optional<GridValueScore> at_default;
+  for (std::size_t k = 0; k < grids.size(); ++k) {
+    if (k == 0 || grids[k].estimator != grids[k - 1].estimator) at_default.reset();
+    const std::size_t runs = grids[k].values.size() - (at_default ? 1 : 0);
+    a.estimator_runs += runs;
+    SettingResult r;
+    r.grid = grids[k];
+    r.scores = parts.run(grids[k].estimator + " " + grids[k].key, runs * images.images.size(),
+                         [&](Progress& bar) {
+                           return runGrid(&data, images, clusters, q, grids[k], &at_default, bar);
+                         });
+    findOptima(&r, a);
+    a.settings.push_back(std::move(r));
+  }
+  a.part_seconds = parts.seconds();
+  return a;
+}
+
+}  // namespace gtbake

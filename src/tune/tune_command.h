@@ -1,0 +1,39 @@
+// `gtbake tune`: which settings of an engine's screen-space AO pass minimise the error of
+// multi-bounce G (Equation 10) against path tracing, with the paper's constants and with the
+// profile refitted on the pass's Â, and how sure each optimum is at the scene level
+// (docs/tune.md).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "tune/tune_analysis.h"
+#include "tune/tune_grid.h"
+
+namespace gtbake {
+
+struct TuneOptions {
+  std::filesystem::path sweep;  // a directory written by gtbake sweep (with G-buffer channels)
+  std::filesystem::path out;
+  std::vector<std::string> estimators = tunedEstimatorNames();
+  std::vector<std::string> grids;  // "ESTIMATOR.KEY=v1,v2,..." replacing a default grid
+  int threads = 0;
+  bool progress = true;
+};
+
+struct TuneResult {
+  std::filesystem::path json;
+  double seconds = 0.0;
+};
+
+// Writes <out>/tune.json and <out>/report/tune.html as one output set (tune.manifest.json) and
+// prints the optima. Bad input (an unknown estimator or key, a bad grid, a sweep without G-buffer
+// channels, fewer than three scenes) throws a one-line gtbake::Error with nothing written
+// (TuneNotApplicable for a valid sweep that has too few scenes for the intervals).
+TuneResult runTune(const TuneOptions& options);
+
+// The grids of a run: the defaults of options.estimators with options.grids applied.
+std::vector<SettingGrid> tuneGrids(const TuneOptions& options);
+
+}  // namespace gtbake
