@@ -244,8 +244,9 @@ void applyValidateGtsoU(const std::filesystem::path& file, GtsoInput* gtso) {
   }
   const double low = interval[0].get<double>();
   const double high = interval[1].get<double>();
-  if (!(u > 0.0 && u < 1.0 && low > 0.0 && low <= u && u <= high && high < 1.0)) {
-    throw Error(where + ": u must lie in (0, 1) inside u_interval");
+  // validate-gtso clamps the interval's upper end to u = 1 (few scenes give a wide interval).
+  if (!(u > 0.0 && u < 1.0 && low > 0.0 && low <= u && u <= high && high <= 1.0)) {
+    throw Error(where + ": u must lie in (0, 1) inside u_interval, and u_interval in (0, 1]");
   }
   gtso->u = u;
   // The scene-level SE (delete-one-scene jackknife, validate_gtso.json u_scene_interval); files

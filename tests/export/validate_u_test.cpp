@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "common/error.h"
 #include "common/output_set.h"
 #include "export/export_inputs.h"
 
@@ -36,6 +37,26 @@ TEST(ExportValidateU, ShipsTheSceneLevelStandardError) {
   EXPECT_EQ(old.u_se, 0.0);
   fs::remove_all(fs::temp_directory_path() / "gtbake_validate_u_se");
   fs::remove_all(fs::temp_directory_path() / "gtbake_validate_u_no_se");
+}
+
+// With few scenes validate-gtso's interval reaches its clamp at u = 1 (u_scene_interval.cpp): such
+// a file is shipped, and an interval beyond 1 or not around u is refused.
+TEST(ExportValidateU, AnIntervalClampedAtOneIsShippedAndBadOnesAreRefused) {
+  GtsoInput gtso;
+  applyValidateGtsoU(
+      writeValidateGtso("clamped", {{"u", 0.3}, {"u_interval", {0.01, 1.0}}, {"u_se", 0.2}}),
+      &gtso);
+  EXPECT_EQ(gtso.u_high, 1.0);
+  for (const nlohmann::json& interval : {nlohmann::json{0.01, 1.5}, nlohmann::json{0.4, 0.5}}) {
+    try {
+      applyValidateGtsoU(writeValidateGtso("bad", {{"u", 0.3}, {"u_interval", interval}}), &gtso);
+      ADD_FAILURE() << "accepted u_interval " << interval.dump();
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("u_interval"), std::string::npos) << e.what();
+    }
+  }
+  fs::remove_all(fs::temp_directory_path() / "gtbake_validate_u_clamped");
+  fs::remove_all(fs::temp_directory_path() / "gtbake_validate_u_bad");
 }
 
 }  // namespace
