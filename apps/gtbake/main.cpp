@@ -282,6 +282,9 @@ Subcommand addExportCommand(CLI::App& app) {
   parser->add_option("--profiles", options->profiles,
                      "Directory of engine profiles, <estimator>/fit.json from gtbake fit "
                      "--estimator (docs/profiles.md)");
+  parser->add_option("--tune", options->tune,
+                     "tune.json from gtbake tune: ship the tuned settings with the profile "
+                     "refitted at each (docs/tune.md)");
   return {parser, [options](const RunContext& context) {
             options->command_line = context.command_line;
             runExport(*options);

@@ -64,6 +64,8 @@ ExportResult runExport(const ExportOptions& options) {
   if (!options.validate_gtso.empty()) applyValidateGtsoU(options.validate_gtso, &gtso);
   const std::vector<ProfileInput> profiles =
       options.profiles.empty() ? std::vector<ProfileInput>{} : readProfiles(options.profiles);
+  const std::vector<TunedSettingInput> tuned =
+      options.tune.empty() ? std::vector<TunedSettingInput>{} : readTunedSettings(options.tune);
   // The volumes `gtbake encode` wrote for these tables (their layouts and BC4 blocks).
   const ShippedVolumes volumes =
       readShippedVolumes(options.encode.empty() ? options.out : options.encode, gtso);
@@ -75,6 +77,7 @@ ExportResult runExport(const ExportOptions& options) {
   code.bc4_3d = &bc4_3d;
   code.bc4_4d = &bc4_4d;
   code.profiles = &profiles;
+  code.tuned = &tuned;
   code.layout_3d = volumes.t3.layout;
   code.layout_4d = volumes.t4.layout;
   code.volume_3d = volumes.t3.volume;
@@ -89,6 +92,7 @@ ExportResult runExport(const ExportOptions& options) {
   nlohmann::ordered_json settings = {{"fit", relativePath(options.fit, options.out)},
                                      {"gtso", relativePath(options.gtso, options.out)}};
   if (!options.profiles.empty()) settings["profiles"] = relativePath(options.profiles, options.out);
+  if (!options.tune.empty()) settings["tune"] = relativePath(options.tune, options.out);
   output.setSettings(settings);
   output.commit();
 

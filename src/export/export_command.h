@@ -19,6 +19,9 @@ struct ExportOptions {
   // The profiles of `gtbake fit --estimator` (<dir>/<estimator>/fit.json, docs/profiles.md),
   // shipped as kMultiBounceProfiles. Empty: no profiles.
   std::filesystem::path profiles;
+  // tune.json of `gtbake tune` (docs/tune.md): the tuned settings, shipped as kTunedSettings with
+  // the profile refitted at each. Empty: none.
+  std::filesystem::path tune;
   std::string command_line;  // recorded in the provenance blocks
 };
 

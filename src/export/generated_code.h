@@ -22,7 +22,8 @@ struct GeneratedCodeInput {
   const GtsoInput* gtso = nullptr;
   const Bc4Volume* bc4_3d = nullptr;
   const Bc4Volume* bc4_4d = nullptr;
-  const std::vector<ProfileInput>* profiles = nullptr;  // engine profiles (none: no table)
+  const std::vector<ProfileInput>* profiles = nullptr;    // engine profiles (none: no table)
+  const std::vector<TunedSettingInput>* tuned = nullptr;  // tuned settings (none: no table)
   // The texture layouts export chose (bc4_layout.h) and the volumes' extents in them.
   GtsoLayout layout_3d = kGtsoIdentityLayout, layout_4d = kGtsoIdentityLayout;
   std::array<int, 3> volume_3d{}, volume_4d{};

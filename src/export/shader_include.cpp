@@ -1,5 +1,6 @@
 // The HLSL and GLSL includes: provenance, the language macros, the constants (from the same C++
 // constants the C++ lookup uses) and src/runtime/gtso_runtime.shader verbatim.
+#include <cctype>
 #include <cstdio>
 #include <sstream>
 
@@ -62,6 +63,11 @@ std::string closedFormConstants(const GeneratedCodeInput& in, const Dialect& d) 
   return o.str();
 }
 
+std::string upper(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
 // One function per engine profile (docs/profiles.md), after the runtime template.
 std::string profileFunctions(const GeneratedCodeInput& in) {
   if (in.profiles == nullptr || in.profiles->empty()) return "";
@@ -73,6 +79,28 @@ std::string profileFunctions(const GeneratedCodeInput& in) {
     const auto& c = p.linear;
     o << "// " << p.estimator << ": " << lit(p.rmse_paper) << " | " << lit(p.rmse_held_out) << "\n"
       << "float multiBounce_" << profileIdentifier(p.estimator) << "(float A, float albedo) {\n"
+      << "  return gtsoMultiBounce(" << lit(c[0]) << ", " << lit(c[1]) << ", " << lit(c[2]) << ", "
+      << lit(c[3]) << ", " << lit(c[4]) << ", " << lit(c[5]) << ", A, albedo);\n}\n";
+  }
+  return o.str();
+}
+
+// One constant and one Equation 10 function per tuned setting (docs/tune.md).
+std::string tunedFunctions(const GeneratedCodeInput& in) {
+  if (in.tuned == nullptr || in.tuned->empty()) return "";
+  std::ostringstream o;
+  o << "\n// Tuned settings (docs/tune.md; gtbake_tables.h kTunedSettings has the intervals): the\n"
+    << "// evaluated value with the lowest RMSE of G under the profile refit, and that refit.\n";
+  for (const TunedSettingInput& t : *in.tuned) {
+    const auto& c = t.linear;
+    const std::string id = profileIdentifier(t.estimator) + "_" + t.setting;
+    o << "// " << t.estimator << " " << t.setting << ": default " << lit(t.default_value)
+      << ", best with the paper's constants " << lit(t.paper_best) << ", with the refit "
+      << lit(t.profile_best) << " [" << lit(t.profile_low) << ", " << lit(t.profile_high) << "]"
+      << (t.at_bound ? " (at the grid's end)" : "") << "; RMSE of G held out "
+      << lit(t.rmse_held_out) << "\n"
+      << "#define GTBAKE_TUNED_" << upper(id) << " " << lit(t.grid_value) << "\n"
+      << "float multiBounce_" << id << "(float A, float albedo) {\n"
       << "  return gtsoMultiBounce(" << lit(c[0]) << ", " << lit(c[1]) << ", " << lit(c[2]) << ", "
       << lit(c[3]) << ", " << lit(c[4]) << ", " << lit(c[5]) << ", A, albedo);\n}\n";
   }
@@ -124,7 +152,7 @@ std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage langu
     << "// (Filament, XeGTAO): the same cone.\n"
     << "float gtsoConeModelFromAlpha(float A, float cosBeta, float alpha) {\n"
     << "  return gtsoConeModel(A, cosBeta, sqrt(alpha));\n}\n"
-    << profileFunctions(in) << "\n#endif  // GTBAKE_TABLES_INCLUDED\n";
+    << profileFunctions(in) << tunedFunctions(in) << "\n#endif  // GTBAKE_TABLES_INCLUDED\n";
   return o.str();
 }
 

@@ -174,6 +174,47 @@ void emitProfiles(std::ostringstream& o, const GeneratedCodeInput& in) {
     << "}\n\n";
 }
 
+// The tuned settings (docs/tune.md), each with the profile refitted where it was evaluated.
+void emitTunedSettings(std::ostringstream& o, const GeneratedCodeInput& in) {
+  if (in.tuned == nullptr || in.tuned->empty()) return;
+  o << "// Tuned settings (docs/tune.md, tune/tune.json): per screen-space estimator and setting,\n"
+    << "// one at a time with the others at their defaults, the value minimising the RMSE of G\n"
+    << "// against path tracing with the paper's constants (paperBest) and with Equation 10\n"
+    << "// refitted at each value (profileBest, its 95% scene-level interval [profileLow,\n"
+    << "// profileHigh]; atBound: at the grid's end, the data want a value beyond it). gridValue "
+       "is\n"
+    << "// the evaluated value with the lowest RMSE under the refit, a/b/c the profile refitted "
+       "there: run the\n"
+    << "// pass at gridValue and feed its A to multiBounce(setting, A, albedo); rmseHeldOut is\n"
+    << "// that pair's RMSE of G, each scene scored by the refit without it. The profiles above\n"
+    << "// are fitted at the defaults.\n"
+    << "struct GtbakeTunedSetting {\n"
+    << "  const char* estimator;\n"
+    << "  const char* setting;\n"
+    << "  float defaultValue, paperBest, profileBest, profileLow, profileHigh;\n"
+    << "  bool atBound;\n"
+    << "  float gridValue;\n"
+    << "  float a[2], b[2], c[2];  // {slope, intercept} in rho, as kMultiBounceA/B/C\n"
+    << "  float rmseHeldOut;\n"
+    << "};\n"
+    << "inline constexpr int kTunedSettingCount = " << in.tuned->size() << ";\n"
+    << "inline constexpr GtbakeTunedSetting kTunedSettings[" << in.tuned->size() << "] = {\n";
+  for (const TunedSettingInput& t : *in.tuned) {
+    const auto& c = t.linear;
+    o << "    {\"" << t.estimator << "\", \"" << t.setting << "\", " << f(float(t.default_value))
+      << ", " << f(float(t.paper_best)) << ", " << f(float(t.profile_best)) << ", "
+      << f(float(t.profile_low)) << ", " << f(float(t.profile_high)) << ", "
+      << (t.at_bound ? "true" : "false") << ", " << f(float(t.grid_value)) << ", {"
+      << f(float(c[0])) << ", " << f(float(c[1])) << "}, {" << f(float(c[2])) << ", "
+      << f(float(c[3])) << "}, {" << f(float(c[4])) << ", " << f(float(c[5])) << "}, "
+      << f(float(t.rmse_held_out)) << "},\n";
+  }
+  o << "};\n"
+    << "inline float multiBounce(const GtbakeTunedSetting& s, float A, float albedo) {\n"
+    << "  return gtsoMultiBounce(s.a, s.b, s.c, A, albedo);\n"
+    << "}\n\n";
+}
+
 // The physical-input entry points: BC4 from the arrays above, and per-format variants reading
 // texels the caller loaded (gtso3d_r16.dds etc., x fastest) in the same layout.
 void emitEntryPoints(std::ostringstream& o) {
@@ -406,6 +447,7 @@ std::string makeTablesHeader(const GeneratedCodeInput& in) {
   emitBlocks(o, "kGtso4DBC4", *in.bc4_4d);
   emitEntryPoints(o);
   emitProfiles(o, in);
+  emitTunedSettings(o, in);
   emitClosedForm(o, in);
   o << "}  // namespace gtbake\n";
   return o.str();

@@ -263,6 +263,7 @@ void runAll(const AllOptions& options) {
   exporter.encode = encode.out;
   exporter.validate_gtso = validated.json;
   exporter.profiles = options.out / "profiles";
+  exporter.tune = tuned.json;  // empty when tune was skipped
   exporter.out = options.out;
   exporter.command_line = options.command_line;
   t = std::chrono::steady_clock::now();

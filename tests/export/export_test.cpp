@@ -419,6 +419,54 @@ TEST_F(ExportTest, HeaderConstantsReadBackExactly) {
   EXPECT_EQ(std::strtof(m[2].str().c_str(), nullptr), float(test::kFixtureCoeffs[3]));
 }
 
+// tune.json as `gtbake tune` writes it (the fields export reads), sealed as its set: one setting
+// whose profile optimum is 2.5 [2, 3] m, evaluated best at 2 m with these coefficients.
+void writeTuneFixture(const fs::path& dir, bool complete) {
+  nlohmann::json refit = {{"a1", 0.5}, {"a0", 1.25}, {"b1", 0.75},
+                          {"b0", 1.5}, {"c1", 0.25}, {"c0", 1.0}};
+  nlohmann::json profile = {{"value", 2.5},
+                            {"interval", {2.0, 3.0}},
+                            {"at_bound", false},
+                            {"grid_best", {{"value", 2.0}, {"profile_held_out", 0.125}}},
+                            {"refit", refit}};
+  nlohmann::json optimum = {{"paper", {{"value", 4.0}}}, {"profile", profile}};
+  if (!complete) optimum["profile"].erase("refit");
+  const nlohmann::json j = {
+      {"results", {{"gtao-runtime", {{"radius", {{"default", 1.0}, {"optimum", optimum}}}}}}}};
+  OutputSet set(dir, "tune");
+  set.add("tune.json", j.dump());
+  set.commit();
+}
+
+TEST_F(ExportTest, TunedSettingsShipWithTheirRefitAndBadOnesAreRefused) {
+  writeTuneFixture(dir_ / "tune", true);
+  options_.tune = dir_ / "tune" / "tune.json";
+  exportAll();
+  const std::string h = slurp(options_.out / "gtbake_tables.h");
+  EXPECT_NE(h.find("kTunedSettingCount = 1;"), std::string::npos);
+  EXPECT_NE(h.find("{\"gtao-runtime\", \"radius\", 1.0f, 4.0f, 2.5f, 2.0f, 3.0f, false, 2.0f, "
+                   "{0.5f, 1.25f}, {0.75f, 1.5f}, {0.25f, 1.0f}, 0.125f},"),
+            std::string::npos);
+  const std::string glsl = slurp(options_.out / "gtbake_tables.glsl");
+  EXPECT_NE(glsl.find("#define GTBAKE_TUNED_GTAO_RUNTIME_RADIUS 2.0\n"), std::string::npos);
+  EXPECT_NE(glsl.find("float multiBounce_gtao_runtime_radius(float A, float albedo)"),
+            std::string::npos);
+  // The struct compiles and evaluates Equation 10 with the refit: at A = 1, rho = 0.5,
+  // a - b + c = (0.5*0.5 + 1.25) - (0.75*0.5 + 1.5) + (0.25*0.5 + 1.0) = 0.75.
+  std::ofstream(dir_ / "tuned.cpp")
+      << "#include \"gtbake_tables.h\"\n"
+      << "static_assert(gtbake::kTunedSettingCount == 1);\n"
+      << "float f() { return gtbake::multiBounce(gtbake::kTunedSettings[0], 1.0f, 0.5f); }\n";
+  const std::string cmd = std::string(GTBAKE_TEST_CXX) +
+                          " -std=c++17 -fsyntax-only -Wall -Wextra -Werror -I" +
+                          options_.out.string() + " " + (dir_ / "tuned.cpp").string() + " 2>&1";
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  fs::remove_all(options_.out);
+  fs::remove_all(dir_ / "tune");
+  writeTuneFixture(dir_ / "tune", false);
+  expectErrorAndNoOutput("optimum/profile: missing key \"refit\"");
+}
+
 TEST_F(ExportTest, HeaderCompilesAlone) {
   exportAll();
   std::ofstream(dir_ / "consumer.cpp")
