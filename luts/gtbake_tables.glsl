@@ -9,15 +9,15 @@
 //   shipped constants vs the band: outside the scene-mix uncertainty at A = 0.985, rho = 0.10, by 5.70 band widths (simultaneous max-t threshold 3.03)
 // gtso.json: version 2; roughness perceptual roughness r_p; GGX alpha = r_p^2; texel rule texel i holds the value at the inverse axis map of i/(N-1)
 //   gtso3d.f32: lobe-grid rectangles 18432, max |S - reference| over all texels not measured by this run; sampled texel check vs 16x reference: max 0.00013419255933622143, RMS 2.1792594496110903e-05 over 64 random lines, half at the theta_o ends (seed 1)
-//     end to end vs direct integration (max over seeds / mean RMS): BC4 in table order (gtso.json) uniform max/RMS 0.028074574767398275 / 0.0038532580763993413, stress 0.29554683469561455 / 0.006594404198338286
-//       BC4 as embedded (layout yzx, report seed 1002): uniform max/RMS 0.0127724604 / 0.00212307946, stress 0.0152806738 / 0.0030206018
-//       R16 uniform max/RMS 0.00929098060472322 / 0.0008859963434816511, stress 0.2963367750528228 / 0.004821567203116089
-//       R8 uniform max/RMS 0.009276690168248947 / 0.001081596564477675, stress 0.29700732730654594 / 0.004872877018599008; recommended r8
+//     end to end vs direct integration (max over seeds / mean RMS): float32 in table order (gtso.json) uniform max/RMS 0.009292649534776931 / 0.0008860055574181578, stress 0.29633838437823173 / 0.004821594385153981
+//       as shipped (layout yzx, encode.json): BC4 uniform max/RMS 0.014667130684554386 / 0.0021401053239605014, stress 0.015622215823477448 / 0.002954198115511517
+//       R16 uniform max/RMS 0.007875170892323147 / 0.000880256645760013, stress 0.01113417629293878 / 0.0018711669079474781
+//       R8 uniform max/RMS 0.008032064221318413 / 0.001080927337187477, stress 0.011243491211456846 / 0.0019669949246564227; recommended r8
 //   gtso4d.f32: lobe-grid rectangles 18432, max |S - reference| over all texels not measured by this run; sampled texel check vs 16x reference: max 9.128293268845233e-05, RMS 2.114641681267163e-05 over 16 random lines, half at the theta_o ends (seed 1)
-//     end to end vs direct integration (max over seeds / mean RMS): BC4 in table order (gtso.json) uniform max/RMS 0.02782637638367813 / 0.003255346758517744, stress 0.20486713637273712 / 0.005135288247741497
-//       BC4 as embedded (layout yzx, report seed 1002): uniform max/RMS 0.0261506469 / 0.00233194748, stress 0.0246877072 / 0.00370012356
-//       R16 uniform max/RMS 0.013027134723000933 / 0.0011310577511843688, stress 0.20470423687856598 / 0.0032500249466242497
-//       R8 uniform max/RMS 0.01382476407938521 / 0.0012374028911317622, stress 0.20453454245489044 / 0.003290927444586526; recommended r8
+//     end to end vs direct integration (max over seeds / mean RMS): float32 in table order (gtso.json) uniform max/RMS 0.013027969188027788 / 0.0011310652267775409, stress 0.20470632304113312 / 0.003250035123480155
+//       as shipped (layout yzx, encode.json): BC4 uniform max/RMS 0.026150646926156984 / 0.0022890961192584577, stress 0.04103117459245045 / 0.003959851712304853
+//       R16 uniform max/RMS 0.02077480422011968 / 0.0011031814066430816, stress 0.040577329925969435 / 0.0023100522336465317
+//       R8 uniform max/RMS 0.020911373362461294 / 0.0012141966799736436, stress 0.040389478437379195 / 0.002361396664268249; recommended r8
 // Cone aperture u = 0.070736500013724793 from validate_gtso.json, scene-level 95% interval (delete-one-scene jackknife of log10 u) [0.0245072847, 0.191345148], SE 0.0359008724, convention cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2
 //   objective: least squares of S_cone(u) - path-traced S over every unmasked pixel and roughness r_p > 0 (log10 u: scan, golden section, parabolas to 1e-5 decades); rmse_within_5pct: flatness, not a CI
 //   law by a paired scene-level test of held-out RMSE: perceptual (shipped here: u^(alpha^2/2))
@@ -322,6 +322,34 @@ float multiBounce_gtao_runtime(float A, float albedo) {
 // hbao: 0.348700047 | 0.2673527
 float multiBounce_hbao(float A, float albedo) {
   return gtsoMultiBounce(-5.21181536, 9.06498241, -7.65960598, 14.667099, -2.31904936, 6.37471914, A, albedo);
+}
+
+// Tuned settings (docs/tune.md; gtbake_tables.h kTunedSettings has the intervals): the
+// evaluated value with the lowest RMSE of G under the profile refit, and that refit.
+// bitmask-cosine thickness: default 0.5, best with the paper's constants 4.0, with the refit 4.0 [4.0, 4.0] (at the grid's end); RMSE of G held out 0.246206552
+#define GTBAKE_TUNED_BITMASK_COSINE_THICKNESS 4.0
+float multiBounce_bitmask_cosine_thickness(float A, float albedo) {
+  return gtsoMultiBounce(-0.199658439, 2.95783615, 1.09415472, 4.15158129, 1.39216959, 2.02331829, A, albedo);
+}
+// bitmask-uniform thickness: default 0.5, best with the paper's constants 4.0, with the refit 4.0 [4.0, 4.0] (at the grid's end); RMSE of G held out 0.248980373
+#define GTBAKE_TUNED_BITMASK_UNIFORM_THICKNESS 4.0
+float multiBounce_bitmask_uniform_thickness(float A, float albedo) {
+  return gtsoMultiBounce(-0.896117985, 2.77787733, -0.116835929, 3.87043142, 0.869187295, 1.92955852, A, albedo);
+}
+// gtao-runtime intensity: default 1.0, best with the paper's constants 8.0, with the refit 3.65462732 [2.59767461, 5.14163733]; RMSE of G held out 0.26164487
+#define GTBAKE_TUNED_GTAO_RUNTIME_INTENSITY 4.0
+float multiBounce_gtao_runtime_intensity(float A, float albedo) {
+  return gtsoMultiBounce(0.623306811, 3.03145599, 2.27035069, 4.68560648, 1.76810682, 2.44524765, A, albedo);
+}
+// gtao-runtime radius: default 1.0, best with the paper's constants 8.11180687, with the refit 10.0938559 [9.23011684, 11.0384226]; RMSE of G held out 0.208549455
+#define GTBAKE_TUNED_GTAO_RUNTIME_RADIUS 8.0
+float multiBounce_gtao_runtime_radius(float A, float albedo) {
+  return gtsoMultiBounce(-0.776420832, 3.26378536, 0.368353188, 4.1312995, 1.18621778, 1.80383217, A, albedo);
+}
+// gtao-runtime thin_compensation: default 0.0, best with the paper's constants 0.0, with the refit 0.0 [0.0, 0.0] (at the grid's end); RMSE of G held out 0.264281958
+#define GTBAKE_TUNED_GTAO_RUNTIME_THIN_COMPENSATION 0.0
+float multiBounce_gtao_runtime_thin_compensation(float A, float albedo) {
+  return gtsoMultiBounce(-2.85400701, 4.68539715, -3.37103534, 6.84784412, -0.385719717, 2.92883945, A, albedo);
 }
 
 #endif  // GTBAKE_TABLES_INCLUDED
