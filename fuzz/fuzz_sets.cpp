@@ -4,6 +4,7 @@
 //   0 shard.json (readShardManifest)          1 a checkpointed tile (decodeTile)
 //   2 validate_gtso.json (applyValidateGtsoU)  3 sweep.json of a specular sweep (readSpecularSweep)
 //   4 encode.json (readShippedVolumes, beside the volumes of a tiny gtso + encode)
+//   5 tune.json (readTunedSettings)
 // Seeds come from real runs: a two-shard sweep of a closed box, gtso at size 4 and its encode.
 // Anything but a gtbake::Error is a bug.
 #include <filesystem>
@@ -93,11 +94,26 @@ std::string tileName() {
 std::vector<std::string> seeds() {
   const fs::path& dir = fixtures();
   const nlohmann::json validate = {{"u", 0.07}, {"u_interval", {0.02, 0.2}}, {"u_se", 0.03}};
+  // One tuned setting with every field export reads (tune.json results/<estimator>/<setting>).
+  const nlohmann::json refit = {{"a1", 0.5}, {"a0", 1.25}, {"b1", 0.75},
+                                {"b0", 1.5}, {"c1", 0.25}, {"c0", 1.0}};
+  const nlohmann::json profile = {{"value", 2.5},
+                                  {"interval", {2.0, 3.0}},
+                                  {"at_bound", false},
+                                  {"grid_best", {{"value", 2.0}, {"profile_held_out", 0.125}}},
+                                  {"refit", refit}};
+  const nlohmann::json tune = {
+      {"results",
+       {{"gtao-runtime",
+         {{"radius",
+           {{"default", 1.0},
+            {"optimum", {{"paper", {{"value", 4.0}}}, {"profile", profile}}}}}}}}}};
   return {std::string(1, '\0') + readFile(dir / "shard" / "shard.json"),
           std::string(1, '\1') + readFile(dir / "shard" / tileName()),
           std::string(1, '\2') + validate.dump(),
           std::string(1, '\3') + readFile(dir / "sweep" / "sweep.json"),
-          std::string(1, '\4') + readFile(dir / "encode" / "encode.json")};
+          std::string(1, '\4') + readFile(dir / "encode" / "encode.json"),
+          std::string(1, '\5') + tune.dump()};
 }
 
 }  // namespace gtbake::fuzz
@@ -109,7 +125,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const fs::path& dir = fuzz::fixtures();
   const std::string_view doc(reinterpret_cast<const char*>(data) + 1, size - 1);
   try {
-    switch (data[0] % 5) {
+    switch (data[0] % 6) {
       case 0: {
         const std::string tile = fuzz::tileName();
         writeFileAtomically(dir / "shard" / "shard.json", doc);
@@ -131,6 +147,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         writeFileAtomically(dir / "sweep" / "sweep.json", doc);
         fuzz::reseal(dir / "sweep", "sweep");
         readSpecularSweep(dir / "sweep");
+        break;
+      case 5:
+        fs::create_directories(dir / "tune");
+        writeFileAtomically(dir / "tune" / "tune.json", doc);
+        sealOutputSet(dir / "tune", "tune", {"tune.json"});
+        readTunedSettings(dir / "tune" / "tune.json");
         break;
       default:
         writeFileAtomically(dir / "encode" / "encode.json", doc);
