@@ -102,8 +102,8 @@ std::vector<GridValueScore> runGrid(SweepData* data, const SweepImages& images,
 void findOptima(SettingResult* r, const TuneAnalysis& a) {
   std::vector<double> x;
   for (double v : r->grid.values) x.push_back(axisValue(r->grid, v));
-  const ObjectiveCurves paper = paperCurves(*r, a.cluster_points, a.albedos.size());
-  const ObjectiveCurves profile = profileCurves(*r, a.cluster_points, a.albedos.size());
+  const ObjectiveCurves paper = objectiveCurves(*r, a.cluster_points, a.albedos.size(), true);
+  const ObjectiveCurves profile = objectiveCurves(*r, a.cluster_points, a.albedos.size(), false);
   r->paper = sceneInterval(x, paper.pooled, paper.replicas);
   r->profile = sceneInterval(x, profile.pooled, profile.replicas);
 }
@@ -152,32 +152,19 @@ GridValueScore scoreRun(const std::vector<ClusterStatistics>& stats,
   return out;
 }
 
-ObjectiveCurves paperCurves(const SettingResult& r, const std::vector<std::size_t>& points,
-                            std::size_t albedos) {
+ObjectiveCurves objectiveCurves(const SettingResult& r, const std::vector<std::size_t>& points,
+                                std::size_t albedos, bool paper) {
   ObjectiveCurves c;
   std::size_t n = 0;
   for (std::size_t p : points) n += p;
   c.replicas.assign(points.size(), {});
   for (const GridValueScore& g : r.scores) {
-    c.pooled.push_back(g.paper_rmse);
+    c.pooled.push_back(paper ? g.paper_rmse : g.profile_rmse);
     const double total = sum(g.paper_sse);
     for (std::size_t s = 0; s < points.size(); ++s) {
-      c.replicas[s].push_back(rmse(total - g.paper_sse[s], n - points[s], albedos));
-    }
-  }
-  return c;
-}
-
-ObjectiveCurves profileCurves(const SettingResult& r, const std::vector<std::size_t>& points,
-                              std::size_t albedos) {
-  ObjectiveCurves c;
-  std::size_t n = 0;
-  for (std::size_t p : points) n += p;
-  c.replicas.assign(points.size(), {});
-  for (const GridValueScore& g : r.scores) {
-    c.pooled.push_back(g.profile_rmse);
-    for (std::size_t s = 0; s < points.size(); ++s) {
-      c.replicas[s].push_back(rmse(g.profile_replica_sse[s], n - points[s], albedos));
+      // Without scene s: the paper's constants stay, the profile is refitted without it.
+      const double sse = paper ? total - g.paper_sse[s] : g.profile_replica_sse[s];
+      c.replicas[s].push_back(rmse(sse, n - points[s], albedos));
     }
   }
   return c;

@@ -54,10 +54,10 @@ struct ObjectiveCurves {
   std::vector<double> pooled;
   std::vector<std::vector<double>> replicas;
 };
-ObjectiveCurves paperCurves(const SettingResult& r, const std::vector<std::size_t>& points,
-                            std::size_t albedos);
-ObjectiveCurves profileCurves(const SettingResult& r, const std::vector<std::size_t>& points,
-                              std::size_t albedos);
+// paper: the paper's constants (a replica drops scene s's squared error); else the profile
+// (a replica is refitted without s).
+ObjectiveCurves objectiveCurves(const SettingResult& r, const std::vector<std::size_t>& points,
+                                std::size_t albedos, bool paper);
 
 struct TuneAnalysis {
   std::vector<std::string> clusters;
