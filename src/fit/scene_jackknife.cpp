@@ -51,7 +51,19 @@ GridPoint bandMax(const BandRule& rule, Band&& band_at) {
 }  // namespace
 
 double studentT975(std::size_t dof) {
-  return dof >= 1 && dof <= 30 ? kT975[dof - 1] : 1.96;
+  if (dof >= 1 && dof <= 30) return kT975[dof - 1];
+  // Beyond the table, the Cornish-Fisher expansion of the t quantile in 1/ν about the normal's
+  // z = 1.959964 (Abramowitz & Stegun 26.7.5, four terms): its error at ν = 31 is below 1e-6, far
+  // under the table's three decimals, and it tends to z as ν grows.
+  constexpr double z = 1.959963984540054;
+  const double nu = static_cast<double>(dof);
+  const double z2 = z * z;
+  const double g1 = (z2 + 1.0) * z / 4.0;
+  const double g2 = ((5.0 * z2 + 16.0) * z2 + 3.0) * z / 96.0;
+  const double g3 = (((3.0 * z2 + 19.0) * z2 + 17.0) * z2 - 15.0) * z / 384.0;
+  const double g4 =
+      ((((79.0 * z2 + 776.0) * z2 + 1482.0) * z2 - 1920.0) * z2 - 945.0) * z / 92160.0;
+  return z + (((g4 / nu + g3) / nu + g2) / nu + g1) / nu;
 }
 
 double curveBand(const std::array<double, 36>& covariance, double A, double rho) {
