@@ -95,16 +95,7 @@ gtso::ErrorStats layoutLookupError(const GtsoTable& t, const GtsoVolume& v,
                                              static_cast<float>(std::cos(p.thetaO)), layout);
     err[i] = std::abs(s - pts.exact[i]);
   });
-  gtso::ErrorStats s;
-  for (std::size_t i = 0; i < err.size(); ++i) {
-    if (err[i] > s.max) {
-      s.max = err[i];
-      s.worst = pts.points[i];
-    }
-    s.rms += err[i] * err[i];
-  }
-  s.rms = std::sqrt(s.rms / static_cast<double>(std::max<std::size_t>(err.size(), 1)));
-  return s;
+  return gtso::errorStats(err, pts);
 }
 
 std::string layoutSwizzle(const GtsoLayout& l) {

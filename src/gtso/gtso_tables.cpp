@@ -296,6 +296,10 @@ ErrorStats lookupError(const Table& t, const EncodedTable& e, const ErrorPoints&
   tbb::parallel_for(std::size_t{0}, err.size(), [&](std::size_t i) {
     err[i] = std::abs(runtimeLookup(t, e, pts.points[i]) - pts.exact[i]);
   });
+  return errorStats(err, pts);
+}
+
+ErrorStats errorStats(const std::vector<double>& err, const ErrorPoints& pts) {
   ErrorStats s;
   for (std::size_t i = 0; i < err.size(); ++i) {
     if (err[i] > s.max) {

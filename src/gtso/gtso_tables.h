@@ -106,6 +106,8 @@ struct ErrorPointPair {
 ErrorPointPair makeErrorPointPair(PointSet set, int lobes, int perLobe, std::uint64_t seed,
                                   int cells);
 ErrorStats lookupError(const Table& t, const EncodedTable& e, const ErrorPoints& pts);
+// Max, RMS and the worst point of the errors err[i] at pts.points[i].
+ErrorStats errorStats(const std::vector<double>& err, const ErrorPoints& pts);
 
 // Values of the table as float32, texture order.
 std::vector<float> toFloats(const Table& t);

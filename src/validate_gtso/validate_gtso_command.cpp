@@ -4,34 +4,24 @@
 #include "validate_gtso/validate_gtso_command.h"
 
 #include <chrono>
-#include <cstdio>
 #include <string>
 
 #include "common/error.h"
 #include "common/output_lock.h"
 #include "common/output_set.h"
+#include "common/text_format.h"
 #include "validate_gtso/validate_gtso_analysis.h"
 #include "validate_gtso/validate_gtso_outputs.h"
 
 namespace gtbake {
 
-namespace {
-
 namespace fs = std::filesystem;
-
-std::string fmt(const char* format, double v) {
-  char text[64];
-  std::snprintf(text, sizeof(text), format, v);
-  return text;
-}
-
-}  // namespace
 
 ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   if (options.sweep.empty()) throw Error("validate-gtso: --sweep DIR is required");
   if (options.luts.empty()) throw Error("validate-gtso: --luts DIR is required");
   if (options.u != 0.0 && !(options.u > 0.0 && options.u < 1.0)) {
-    throw Error("validate-gtso: --u must lie in (0, 1), got " + fmt("%g", options.u));
+    throw Error("validate-gtso: --u must lie in (0, 1), got " + formatNumber(options.u, "%g"));
   }
   if (options.u != 0.0 && !options.input.rayTraced()) {
     throw Error("validate-gtso: --u scores the ray-traced inputs; leave it out with --estimator");
