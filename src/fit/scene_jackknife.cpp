@@ -50,6 +50,15 @@ GridPoint bandMax(const BandRule& rule, Band&& band_at) {
 
 }  // namespace
 
+double jackknifeSe(const std::vector<double>& replicates) {
+  const double S = static_cast<double>(replicates.size());
+  double mean = 0.0;
+  for (double z : replicates) mean += z / S;
+  double ss = 0.0;
+  for (double z : replicates) ss += (z - mean) * (z - mean);
+  return std::sqrt((S - 1.0) / S * ss);
+}
+
 double studentT975(std::size_t dof) {
   if (dof >= 1 && dof <= 30) return kT975[dof - 1];
   // Beyond the table, the Cornish-Fisher expansion of the t quantile in 1/ν about the normal's

@@ -106,6 +106,10 @@ struct SceneJackknife {
   double pointwise_false_alarm = 0.0;
 };
 
+// The delete-one jackknife SE of a scalar from its S replicates z_(s):
+// √((S − 1)/S · Σ (z_(s) − z̄)²) (docs/fit.md §5; S ≥ 1).
+double jackknifeSe(const std::vector<double>& replicates);
+
 // Two-sided 95 % quantile of Student's t with `dof` degrees of freedom (dof ≥ 1): a table to 30,
 // then the Cornish-Fisher expansion (2.0117 at the default corpus's 47; 1.96 only in the limit).
 double studentT975(std::size_t dof);

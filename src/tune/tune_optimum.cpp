@@ -33,16 +33,12 @@ SceneInterval sceneInterval(const std::vector<double>& x, const std::vector<doub
   }
   SceneInterval out;
   out.z = curveArgmin(x, pooled, &out.at_bound);
-  double mean = 0.0;
   for (const std::vector<double>& curve : replicas) {
     bool bound = false;
     out.replicates.push_back(curveArgmin(x, curve, &bound));
     out.replicates_at_bound += bound ? 1 : 0;
-    mean += out.replicates.back() / static_cast<double>(S);
   }
-  double ss = 0.0;
-  for (double z : out.replicates) ss += (z - mean) * (z - mean);
-  out.se = std::sqrt(static_cast<double>(S - 1) / static_cast<double>(S) * ss);
+  out.se = jackknifeSe(out.replicates);
   out.t = studentT975(S - 1);
   out.low = out.z - out.t * out.se;
   out.high = out.z + out.t * out.se;

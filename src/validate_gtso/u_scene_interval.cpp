@@ -69,16 +69,12 @@ USceneInterval interval(const ConeSseTable& t, int law) {
   const std::vector<char> all_r(t.count.front().size(), 1);
   USceneInterval out;
   out.log10_u = optimum(t, law, std::vector<char>(S, 1), all_r).log10_u;
-  double mean = 0.0;
   for (std::size_t c = 0; c < S; ++c) {
     std::vector<char> include(S, 1);
     include[c] = 0;
     out.replicates.push_back(optimum(t, law, include, all_r).log10_u);
-    mean += out.replicates.back() / static_cast<double>(S);
   }
-  double ss = 0.0;
-  for (double z : out.replicates) ss += (z - mean) * (z - mean);
-  out.log10_se = std::sqrt(static_cast<double>(S - 1) / static_cast<double>(S) * ss);
+  out.log10_se = jackknifeSe(out.replicates);
   out.t = studentT975(S - 1);
   out.low = std::pow(10.0, out.log10_u - out.t * out.log10_se);
   out.high = std::min(1.0, std::pow(10.0, out.log10_u + out.t * out.log10_se));
