@@ -26,6 +26,11 @@ std::string pixelText(std::size_t p, int width) {
 
 }  // namespace
 
+std::optional<float> clampedEstimate(float a) {
+  if (!(a >= -kEstimateRounding && a <= 1.0f + kEstimateRounding)) return std::nullopt;
+  return std::clamp(a, 0.0f, 1.0f);
+}
+
 ScreenEstimateSet::ScreenEstimateSet(const AoInput& input) : input_(input) {
   manifest_ = readOutputSet(input.screen_ao, "screen_ao");
   const std::string where = (input.screen_ao / "screen_ao.json").string();
@@ -75,12 +80,12 @@ ImageEstimate ScreenEstimateSet::read(const std::string& name, const std::filesy
   for (std::size_t p = 0; p < mask.size(); ++p) {
     e.mask[p] = mask[p] > 0.5f ? 1 : 0;
     if (!e.mask[p]) continue;
-    const float a = e.A[p];
-    if (!(a >= -kEstimateRounding && a <= 1.0f + kEstimateRounding)) {
-      throw Error(e.file + ": " + est + ".A = " + formatNumber(a, "%.9g") +
+    const std::optional<float> a = clampedEstimate(e.A[p]);
+    if (!a) {
+      throw Error(e.file + ": " + est + ".A = " + formatNumber(e.A[p], "%.9g") +
                   " is outside [0, 1] at an unmasked pixel " + pixelText(p, e.width));
     }
-    e.A[p] = std::clamp(a, 0.0f, 1.0f);
+    e.A[p] = *a;
     if (!with_bent) continue;
     const float* b = &e.bent[3 * p];
     const float length = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);

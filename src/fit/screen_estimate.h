@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,8 @@ namespace gtbake {
 // Float rounding of an estimator's slice integrals may leave Â a few ulps outside [0, 1]
 // (1.00000012 on an open pixel); such values are clamped, anything farther is an error.
 inline constexpr float kEstimateRounding = 1e-5f;
+// Â clamped to [0, 1] when within that rounding of it; nullopt when farther (the caller names it).
+std::optional<float> clampedEstimate(float a);
 
 // Which A a fit reads: the sweep's ray-traced A (estimator empty) or a screen-space estimate.
 struct AoInput {

@@ -74,7 +74,7 @@ std::vector<std::vector<std::vector<float>>> runValues(const SweepImages& images
 // Scores every value of one setting's grid (the default value's run shared by the estimator's
 // settings through *at_default).
 std::vector<GridValueScore> runGrid(SweepData* data, const SweepImages& images,
-                                    const Clusters& clusters,
+                                    const Grouping& clusters,
                                     const std::vector<std::vector<long double>>& q,
                                     const SettingGrid& grid,
                                     std::optional<GridValueScore>* at_default, Progress& bar) {
@@ -160,7 +160,7 @@ ObjectiveCurves objectiveCurves(const SettingResult& r, const std::vector<std::s
   c.replicas.assign(points.size(), {});
   for (const GridValueScore& g : r.scores) {
     c.pooled.push_back(paper ? g.paper_rmse : g.profile_rmse);
-    const double total = sum(g.paper_sse);
+    const double total = paper ? sum(g.paper_sse) : 0.0;
     for (std::size_t s = 0; s < points.size(); ++s) {
       // Without scene s: the paper's constants stay, the profile is refitted without it.
       const double sse = paper ? total - g.paper_sse[s] : g.profile_replica_sse[s];
@@ -177,12 +177,12 @@ void useEstimates(SweepData* data, const std::vector<SweepImage>& images,
     std::size_t i = data->scenes[v].begin;
     for (std::size_t p = 0; p < g.pixels(); ++p) {
       if (g.mask[p] == 0) continue;
-      const float a = estimates[v][p];
-      if (!(a >= -kEstimateRounding && a <= 1.0f + kEstimateRounding)) {
-        throw Error("tune: " + estimator + " gave A = " + formatNumber(a, "%.9g") +
+      const std::optional<float> a = clampedEstimate(estimates[v][p]);
+      if (!a) {
+        throw Error("tune: " + estimator + " gave A = " + formatNumber(estimates[v][p], "%.9g") +
                     " outside [0, 1] on '" + images[v].name + "'");
       }
-      data->full.A[i++] = std::clamp(static_cast<double>(a), 0.0, 1.0);
+      data->full.A[i++] = *a;
     }
   }
 }
@@ -200,7 +200,7 @@ TuneAnalysis analyzeTune(const std::filesystem::path& sweep, const std::vector<S
     return 0;
   });
   requireSameViews(data, images);
-  const Clusters clusters = sweepClusters(data);
+  const Grouping clusters = groupByScene(data);
   if (clusters.names.size() < kMinJackknifeScenes) {
     throw TuneNotApplicable("tune: the sweep has " + std::to_string(clusters.names.size()) +
                             " scene(s); the scene-level interval needs at least " +

@@ -8,17 +8,6 @@
 
 namespace gtbake {
 
-Clusters sweepClusters(const SweepData& data) {
-  Clusters c;
-  for (const SweepScene& view : data.scenes) {
-    const std::string& name = view.cluster.empty() ? view.name : view.cluster;
-    const auto found = std::find(c.names.begin(), c.names.end(), name);
-    c.of.push_back(static_cast<std::size_t>(found - c.names.begin()));
-    if (found == c.names.end()) c.names.push_back(name);
-  }
-  return c;
-}
-
 ClusterStatistics& ClusterStatistics::operator+=(const ClusterStatistics& other) {
   sums += other.sums;
   if (q.size() < other.q.size()) q.resize(other.q.size(), 0.0L);
@@ -27,7 +16,7 @@ ClusterStatistics& ClusterStatistics::operator+=(const ClusterStatistics& other)
 }
 
 std::vector<std::vector<long double>> clusterTargetSquares(const SweepData& data,
-                                                           const Clusters& clusters) {
+                                                           const Grouping& clusters) {
   const std::size_t M = data.albedos.size();
   std::vector<std::vector<long double>> q(clusters.names.size(), std::vector<long double>(M, 0.0L));
   for (std::size_t v = 0; v < data.scenes.size(); ++v) {
@@ -47,7 +36,7 @@ std::vector<std::vector<long double>> clusterTargetSquares(const SweepData& data
 }
 
 std::vector<ClusterStatistics> clusterStatistics(
-    const SweepData& data, const Clusters& clusters,
+    const SweepData& data, const Grouping& clusters,
     const std::vector<std::vector<long double>>& target_squares) {
   const std::size_t M = data.albedos.size();
   std::vector<ClusterStatistics> out(clusters.names.size());

@@ -14,17 +14,10 @@
 #include "fit/multibounce_coeffs.h"
 #include "fit/multibounce_fit.h"
 #include "fit/normal_equations.h"
+#include "fit/scene_jackknife.h"
 #include "fit/sweep_data.h"
 
 namespace gtbake {
-
-// The clusters of a sweep (SweepScene::cluster: the views of one scene are one cluster), in order
-// of first appearance, and each view's.
-struct Clusters {
-  std::vector<std::string> names;
-  std::vector<std::size_t> of;  // [view]
-};
-Clusters sweepClusters(const SweepData& data);
 
 // One cluster's sums at one Â.
 struct ClusterStatistics {
@@ -35,12 +28,12 @@ struct ClusterStatistics {
 
 // [cluster] Σ G_ij² per albedo (the part that does not depend on Â).
 std::vector<std::vector<long double>> clusterTargetSquares(const SweepData& data,
-                                                           const Clusters& clusters);
+                                                           const Grouping& clusters);
 
 // [cluster] statistics of `data` with its current A (Â), unit weights; clusters in parallel, each
 // summed in point order (the same bits on any thread count).
 std::vector<ClusterStatistics> clusterStatistics(
-    const SweepData& data, const Clusters& clusters,
+    const SweepData& data, const Grouping& clusters,
     const std::vector<std::vector<long double>>& target_squares);
 
 // Σ over the clusters whose include flag is set (all when include is empty).

@@ -29,7 +29,7 @@ SweepData threeClusterSweep() {
 
 TEST(TuneStatistics, SumSquaredErrorEqualsTheDirectSumForPaperAndRefitConstants) {
   const SweepData data = threeClusterSweep();
-  const Clusters clusters = sweepClusters(data);
+  const Grouping clusters = groupByScene(data);
   ASSERT_EQ(clusters.names.size(), 3u);
   EXPECT_EQ(clusters.of, (std::vector<std::size_t>{0, 0, 1, 2}));
   const auto stats = clusterStatistics(data, clusters, clusterTargetSquares(data, clusters));
@@ -55,7 +55,7 @@ TEST(TuneStatistics, SumSquaredErrorEqualsTheDirectSumForPaperAndRefitConstants)
 
 TEST(TuneStatistics, RefitIsTheProfileFit) {
   const SweepData data = threeClusterSweep();
-  const Clusters clusters = sweepClusters(data);
+  const Grouping clusters = groupByScene(data);
   const auto stats = clusterStatistics(data, clusters, clusterTargetSquares(data, clusters));
   const MultiBounceCoeffs refit =
       refitCoefficients(sumClusters(stats), data.albedos, profileFitSettings());
