@@ -3,9 +3,8 @@
 #include <algorithm>
 
 #include "common/error.h"
-#include "common/input_limits.h"
-#include "common/output_set.h"
 #include "common/progress.h"
+#include "export/export_inputs.h"
 
 namespace gtbake {
 
@@ -83,22 +82,18 @@ std::vector<std::vector<Method>> rank(const Tables& t, const std::vector<Method>
   return ranking;
 }
 
-// The cone's u on the ray-traced inputs, fitted by the run without --estimator (<luts>/
-// validate_gtso.json, verified against its manifest): what export ships and an engine would
-// feed its estimate.
+// The cone's u on the ray-traced inputs, fitted by the run without --estimator: the u export
+// ships (read with export's own reader of validate_gtso.json), which an engine would feed its
+// estimate.
 double shippedU(const ValidateGtsoOptions& options) {
   const fs::path file = options.luts / "validate_gtso.json";
   if (!fs::is_regular_file(file)) {
     throw Error("validate-gtso --estimator: no " + file.string() +
                 " (run `gtbake validate-gtso` on the ray-traced inputs first: its u is scored)");
   }
-  const OutputManifest set = readOutputSet(options.luts, "validate_gtso");
-  const nlohmann::json j = parseJsonText(set.readVerified("validate_gtso.json"), file.string());
-  if (!j.is_object() || !j.contains("u") || !j["u"].is_number() ||
-      !(j["u"].get<double>() > 0.0 && j["u"].get<double>() < 1.0)) {
-    throw Error(file.string() + ": needs u in (0, 1) (rerun `gtbake validate-gtso`)");
-  }
-  return j["u"].get<double>();
+  GtsoInput shipped;
+  applyValidateGtsoU(file, &shipped);
+  return shipped.u;
 }
 
 // The sweep and tables read, the samples gathered; on an estimator's inputs A and b replaced.
@@ -123,14 +118,14 @@ Analysis analyse(const ValidateGtsoOptions& options) {
       "reading the tables", 1, [&](Progress&) { return makeTablesLookups(options.luts); });
   a.tables = tables.info;
   std::vector<int> cluster_of;
-  const std::size_t clusters = sceneClusters(a.sweep, cluster_of).size();
+  const std::vector<std::string> clusters = sceneClusters(a.sweep, cluster_of);
   ConeConstants cones;
   cones.table_fit = tables.info.u_table_fit;
   cones.user = options.u;
   ConeSseTable table;
   if (a.rayTraced()) {
     table = parts.run("cone SSE table on the log10 u grid", a.samples.size(), [&](Progress& bar) {
-      return coneSseTable(a.samples, cluster_of, clusters, a.sweep.roughness.size(), &bar);
+      return coneSseTable(a.samples, cluster_of, clusters.size(), a.sweep.roughness.size(), &bar);
     });
     parts.run("u fit (2 laws x 2 subsets)", 4, [&](Progress& bar) {
       a.spec = fitConeU(a.samples, false, &table, &bar);
@@ -154,9 +149,10 @@ Analysis analyse(const ValidateGtsoOptions& options) {
   if (a.rayTraced()) {
     a.scene_stats = sceneStatistics(a.sweep, a.samples, a.values, a.methods, table, parts);
   } else {
-    a.scene_stats.clusters = sceneClusters(a.sweep, a.scene_stats.cluster_of);
+    a.scene_stats.clusters = clusters;
+    a.scene_stats.cluster_of = cluster_of;
     a.scene_stats.ranking =
-        rankingTests(a.sweep, a.samples, a.values, a.methods, a.scene_stats.cluster_of, parts);
+        rankingTests(a.sweep, a.samples, a.values, a.methods, cluster_of, parts);
   }
   a.part_seconds = parts.seconds();
   return a;
