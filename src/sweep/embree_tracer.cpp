@@ -14,6 +14,12 @@ namespace gtbake {
 
 namespace {
 
+// Embree picks its traversal kernels for the CPU it runs on, and kernels of different widths may
+// settle a ray that grazes a shared edge differently. Capping them at AVX2 gives every x86-64 CPU
+// with AVX2 (AVX-512 ones included) the same kernels, so the same sweep bytes
+// (docs/reproducibility.md, "What can differ on another machine").
+constexpr const char* kEmbreeDeviceConfig = "max_isa=avx2";
+
 // Embree's own message for the first error on a device, set by the device's error function
 // (rtcSetDeviceErrorFunction) and turned into a gtbake::Error by throwOnDeviceError.
 std::mutex g_embree_error_mutex;
@@ -65,7 +71,7 @@ EmbreeTracer::EmbreeTracer(const Scene& scene, RTCBuildQuality quality, RTCScene
   }
 
   const auto start = std::chrono::steady_clock::now();
-  device_ = rtcNewDevice(nullptr);
+  device_ = rtcNewDevice(kEmbreeDeviceConfig);
   if (device_ == nullptr) {
     throw Error("Embree could not create a device (error code " +
                 std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");

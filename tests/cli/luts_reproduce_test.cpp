@@ -1,7 +1,8 @@
 // luts/ is reproducible: a fresh `gtbake all` gives the committed files back.
 //
-// On the machine that wrote luts/ every compared byte is identical. Elsewhere, another CPU's
-// Embree kernels may resolve a handful of ray/edge ties differently, which moves the path-traced
+// On any x86-64 CPU with AVX2 every compared byte is identical (the sweep caps Embree's kernels at
+// AVX2, docs/reproducibility.md). On a CPU without AVX2, Embree's narrower kernels may resolve a
+// handful of ray/edge ties differently, which moves the path-traced
 // sweep (and so the Equation 10 fit derived from it) by amounts far below its standard errors; the
 // GTSO tables, u and the BC4 blocks do not depend on Embree and must match exactly. So:
 //   - binary tables (.f32, .dds, .ktx2): identical bytes;
