@@ -112,7 +112,9 @@ FilterSetup filterSetup(const GBuffer& g) {
   return f;
 }
 
-Rgba8Image bilateralBlur(const GBuffer& g, const FilterSetup& f, const Rgba8Image& in) {
+Rgba8Image bilateralBlur(const GBuffer& g, const FilterSetup& f, const Rgba8Image& in,
+                         EstimateParts parts) {
+  const int first = parts == EstimateParts::kAoOnly ? 3 : 0;  // the channels blurred
   Rgba8Image out(in.size(), {0, 0, 0, 0});
   forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
     const double* w = &f.blur[kTaps * p];
@@ -122,17 +124,17 @@ Rgba8Image bilateralBlur(const GBuffer& g, const FilterSetup& f, const Rgba8Imag
       for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx, ++w) {
         if (!(*w > 0.0)) continue;
         const auto& c = in[static_cast<std::size_t>(j + dy) * g.width + (i + dx)];
-        for (int k = 0; k < 4; ++k) sum[k] += *w * c[k] / 255.0;
+        for (int k = first; k < 4; ++k) sum[k] += *w * c[k] / 255.0;
         total += *w;
       }
     }
-    for (int k = 0; k < 4; ++k) out[p][k] = unorm8(sum[k] / total);
+    for (int k = first; k < 4; ++k) out[p][k] = unorm8(sum[k] / total);
   });
   return out;
 }
 
 Rgba8Image temporalFilter(const GBuffer& g, const FilterSetup& f, const Rgba8Image& current,
-                          const Rgba8Image& history, double blend) {
+                          const Rgba8Image& history, double blend, EstimateParts parts) {
   if (history.empty() || blend == 0.0) return current;
   Rgba8Image out(current.size(), {0, 0, 0, 0});
   forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
@@ -154,6 +156,10 @@ Rgba8Image temporalFilter(const GBuffer& g, const FilterSetup& f, const Rgba8Ima
     }
     const double h_ao = std::clamp(history[q][3] / 255.0, lo, hi);  // layer 3
     const double c_ao = c[3] / 255.0;
+    if (parts == EstimateParts::kAoOnly) {
+      out[p] = {0, 0, 0, unorm8(c_ao + blend * (h_ao - c_ao))};
+      return;
+    }
     const Eigen::Vector3d cb = decodeBent(c);
     Eigen::Vector3d b = cb + blend * (decodeBent(history[q]) - cb);
     b = b.norm() > 1e-12 ? b.normalized() : cb;
@@ -163,11 +169,12 @@ Rgba8Image temporalFilter(const GBuffer& g, const FilterSetup& f, const Rgba8Ima
   return out;
 }
 
-AoEstimate decodeRgba8(const GBuffer& g, const Rgba8Image& image) {
-  AoEstimate e = makeEstimate(g);
+AoEstimate decodeRgba8(const GBuffer& g, const Rgba8Image& image, EstimateParts parts) {
+  AoEstimate e = makeEstimate(g, parts);
   for (std::size_t p = 0; p < g.pixels(); ++p) {
     if (g.mask[p] == 0) continue;
     e.a[p] = static_cast<float>(image[p][3] / 255.0);
+    if (parts == EstimateParts::kAoOnly) continue;
     Eigen::Vector3d w = g.viewToWorld(decodeBent(image[p]));
     if (!(w.norm() > 1e-12))
       w = Eigen::Vector3d(g.normal[3 * p], g.normal[3 * p + 1], g.normal[3 * p + 2]);

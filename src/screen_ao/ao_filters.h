@@ -28,16 +28,19 @@ struct FilterSetup {
 FilterSetup filterSetup(const GBuffer& g);
 
 // The 5×5 bilateral blur with f.blur's weights; masked pixels stay 0. Output rounded to RGBA8.
-Rgba8Image bilateralBlur(const GBuffer& g, const FilterSetup& f, const Rgba8Image& in);
+// kAoOnly: the A channel alone (RGB stays 0; each channel is blurred on its own).
+Rgba8Image bilateralBlur(const GBuffer& g, const FilterSetup& f, const Rgba8Image& in,
+                         EstimateParts parts);
 
 // One temporal step: where f.history holds a pixel, the history AO read there is clamped to the
 // 3×3 min/max of `current` (layer 3), then out = current + blend·(history − current) per
-// channel; the bent normal is decoded, renormalised and re-encoded. Elsewhere, on an empty
-// history or with blend 0: out = current.
+// channel; the bent normal is decoded, renormalised and re-encoded (not with kAoOnly: RGB stays
+// 0, A never reads it). Elsewhere, on an empty history or with blend 0: out = current.
 Rgba8Image temporalFilter(const GBuffer& g, const FilterSetup& f, const Rgba8Image& current,
-                          const Rgba8Image& history, double blend);
+                          const Rgba8Image& history, double blend, EstimateParts parts);
 
 // Â = A/255 and the bent normal (RGB·2/255 − 1, view space) rotated to world space, normalised.
-AoEstimate decodeRgba8(const GBuffer& g, const Rgba8Image& image);
+// kAoOnly: Â alone.
+AoEstimate decodeRgba8(const GBuffer& g, const Rgba8Image& image, EstimateParts parts);
 
 }  // namespace gtbake

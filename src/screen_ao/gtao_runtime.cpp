@@ -108,11 +108,13 @@ std::vector<HorizonGroup> horizonGroups(const std::vector<GtaoRuntimeSettings>& 
 }
 
 // Pass 1 of one frame at pixel p for every run, stored as RGBA8 into (*out)[run][p]: the slices
-// once, each group's horizons and their sum (visibility and the unnormalised view-space bent
-// normal), then each run's intensity power.
+// once, each group's horizons and their sum (visibility and, unless kAoOnly leaves RGB 0, the
+// unnormalised view-space bent normal), then each run's intensity power.
 void framePixel(const GBuffer& g, int i, int j, std::size_t p, const PixelSetup& px, int frame,
                 const std::vector<GtaoRuntimeSettings>& runs,
-                const std::vector<HorizonGroup>& groups, std::vector<Rgba8Image>* out) {
+                const std::vector<HorizonGroup>& groups, EstimateParts parts,
+                std::vector<Rgba8Image>* out) {
+  const bool with_bent = parts == EstimateParts::kAoAndBent;
   const int directions = runs.front().directions;
   const double base_noise = frameNoise(px.ign, frame);
   const double step_noise = fract(base_noise * 0.7 + 0.15);
@@ -136,14 +138,19 @@ void framePixel(const GBuffer& g, int i, int j, std::size_t p, const PixelSetup&
                                         step_noise, s);
         h[side] = horizonOf(c, side, slice);
       }
-      accumulateSlice(slice, h, px.v, &visibility, &sum);
+      accumulateSlice(slice, h, px.v, &visibility, with_bent ? &sum : nullptr);
     }
-    Eigen::Vector3d bent = sum.norm() > 1e-12 ? sum : px.normal;  // degenerate: the normal
-    bent.normalize();
+    std::array<std::uint8_t, 4> bytes = {0, 0, 0, 0};
+    if (with_bent) {
+      Eigen::Vector3d bent = sum.norm() > 1e-12 ? sum : px.normal;  // degenerate: the normal
+      bent.normalize();
+      bytes = {unorm8(bent.x() * 0.5 + 0.5), unorm8(bent.y() * 0.5 + 0.5),
+               unorm8(bent.z() * 0.5 + 0.5), 0};
+    }
     const double open = std::clamp(visibility / directions, 0.0, 1.0);
     for (std::size_t r : group.runs) {
-      (*out)[r][p] = {unorm8(bent.x() * 0.5 + 0.5), unorm8(bent.y() * 0.5 + 0.5),
-                      unorm8(bent.z() * 0.5 + 0.5), unorm8(std::pow(open, runs[r].intensity))};
+      bytes[3] = unorm8(std::pow(open, runs[r].intensity));
+      (*out)[r][p] = bytes;
     }
   }
 }
@@ -191,7 +198,8 @@ AoEstimate gtaoRuntime(const GBuffer& g, const GtaoRuntimeSettings& s) {
 }
 
 std::vector<AoEstimate> gtaoRuntimeRuns(const GBuffer& g,
-                                        const std::vector<GtaoRuntimeSettings>& runs) {
+                                        const std::vector<GtaoRuntimeSettings>& runs,
+                                        EstimateParts parts) {
   for (const GtaoRuntimeSettings& s : runs) {
     validate(s);
     if (s.directions != runs.front().directions || s.frames != runs.front().frames) {
@@ -205,16 +213,16 @@ std::vector<AoEstimate> gtaoRuntimeRuns(const GBuffer& g,
   for (int frame = 0; frame < runs.front().frames; ++frame) {
     std::vector<Rgba8Image> current(runs.size(), Rgba8Image(g.pixels(), {0, 0, 0, 0}));
     forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
-      framePixel(g, i, j, p, pixels[p], frame, runs, groups, &current);
+      framePixel(g, i, j, p, pixels[p], frame, runs, groups, parts, &current);
     });
     for (std::size_t r = 0; r < runs.size(); ++r) {
-      if (runs[r].blur) current[r] = bilateralBlur(g, filters, current[r]);
+      if (runs[r].blur) current[r] = bilateralBlur(g, filters, current[r], parts);
       history[r] = temporalFilter(g, filters, current[r], history[r],
-                                  frame == 0 ? 0.0 : runs[r].temporal_blend);
+                                  frame == 0 ? 0.0 : runs[r].temporal_blend, parts);
     }
   }
   std::vector<AoEstimate> out;
-  for (const Rgba8Image& image : history) out.push_back(decodeRgba8(g, image));
+  for (const Rgba8Image& image : history) out.push_back(decodeRgba8(g, image, parts));
   return out;
 }
 

@@ -54,7 +54,10 @@ AoEstimate gtaoRuntime(const GBuffer& g, const GtaoRuntimeSettings& s);
 // thin_compensation (intensity only raises their sum to a power), and the filters' depth weights
 // and reprojection by every frame and run; each result has the bytes gtaoRuntime gives at its
 // settings.
+// With kAoOnly the bent normal is neither computed, stored in RGB nor filtered: no stage's A reads
+// it, so Â keeps its bytes.
 std::vector<AoEstimate> gtaoRuntimeRuns(const GBuffer& g,
-                                        const std::vector<GtaoRuntimeSettings>& runs);
+                                        const std::vector<GtaoRuntimeSettings>& runs,
+                                        EstimateParts parts = EstimateParts::kAoAndBent);
 
 }  // namespace gtbake

@@ -141,12 +141,13 @@ inline void bentIntegrals(double h0, double h1, double n, double* t0, double* t1
 }
 
 // Adds one slice with horizons h[0], h[1] to the running sums (memo Alg. 1 line 29, Alg. 2 line
-// 6): the visibility |N'| (arc(h0) + arc(h1)) and the bent-normal direction |N'| (t0 o + t1 V), V
-// the view vector.
+// 6): the visibility |N'| (arc(h0) + arc(h1)) and, unless sum is null, the bent-normal direction
+// |N'| (t0 o + t1 V), V the view vector.
 inline void accumulateSlice(const Slice& slice, const Angle h[2], const Eigen::Vector3d& v,
                             double* visibility, Eigen::Vector3d* sum) {
   *visibility += slice.projected_length * (arcIntegral(h[0], slice.sin_n, slice.cos_n) +
                                            arcIntegral(h[1], slice.sin_n, slice.cos_n));
+  if (sum == nullptr) return;
   double t0 = 0.0;
   double t1 = 0.0;
   addBentSide(h[0], slice.sin_n, slice.cos_n, &t0, &t1);

@@ -113,13 +113,14 @@ void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const E
   }
 }
 
-// One slice's visibility and bent-normal terms from its sectors.
+// One slice's visibility and, unless sum is null, bent-normal terms from its sectors.
 void addSlice(std::uint32_t bits, const Slice& slice, const SectorMap& map,
               const Eigen::Vector3d& v, SectorWeights weights, double* visibility,
               Eigen::Vector3d* sum) {
   const double clear = 1.0 - static_cast<double>(std::bitset<32>(bits).count()) / kSectors;
   *visibility +=
       weights == SectorWeights::kUniform ? clear : slice.projected_length * map.openMass() * clear;
+  if (sum == nullptr) return;
   for (int run = 0; run < kSectors;) {  // each run of clear sectors
     if ((bits >> run) & 1u) {
       ++run;
@@ -136,7 +137,8 @@ void addSlice(std::uint32_t bits, const Slice& slice, const SectorMap& map,
   }
 }
 
-// Pixel p at every thickness: Â and the view-space bent normal into a[k], bent[k].
+// Pixel p at every thickness: Â and the view-space bent normal into a[k], bent[k] (Â alone when
+// bent is null).
 void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSettings& s,
                   const std::vector<double>& thicknesses, double* a, Eigen::Vector3d* bent) {
   const auto [x, v, normal] = pixelFrame(g, p);
@@ -144,13 +146,14 @@ void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSe
   const std::size_t T = thicknesses.size();
   std::vector<std::uint32_t> bits(T);
   std::fill(a, a + T, 0.0);
-  std::fill(bent, bent + T, Eigen::Vector3d::Zero());
+  if (bent != nullptr) std::fill(bent, bent + T, Eigen::Vector3d::Zero());
   for (int k = 0; k < s.slices; ++k) {
     const Slice slice = makeViewSlice(g, x, v, normal, kPi * (k + 0.5) / s.slices);
     const SectorMap map(slice.n, s.weights);
     sliceBits(g, i, j, x, v, slice, map, radius_px, s, thicknesses, bits.data());
-    for (std::size_t t = 0; t < T; ++t)
-      addSlice(bits[t], slice, map, v, s.weights, &a[t], &bent[t]);
+    for (std::size_t t = 0; t < T; ++t) {
+      addSlice(bits[t], slice, map, v, s.weights, &a[t], bent == nullptr ? nullptr : &bent[t]);
+    }
   }
   for (std::size_t t = 0; t < T; ++t) a[t] /= s.slices;
 }
@@ -193,19 +196,27 @@ AoEstimate visibilityBitmask(const GBuffer& g, const BitmaskSettings& s) {
 }
 
 std::vector<AoEstimate> visibilityBitmasks(const GBuffer& g, const BitmaskSettings& s,
-                                           const std::vector<double>& thicknesses) {
+                                           const std::vector<double>& thicknesses,
+                                           EstimateParts parts) {
   std::vector<AoEstimate> out;
   for (double t : thicknesses) {
     BitmaskSettings at = s;
     at.thickness = t;
     validate(at);
-    out.push_back(makeEstimate(g));
+    out.push_back(makeEstimate(g, parts));
   }
+  const bool with_bent = parts == EstimateParts::kAoAndBent;
   forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
     std::vector<double> a(thicknesses.size());
-    std::vector<Eigen::Vector3d> bent(thicknesses.size());
-    bitmaskPixel(g, i, j, p, s, thicknesses, a.data(), bent.data());
-    for (std::size_t k = 0; k < thicknesses.size(); ++k) storePixel(g, p, a[k], bent[k], &out[k]);
+    std::vector<Eigen::Vector3d> bent(with_bent ? thicknesses.size() : 0);
+    bitmaskPixel(g, i, j, p, s, thicknesses, a.data(), with_bent ? bent.data() : nullptr);
+    for (std::size_t k = 0; k < thicknesses.size(); ++k) {
+      if (with_bent) {
+        storePixel(g, p, a[k], bent[k], &out[k]);
+      } else {
+        storeAo(p, a[k], &out[k]);
+      }
+    }
   });
   return out;
 }

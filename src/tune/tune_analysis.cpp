@@ -45,21 +45,21 @@ void requireSameViews(const SweepData& data, const SweepImages& images) {
 
 // Every value's estimate of one image in one pass: the bitmasks' thickness values share the
 // samples (visibilityBitmasks), the runtime pass's values its slices, horizons and filter weights
-// (gtaoRuntimeRuns); each has the bytes of a run at that value alone.
+// (gtaoRuntimeRuns); Â alone (tune reads no b̂), with the bytes of a run at that value alone.
 std::vector<AoEstimate> runImage(const GBuffer& g, const SettingGrid& grid,
                                  const std::vector<double>& values) {
   if (grid.key == "thickness") {
     const ScreenAoSettings s;
     const BitmaskSettings& b =
         grid.estimator == "bitmask-uniform" ? s.bitmask_uniform : s.bitmask_cosine;
-    return visibilityBitmasks(g, b, values);
+    return visibilityBitmasks(g, b, values, EstimateParts::kAoOnly);
   }
   if (grid.estimator != "gtao-runtime") {
     throw Error("internal: tune has no pass for " + grid.estimator + "." + grid.key);
   }
   std::vector<GtaoRuntimeSettings> runs;
   for (double value : values) runs.push_back(settingsAt(grid, value).runtime);
-  return gtaoRuntimeRuns(g, runs);
+  return gtaoRuntimeRuns(g, runs, EstimateParts::kAoOnly);
 }
 
 // Â of every image at each value ([value][image]).
