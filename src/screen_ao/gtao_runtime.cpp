@@ -23,27 +23,41 @@ std::uint8_t unorm8(double x) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0));
 }
 
-// Flat inside R(1 − 0.615), then linear to 0 at R.
+constexpr int kMaxSteps = 256;  // validate's bound
+
+// Flat inside R(1 − 0.615), then linear to 0 at R. The ends skip the division with its result: a
+// quotient ≤ 0 clamps to 1, and a numerator ≥ the range makes it ≥ 1, which clamps to 0.
 double falloffWeight(double distance, double radius) {
   const double range = kFalloffRange * radius;
   const double from = radius * (1.0 - kFalloffRange);
-  return std::clamp(1.0 - (distance - from) / range, 0.0, 1.0);
+  const double over = distance - from;
+  if (over <= 0.0) return 1.0;
+  if (over >= range) return 0.0;
+  return std::clamp(1.0 - over / range, 0.0, 1.0);
 }
 
-// One side's horizon cosine: quadratic steps t = ((k + noise)/steps)², each sample's cos blended
+// The quadratic steps' pixel offsets t_k = ((k + noise)/steps)² × R in pixels, at least the next
+// texel; the same for every slice and side of a pixel's frame.
+void stepOffsets(int steps, double step_noise, double radius_px, double* offsets) {
+  for (int k = 0; k < steps; ++k) {
+    const double linear = (k + step_noise) / steps;
+    offsets[k] = std::max(1.0, linear * linear * radius_px);
+  }
+}
+
+// One side's horizon cosine: the samples at `offsets` (stepOffsets), each sample's cos blended
 // towards the tangent plane's (low) horizon by the falloff weight, the falloff distance taken with
 // the view-z part of the offset stretched by 1 + thin_compensation.
 double sideHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
                       const Eigen::Vector3d& v, const Eigen::Vector2d& omega, double sign,
-                      double low_cos, double radius_px, double step_noise,
+                      double low_cos, const double* offsets, double reach,
                       const GtaoRuntimeSettings& s) {
   double horizon_cos = low_cos;
   for (int k = 0; k < s.steps; ++k) {
-    const double linear = (k + step_noise) / s.steps;
-    const double offset = std::max(1.0, linear * linear * radius_px);  // at least the next texel
+    const double offset = offsets[k];
     Eigen::Vector3d sample;
     if (!texelPlanePoint(g, i + 0.5 + sign * offset * omega.x(),
-                         j + 0.5 - sign * offset * omega.y(), &sample)) {
+                         j + 0.5 - sign * offset * omega.y(), reach, &sample)) {
       continue;
     }
     const Eigen::Vector3d d = sample - x;
@@ -118,6 +132,7 @@ void framePixel(const GBuffer& g, int i, int j, std::size_t p, const PixelSetup&
   const int directions = runs.front().directions;
   const double base_noise = frameNoise(px.ign, frame);
   const double step_noise = fract(base_noise * 0.7 + 0.15);
+  const double reach = slabReach(g);
   std::array<Slice, kMaxDirections> slices;
   for (int d = 0; d < directions; ++d) {
     slices[d] = sliceAlong(g, px.x, px.v, px.normal,
@@ -125,7 +140,8 @@ void framePixel(const GBuffer& g, int i, int j, std::size_t p, const PixelSetup&
   }
   for (const HorizonGroup& group : groups) {
     const GtaoRuntimeSettings& s = *group.settings;
-    const double radius_px = s.radius * g.pixelsPerMetre(g.depth[p]);
+    std::array<double, kMaxSteps> offsets;
+    stepOffsets(s.steps, step_noise, s.radius * g.pixelsPerMetre(g.depth[p]), offsets.data());
     double visibility = 0.0;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     for (int d = 0; d < directions; ++d) {
@@ -134,8 +150,8 @@ void framePixel(const GBuffer& g, int i, int j, std::size_t p, const PixelSetup&
       for (int side = 0; side < 2; ++side) {
         const double sign = side == 0 ? -1.0 : 1.0;
         const double low_cos = side == 0 ? slice.sin_n : -slice.sin_n;  // cos(n ± π/2)
-        const double c = sideHorizonCos(g, i, j, px.x, px.v, slice.omega, sign, low_cos, radius_px,
-                                        step_noise, s);
+        const double c = sideHorizonCos(g, i, j, px.x, px.v, slice.omega, sign, low_cos,
+                                        offsets.data(), reach, s);
         h[side] = horizonOf(c, side, slice);
       }
       accumulateSlice(slice, h, px.v, &visibility, with_bent ? &sum : nullptr);
@@ -163,7 +179,7 @@ void validate(const GtaoRuntimeSettings& s) {
   }
   if (s.directions < 1 || s.directions > kMaxDirections)
     throw Error("gtao-runtime: directions must be in [1, 64]");
-  if (s.steps < 1 || s.steps > 256) throw Error("gtao-runtime: steps must be in [1, 256]");
+  if (s.steps < 1 || s.steps > kMaxSteps) throw Error("gtao-runtime: steps must be in [1, 256]");
   if (!(s.thin_compensation >= 0.0 && s.thin_compensation <= 10.0)) {
     throw Error("gtao-runtime: thin_compensation must be in [0, 10]");
   }

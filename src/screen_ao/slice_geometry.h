@@ -187,16 +187,21 @@ inline Eigen::Vector3d imageRay(const GBuffer& g, double x, double y) {
 }
 
 // The surface point seen through the image point (x, y), on the surface of the texel nearest to
-// it; false off the image or where that texel is masked (sky: no occluder).
-inline bool texelPlanePoint(const GBuffer& g, double x, double y, Eigen::Vector3d* point) {
+// it; false off the image or where that texel is masked (sky: no occluder). `reach` is
+// slabReach(g), which a loop over many samples computes once.
+inline bool texelPlanePoint(const GBuffer& g, double x, double y, double reach,
+                            Eigen::Vector3d* point) {
   const double fi = std::floor(x);
   const double fj = std::floor(y);
   if (fi < 0.0 || fj < 0.0 || fi >= g.width || fj >= g.height) return false;
   const Texel& t = g.texels[static_cast<std::size_t>(fj) * g.width + static_cast<std::size_t>(fi)];
   if (!(t.depth > 0.0f)) return false;
   const Eigen::Vector3d ray = imageRay(g, x, y);
-  *point = texelDepthOnRay(t, ray, slabReach(g)) * ray;
+  *point = texelDepthOnRay(t, ray, reach) * ray;
   return true;
+}
+inline bool texelPlanePoint(const GBuffer& g, double x, double y, Eigen::Vector3d* point) {
+  return texelPlanePoint(g, x, y, slabReach(g), point);
 }
 
 // Pixel p's view-space point and normal.

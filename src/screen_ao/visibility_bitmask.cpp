@@ -89,15 +89,16 @@ Angle sliceAngle(double c, double sign) {
 // thicknesses[k]): the samples and their front angles are shared, each thickness adds its own
 // back angles.
 void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const Eigen::Vector3d& v,
-               const Slice& slice, const SectorMap& map, double radius_px, const BitmaskSettings& s,
-               const std::vector<double>& thicknesses, std::uint32_t* bits) {
+               const Slice& slice, const SectorMap& map, double radius_px, double reach,
+               const BitmaskSettings& s, const std::vector<double>& thicknesses,
+               std::uint32_t* bits) {
   std::fill(bits, bits + thicknesses.size(), 0u);
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
     for (int step = 0; step < s.steps; ++step) {
       const double t = sign * (step + 0.5) / s.steps * radius_px;
       Eigen::Vector3d sample;
-      if (!texelPlanePoint(g, i + 0.5 + t * slice.omega.x(), j + 0.5 - t * slice.omega.y(),
+      if (!texelPlanePoint(g, i + 0.5 + t * slice.omega.x(), j + 0.5 - t * slice.omega.y(), reach,
                            &sample)) {
         continue;
       }
@@ -150,7 +151,7 @@ void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSe
   for (int k = 0; k < s.slices; ++k) {
     const Slice slice = makeViewSlice(g, x, v, normal, kPi * (k + 0.5) / s.slices);
     const SectorMap map(slice.n, s.weights);
-    sliceBits(g, i, j, x, v, slice, map, radius_px, s, thicknesses, bits.data());
+    sliceBits(g, i, j, x, v, slice, map, radius_px, slabReach(g), s, thicknesses, bits.data());
     for (std::size_t t = 0; t < T; ++t) {
       addSlice(bits[t], slice, map, v, s.weights, &a[t], bent == nullptr ? nullptr : &bent[t]);
     }
