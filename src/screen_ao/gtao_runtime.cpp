@@ -17,13 +17,12 @@ double fract(double x) {
   return x - std::floor(x);
 }
 
-constexpr int kMaxDirections = 64;  // validate's bound
+constexpr int kMaxDirections = 64;  // validate's bounds
+constexpr int kMaxSteps = 256;
 
 std::uint8_t unorm8(double x) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0));
 }
-
-constexpr int kMaxSteps = 256;  // validate's bound
 
 // Flat inside R(1 − 0.615), then linear to 0 at R. The ends skip the division with its result: a
 // quotient ≤ 0 clamps to 1, and a numerator ≥ the range makes it ≥ 1, which clamps to 0.
@@ -216,6 +215,7 @@ AoEstimate gtaoRuntime(const GBuffer& g, const GtaoRuntimeSettings& s) {
 std::vector<AoEstimate> gtaoRuntimeRuns(const GBuffer& g,
                                         const std::vector<GtaoRuntimeSettings>& runs,
                                         EstimateParts parts) {
+  if (runs.empty()) return {};
   for (const GtaoRuntimeSettings& s : runs) {
     validate(s);
     if (s.directions != runs.front().directions || s.frames != runs.front().frames) {
