@@ -1,6 +1,7 @@
 #include "screen_ao/visibility_bitmask.h"
 
 #include <bitset>
+#include <limits>
 #include <vector>
 
 #include "common/error.h"
@@ -13,6 +14,10 @@ namespace {
 // Sectors (1e-4 rad for uniform ones): the float32 G-buffer puts a sample on the tangent plane up
 // to ~Z·1e-7/|D| rad off it, which must not set the sector at the hemisphere's end.
 constexpr double kSectorSlack = 1e-3;
+
+// Far past a hemisphere end: beyond it by this much (rad), against a computed back angle off by at
+// most ~3e-8 (near θ = ±π, where acos turns a 1e-16 error of the cosine into √(2e-16)).
+constexpr double kEndMargin = 1e-6;
 
 // The map between slice angles and sector coordinates of one slice (n fixed).
 class SectorMap {
@@ -53,6 +58,11 @@ class SectorMap {
     return t;
   }
   double openMass() const { return open_; }
+  // Whether an angle on side `sign` (θ = sign·acos c) lies past that side's hemisphere end,
+  // n + sign·π/2, by more than kEndMargin.
+  bool farPastEnd(double theta, double sign) const {
+    return sign > 0.0 ? theta > n_ + 0.5 * kPi + kEndMargin : theta < n_ - 0.5 * kPi - kEndMargin;
+  }
 
  private:
   // ∫ from n − π/2 to θ of cos(x − n)|sin x| dx over the open mass, θ within the hemisphere
@@ -85,6 +95,31 @@ Angle sliceAngle(double c, double sign) {
   return {sign * std::acos(cc), sign * std::sqrt(1.0 - cc * cc), cc};
 }
 
+// The sectors of one sample (`front`, the offset from P, on side `sign`) for each thickness, OR-ed
+// into bits[k]. The slab's back point front − tV moves away from V as t grows (cos θ_b =
+// (f·V − t)/|f − tV| falls), so once its angle is far past the side's hemisphere end
+// (farPastEnd: further than any rounding of it), every thicker slab's back angle is past it too
+// and clamps to the same end coordinate, which is reused; the same bits as computing each.
+void sampleBits(const SectorMap& map, const Eigen::Vector3d& front, const Eigen::Vector3d& v,
+                double u_front, double sign, const std::vector<double>& thicknesses,
+                std::uint32_t* bits) {
+  double clamped_from = std::numeric_limits<double>::infinity();  // the thinnest slab past the end
+  double u_end = 0.0;
+  for (std::size_t k = 0; k < thicknesses.size(); ++k) {
+    double u_back = u_end;
+    if (thicknesses[k] < clamped_from) {
+      const Eigen::Vector3d back = front - thicknesses[k] * v;
+      const Angle theta = sliceAngle(back.normalized().dot(v), sign);
+      u_back = map.coordinate(theta);
+      if (map.farPastEnd(theta.a, sign)) {
+        clamped_from = thicknesses[k];
+        u_end = u_back;
+      }
+    }
+    bits[k] |= sectorBits(u_front, u_back);
+  }
+}
+
 // One slice's 32 sectors from both sides' samples, for each thickness (bits[k] for
 // thicknesses[k]): the samples and their front angles are shared, each thickness adds its own
 // back angles.
@@ -106,10 +141,7 @@ void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const E
       const double length = front.norm();
       if (length > s.radius || !(length > 0.0)) continue;
       const double u_front = map.coordinate(sliceAngle(front.dot(v) / length, sign));
-      for (std::size_t k = 0; k < thicknesses.size(); ++k) {
-        const Eigen::Vector3d back = front - thicknesses[k] * v;
-        bits[k] |= sectorBits(u_front, map.coordinate(sliceAngle(back.normalized().dot(v), sign)));
-      }
+      sampleBits(map, front, v, u_front, sign, thicknesses, bits);
     }
   }
 }

@@ -213,7 +213,7 @@ TEST(Estimators, SameBytesOnOneAndTwoThreads) {
 // Several thicknesses in one pass (what gtbake tune runs) give each thickness's own run's bytes.
 TEST(Estimators, BitmaskThicknessesInOnePassMatchOneRunEach) {
   const SweepImage image = test::traceImage(test::cornerField(0.3), 40, 40, 2, 0.3, 1);
-  const std::vector<double> thicknesses = {0.125, 0.5, 4.0};
+  const std::vector<double> thicknesses = {0.125, 0.5, 4.0, 2.0};  // not sorted: 2 after 4
   for (BitmaskSettings s :
        {ScreenAoSettings{}.bitmask_uniform, ScreenAoSettings{}.bitmask_cosine}) {
     const std::vector<AoEstimate> shared = visibilityBitmasks(image.gbuffer, s, thicknesses);
