@@ -15,8 +15,9 @@ namespace {
 // to ~Z·1e-7/|D| rad off it, which must not set the sector at the hemisphere's end.
 constexpr double kSectorSlack = 1e-3;
 
-// Far past a hemisphere end: beyond it by this much (rad), against a computed back angle off by at
-// most ~3e-8 (near θ = ±π, where acos turns a 1e-16 error of the cosine into √(2e-16)).
+// Far past a hemisphere end: beyond it by this much (rad), against a computed back angle off by
+// well under 1e-7 (the worst is near θ = ±π, where acos turns an error of ~1e-15 in the cosine
+// into √(2e-15) ≈ 4.5e-8).
 constexpr double kEndMargin = 1e-6;
 
 // The map between slice angles and sector coordinates of one slice (n fixed).
