@@ -13,6 +13,7 @@ namespace {
 constexpr int kBlurRadius = 2;      // 5×5
 constexpr double kBlurSigma = 1.5;  // pixels
 constexpr double kDepthRejection = 0.05;
+constexpr std::size_t kTaps = (2 * kBlurRadius + 1) * (2 * kBlurRadius + 1);
 
 std::uint8_t unorm8(double x) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0));
@@ -64,13 +65,31 @@ Eigen::Vector3d decodeBent(const std::array<std::uint8_t, 4>& c) {
   return Eigen::Vector3d(c[0], c[1], c[2]) / 255.0 * 2.0 - Eigen::Vector3d::Ones();
 }
 
+// Pixel (i, j) reprojected: screen + depth -> world -> previous frame (the same static camera) ->
+// previous pixel; −1 off-screen (layer 1), masked or more than 5 % off in depth (layer 2).
+std::ptrdiff_t historyPixel(const GBuffer& g, int i, int j, std::size_t p) {
+  const Eigen::Vector3d view = g.viewPoint(i, j, g.depth[p]);
+  const Eigen::Vector3d world = g.camera.position + g.viewToWorld(view);
+  const Eigen::Vector3d previous = g.worldToView(world - g.camera.position);
+  const Eigen::Vector2d uv = g.project(previous);
+  const int pi = static_cast<int>(std::floor(uv.x()));
+  const int pj = static_cast<int>(std::floor(uv.y()));
+  if (pi < 0 || pj < 0 || pi >= g.width || pj >= g.height) return -1;  // layer 1
+  const std::size_t q = static_cast<std::size_t>(pj) * g.width + pi;
+  const double expected = -previous.z();
+  if (g.mask[q] == 0 || !(std::abs(expected - g.depth[q]) / expected <= kDepthRejection)) {
+    return -1;  // layer 2
+  }
+  return static_cast<std::ptrdiff_t>(q);
+}
+
 }  // namespace
 
 double depthEdgeWeight(double z1, double z2) {
   return std::clamp(1.0 - std::abs(z1 - z2) / (std::max(z1, z2) * 0.05), 0.0, 1.0);
 }
 
-Rgba8Image bilateralBlur(const GBuffer& g, const Rgba8Image& in) {
+FilterSetup filterSetup(const GBuffer& g) {
   double gauss[2 * kBlurRadius + 1][2 * kBlurRadius + 1];  // the spatial weights, once
   for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) {
     for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) {
@@ -79,50 +98,52 @@ Rgba8Image bilateralBlur(const GBuffer& g, const Rgba8Image& in) {
     }
   }
   const EdgeWeights edges = edgeWeights(g);
+  FilterSetup f{std::vector<double>(kTaps * g.pixels(), 0.0),
+                std::vector<std::ptrdiff_t>(g.pixels(), -1)};
+  forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
+    double* w = &f.blur[kTaps * p];
+    for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) {
+      for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) {
+        *w++ = gauss[dy + kBlurRadius][dx + kBlurRadius] * pathWeight(g, edges, i, j, dx, dy);
+      }
+    }
+    f.history[p] = historyPixel(g, i, j, p);
+  });
+  return f;
+}
+
+Rgba8Image bilateralBlur(const GBuffer& g, const FilterSetup& f, const Rgba8Image& in,
+                         EstimateParts parts) {
+  const int first = parts == EstimateParts::kAoOnly ? 3 : 0;  // the channels blurred
   Rgba8Image out(in.size(), {0, 0, 0, 0});
   forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
+    const double* w = &f.blur[kTaps * p];
     double sum[4] = {0.0, 0.0, 0.0, 0.0};
     double total = 0.0;
     for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) {
-      for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx) {
-        const double w =
-            gauss[dy + kBlurRadius][dx + kBlurRadius] * pathWeight(g, edges, i, j, dx, dy);
-        if (!(w > 0.0)) continue;
+      for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx, ++w) {
+        if (!(*w > 0.0)) continue;
         const auto& c = in[static_cast<std::size_t>(j + dy) * g.width + (i + dx)];
-        for (int k = 0; k < 4; ++k) sum[k] += w * c[k] / 255.0;
-        total += w;
+        for (int k = first; k < 4; ++k) sum[k] += *w * c[k] / 255.0;
+        total += *w;
       }
     }
-    for (int k = 0; k < 4; ++k) out[p][k] = unorm8(sum[k] / total);
+    for (int k = first; k < 4; ++k) out[p][k] = unorm8(sum[k] / total);
   });
   return out;
 }
 
-Rgba8Image temporalFilter(const GBuffer& g, const Rgba8Image& current, const Rgba8Image& history,
-                          double blend) {
+Rgba8Image temporalFilter(const GBuffer& g, const FilterSetup& f, const Rgba8Image& current,
+                          const Rgba8Image& history, double blend, EstimateParts parts) {
   if (history.empty() || blend == 0.0) return current;
   Rgba8Image out(current.size(), {0, 0, 0, 0});
   forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
-    // Screen + depth -> world -> previous frame (the same static camera) -> previous pixel.
-    const Eigen::Vector3d view = g.viewPoint(i, j, g.depth[p]);
-    const Eigen::Vector3d world = g.camera.position + g.viewToWorld(view);
-    const Eigen::Vector3d previous = g.worldToView(world - g.camera.position);
-    const Eigen::Vector2d uv = g.project(previous);
-    const int pi = static_cast<int>(std::floor(uv.x()));
-    const int pj = static_cast<int>(std::floor(uv.y()));
     const auto& c = current[p];
-    bool valid = pi >= 0 && pj >= 0 && pi < g.width && pj < g.height;  // layer 1
-    std::size_t q = 0;
-    if (valid) {
-      q = static_cast<std::size_t>(pj) * g.width + pi;
-      const double expected = -previous.z();
-      valid = g.mask[q] != 0 &&
-              std::abs(expected - g.depth[q]) / expected <= kDepthRejection;  // layer 2
-    }
-    if (!valid) {
+    if (f.history[p] < 0) {
       out[p] = c;
       return;
     }
+    const auto q = static_cast<std::size_t>(f.history[p]);
     double lo = 1.0;
     double hi = 0.0;
     for (int dy = -1; dy <= 1; ++dy) {
@@ -135,6 +156,10 @@ Rgba8Image temporalFilter(const GBuffer& g, const Rgba8Image& current, const Rgb
     }
     const double h_ao = std::clamp(history[q][3] / 255.0, lo, hi);  // layer 3
     const double c_ao = c[3] / 255.0;
+    if (parts == EstimateParts::kAoOnly) {
+      out[p] = {0, 0, 0, unorm8(c_ao + blend * (h_ao - c_ao))};
+      return;
+    }
     const Eigen::Vector3d cb = decodeBent(c);
     Eigen::Vector3d b = cb + blend * (decodeBent(history[q]) - cb);
     b = b.norm() > 1e-12 ? b.normalized() : cb;
@@ -144,11 +169,12 @@ Rgba8Image temporalFilter(const GBuffer& g, const Rgba8Image& current, const Rgb
   return out;
 }
 
-AoEstimate decodeRgba8(const GBuffer& g, const Rgba8Image& image) {
-  AoEstimate e = makeEstimate(g);
+AoEstimate decodeRgba8(const GBuffer& g, const Rgba8Image& image, EstimateParts parts) {
+  AoEstimate e = makeEstimate(g, parts);
   for (std::size_t p = 0; p < g.pixels(); ++p) {
     if (g.mask[p] == 0) continue;
     e.a[p] = static_cast<float>(image[p][3] / 255.0);
+    if (parts == EstimateParts::kAoOnly) continue;
     Eigen::Vector3d w = g.viewToWorld(decodeBent(image[p]));
     if (!(w.norm() > 1e-12))
       w = Eigen::Vector3d(g.normal[3 * p], g.normal[3 * p + 1], g.normal[3 * p + 2]);

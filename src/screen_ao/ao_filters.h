@@ -3,6 +3,9 @@
 // rejection layers, and the decode of the final RGBA8 image.
 #pragma once
 
+#include <cstddef>
+#include <vector>
+
 #include "screen_ao/gtao_runtime.h"
 
 namespace gtbake {
@@ -10,20 +13,34 @@ namespace gtbake {
 // clamp(1 − |z1 − z2|/(max(z1, z2)·0.05), 0, 1) on linear depths.
 double depthEdgeWeight(double z1, double z2);
 
-// Gaussian spatial weights (σ = 1.5) times the product of the depth edge weights along the grid
-// path from the centre to the tap (horizontal leg first, then vertical at the tap's column);
-// masked pixels and taps off the image weigh 0. Output rounded to RGBA8.
-Rgba8Image bilateralBlur(const GBuffer& g, const Rgba8Image& in);
+// What the filters read of the G-buffer alone, the same for every frame and run of one image
+// (computed once per image, docs/screen_ao.md "gtao-runtime").
+struct FilterSetup {
+  // [25p + tap], taps row by row from (−2, −2): the Gaussian spatial weight (σ = 1.5) times the
+  // product of the depth edge weights along the grid path from the centre to the tap (horizontal
+  // leg first, then vertical at the tap's column); 0 where a step is masked or off the image.
+  std::vector<double> blur;
+  // [p] the pixel the history is read from: the reprojection into the previous frame (the static
+  // camera maps a pixel to itself), −1 where it is off-screen (layer 1) or its depth differs by
+  // more than 5 % (layer 2).
+  std::vector<std::ptrdiff_t> history;
+};
+FilterSetup filterSetup(const GBuffer& g);
 
-// One temporal step: reprojects every pixel into the previous frame (the static camera maps it to
-// itself), rejects history off-screen (layer 1) or with a relative depth difference over 5 %
-// (layer 2), clamps the history AO to the 3×3 min/max of `current` (layer 3), then
-// out = current + blend·(history − current) per channel; the bent normal is decoded,
-// renormalised and re-encoded. Empty history or blend 0: out = current.
-Rgba8Image temporalFilter(const GBuffer& g, const Rgba8Image& current, const Rgba8Image& history,
-                          double blend);
+// The 5×5 bilateral blur with f.blur's weights; masked pixels stay 0. Output rounded to RGBA8.
+// kAoOnly: the A channel alone (RGB stays 0; each channel is blurred on its own).
+Rgba8Image bilateralBlur(const GBuffer& g, const FilterSetup& f, const Rgba8Image& in,
+                         EstimateParts parts);
+
+// One temporal step: where f.history holds a pixel, the history AO read there is clamped to the
+// 3×3 min/max of `current` (layer 3), then out = current + blend·(history − current) per
+// channel; the bent normal is decoded, renormalised and re-encoded (not with kAoOnly: RGB stays
+// 0, A never reads it). Elsewhere, on an empty history or with blend 0: out = current.
+Rgba8Image temporalFilter(const GBuffer& g, const FilterSetup& f, const Rgba8Image& current,
+                          const Rgba8Image& history, double blend, EstimateParts parts);
 
 // Â = A/255 and the bent normal (RGB·2/255 − 1, view space) rotated to world space, normalised.
-AoEstimate decodeRgba8(const GBuffer& g, const Rgba8Image& image);
+// kAoOnly: Â alone.
+AoEstimate decodeRgba8(const GBuffer& g, const Rgba8Image& image, EstimateParts parts);
 
 }  // namespace gtbake

@@ -8,6 +8,12 @@
 
 namespace gtbake {
 
+inline void storeAo(std::size_t p, double a, AoEstimate* e) {
+  // Â is a visibility fraction: the rounding of the slice integrals (and of the bitmask's
+  // cosine remap at grazing views, up to 3e-5) may leave it just outside [0, 1].
+  e->a[p] = static_cast<float>(std::clamp(a, 0.0, 1.0));
+}
+
 inline void storePixel(const GBuffer& g, std::size_t p, double a, const Eigen::Vector3d& bent,
                        AoEstimate* e) {
   Eigen::Vector3d world = g.viewToWorld(bent);
@@ -15,9 +21,7 @@ inline void storePixel(const GBuffer& g, std::size_t p, double a, const Eigen::V
     world = Eigen::Vector3d(g.normal[3 * p], g.normal[3 * p + 1], g.normal[3 * p + 2]);
   }
   world.normalize();
-  // Â is a visibility fraction: the rounding of the slice integrals (and of the bitmask's
-  // cosine remap at grazing views, up to 3e-5) may leave it just outside [0, 1].
-  e->a[p] = static_cast<float>(std::clamp(a, 0.0, 1.0));
+  storeAo(p, a, e);
   for (int c = 0; c < 3; ++c) e->bent[3 * p + c] = static_cast<float>(world[c]);
 }
 

@@ -1,5 +1,9 @@
 #include "screen_ao/gtao_runtime.h"
 
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
 #include "common/error.h"
 #include "screen_ao/ao_filters.h"
 #include "screen_ao/pixel_loop.h"
@@ -13,42 +17,157 @@ double fract(double x) {
   return x - std::floor(x);
 }
 
+constexpr int kMaxDirections = 64;  // validate's bounds
+constexpr int kMaxSteps = 256;
+
 std::uint8_t unorm8(double x) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0));
 }
 
-// Flat inside R(1 − 0.615), then linear to 0 at R.
+// Flat inside R(1 − 0.615), then linear to 0 at R. The ends skip the division with its result: a
+// quotient ≤ 0 clamps to 1, and a numerator ≥ the range makes it ≥ 1, which clamps to 0.
 double falloffWeight(double distance, double radius) {
   const double range = kFalloffRange * radius;
   const double from = radius * (1.0 - kFalloffRange);
-  return std::clamp(1.0 - (distance - from) / range, 0.0, 1.0);
+  const double over = distance - from;
+  if (over <= 0.0) return 1.0;
+  if (over >= range) return 0.0;
+  return std::clamp(1.0 - over / range, 0.0, 1.0);
 }
 
-// One side's horizon cosine: quadratic steps t = ((k + noise)/steps)², each sample's cos blended
+// The quadratic steps' pixel offsets t_k = ((k + noise)/steps)² × R in pixels, at least the next
+// texel; the same for every slice and side of a pixel's frame.
+void stepOffsets(int steps, double step_noise, double radius_px, double* offsets) {
+  for (int k = 0; k < steps; ++k) {
+    const double linear = (k + step_noise) / steps;
+    offsets[k] = std::max(1.0, linear * linear * radius_px);
+  }
+}
+
+// One side's horizon cosine: the samples at `offsets` (stepOffsets), each sample's cos blended
 // towards the tangent plane's (low) horizon by the falloff weight, the falloff distance taken with
 // the view-z part of the offset stretched by 1 + thin_compensation.
 double sideHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
                       const Eigen::Vector3d& v, const Eigen::Vector2d& omega, double sign,
-                      double low_cos, double radius_px, double step_noise,
+                      double low_cos, const double* offsets, double reach,
                       const GtaoRuntimeSettings& s) {
   double horizon_cos = low_cos;
   for (int k = 0; k < s.steps; ++k) {
-    const double linear = (k + step_noise) / s.steps;
-    const double offset = std::max(1.0, linear * linear * radius_px);  // at least the next texel
+    const double offset = offsets[k];
     Eigen::Vector3d sample;
     if (!texelPlanePoint(g, i + 0.5 + sign * offset * omega.x(),
-                         j + 0.5 - sign * offset * omega.y(), &sample)) {
+                         j + 0.5 - sign * offset * omega.y(), reach, &sample)) {
       continue;
     }
     const Eigen::Vector3d d = sample - x;
     const double length = d.norm();
     if (!(length > 0.0)) continue;
-    const Eigen::Vector3d stretched(d.x(), d.y(), d.z() * (1.0 + s.thin_compensation));
-    const double weight = falloffWeight(stretched.norm(), s.radius);
+    // Without thin compensation the stretched offset is d itself (z·1 is exact).
+    const double stretched =
+        s.thin_compensation == 0.0
+            ? length
+            : Eigen::Vector3d(d.x(), d.y(), d.z() * (1.0 + s.thin_compensation)).norm();
+    const double weight = falloffWeight(stretched, s.radius);
+    // At weight 0 the blend is low_cos, which never raises the running maximum.
+    if (!(weight > 0.0)) continue;
     const double sample_cos = d.dot(v) / length;
     horizon_cos = std::max(horizon_cos, low_cos + (sample_cos - low_cos) * weight);
   }
   return horizon_cos;
+}
+
+// What a pixel's pass reads that neither the frame nor the run changes: P, V, the normal through
+// the R10G10B10A2 buffer in view space, and its interleaved gradient noise.
+struct PixelSetup {
+  Eigen::Vector3d x, v, normal;
+  double ign = 0.0;
+};
+
+std::vector<PixelSetup> pixelSetup(const GBuffer& g) {
+  std::vector<PixelSetup> out(g.pixels());
+  forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
+    PixelSetup& px = out[p];
+    px.x = viewPosition(g, p);
+    px.v = -px.x.normalized();
+    const Eigen::Vector3d world(g.normal[3 * p], g.normal[3 * p + 1], g.normal[3 * p + 2]);
+    px.normal = g.worldToView(r10g10b10Normal(world));
+    px.ign = interleavedGradientNoise(i, j);
+  });
+  return out;
+}
+
+// Runs whose horizons are the same: equal radius, steps and thin compensation (`settings` is the
+// first such run's).
+struct HorizonGroup {
+  const GtaoRuntimeSettings* settings = nullptr;
+  std::vector<std::size_t> runs;
+};
+
+std::vector<HorizonGroup> horizonGroups(const std::vector<GtaoRuntimeSettings>& runs) {
+  std::vector<HorizonGroup> groups;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    const auto same = [&](const HorizonGroup& h) {
+      return h.settings->radius == runs[r].radius && h.settings->steps == runs[r].steps &&
+             h.settings->thin_compensation == runs[r].thin_compensation;
+    };
+    const auto it = std::find_if(groups.begin(), groups.end(), same);
+    if (it == groups.end()) {
+      groups.push_back({&runs[r], {r}});
+    } else {
+      it->runs.push_back(r);
+    }
+  }
+  return groups;
+}
+
+// Pass 1 of one frame at pixel p for every run, stored as RGBA8 into (*out)[run][p]: the slices
+// once, each group's horizons and their sum (visibility and, unless kAoOnly leaves RGB 0, the
+// unnormalised view-space bent normal), then each run's intensity power.
+void framePixel(const GBuffer& g, int i, int j, std::size_t p, const PixelSetup& px, int frame,
+                const std::vector<GtaoRuntimeSettings>& runs,
+                const std::vector<HorizonGroup>& groups, EstimateParts parts,
+                std::vector<Rgba8Image>* out) {
+  const bool with_bent = parts == EstimateParts::kAoAndBent;
+  const int directions = runs.front().directions;
+  const double base_noise = frameNoise(px.ign, frame);
+  const double step_noise = fract(base_noise * 0.7 + 0.15);
+  const double reach = slabReach(g);
+  std::array<Slice, kMaxDirections> slices;
+  for (int d = 0; d < directions; ++d) {
+    slices[d] = sliceAlong(g, px.x, px.v, px.normal,
+                           tangentDirection(px.v, kPi * (d + base_noise) / directions));
+  }
+  for (const HorizonGroup& group : groups) {
+    const GtaoRuntimeSettings& s = *group.settings;
+    std::array<double, kMaxSteps> offsets;
+    stepOffsets(s.steps, step_noise, s.radius * g.pixelsPerMetre(g.depth[p]), offsets.data());
+    double visibility = 0.0;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (int d = 0; d < directions; ++d) {
+      const Slice& slice = slices[d];
+      Angle h[2];
+      for (int side = 0; side < 2; ++side) {
+        const double sign = side == 0 ? -1.0 : 1.0;
+        const double low_cos = side == 0 ? slice.sin_n : -slice.sin_n;  // cos(n ± π/2)
+        const double c = sideHorizonCos(g, i, j, px.x, px.v, slice.omega, sign, low_cos,
+                                        offsets.data(), reach, s);
+        h[side] = horizonOf(c, side, slice);
+      }
+      accumulateSlice(slice, h, px.v, &visibility, with_bent ? &sum : nullptr);
+    }
+    std::array<std::uint8_t, 4> bytes = {0, 0, 0, 0};
+    if (with_bent) {
+      Eigen::Vector3d bent = sum.norm() > 1e-12 ? sum : px.normal;  // degenerate: the normal
+      bent.normalize();
+      bytes = {unorm8(bent.x() * 0.5 + 0.5), unorm8(bent.y() * 0.5 + 0.5),
+               unorm8(bent.z() * 0.5 + 0.5), 0};
+    }
+    const double open = std::clamp(visibility / directions, 0.0, 1.0);
+    for (std::size_t r : group.runs) {
+      bytes[3] = unorm8(std::pow(open, runs[r].intensity));
+      (*out)[r][p] = bytes;
+    }
+  }
 }
 
 }  // namespace
@@ -57,9 +176,9 @@ void validate(const GtaoRuntimeSettings& s) {
   if (!(s.radius > 0.0) || !std::isfinite(s.radius)) {
     throw Error("gtao-runtime: radius must be a positive finite distance in metres");
   }
-  if (s.directions < 1 || s.directions > 64)
+  if (s.directions < 1 || s.directions > kMaxDirections)
     throw Error("gtao-runtime: directions must be in [1, 64]");
-  if (s.steps < 1 || s.steps > 256) throw Error("gtao-runtime: steps must be in [1, 256]");
+  if (s.steps < 1 || s.steps > kMaxSteps) throw Error("gtao-runtime: steps must be in [1, 256]");
   if (!(s.thin_compensation >= 0.0 && s.thin_compensation <= 10.0)) {
     throw Error("gtao-runtime: thin_compensation must be in [0, 10]");
   }
@@ -76,8 +195,8 @@ double interleavedGradientNoise(int x, int y) {
   return fract(52.9829189 * fract(0.06711056 * x + 0.00583715 * y));
 }
 
-double frameNoise(int x, int y, int frame) {
-  return fract(interleavedGradientNoise(x, y) + (frame % 64) * kGoldenRatioFraction);
+double frameNoise(double ign, int frame) {
+  return fract(ign + (frame % 64) * kGoldenRatioFraction);
 }
 
 Eigen::Vector3d r10g10b10Normal(const Eigen::Vector3d& n) {
@@ -89,57 +208,38 @@ Eigen::Vector3d r10g10b10Normal(const Eigen::Vector3d& n) {
   return d.normalized();
 }
 
-void gtaoRuntimePixel(const GBuffer& g, int i, int j, int frame, const GtaoRuntimeSettings& s,
-                      double* ao, Eigen::Vector3d* bent) {
-  const std::size_t p = static_cast<std::size_t>(j) * g.width + i;
-  const Eigen::Vector3d x = viewPosition(g, p);
-  const Eigen::Vector3d v = -x.normalized();
-  const Eigen::Vector3d world(g.normal[3 * p], g.normal[3 * p + 1], g.normal[3 * p + 2]);
-  const Eigen::Vector3d normal = g.worldToView(r10g10b10Normal(world));
-  const double radius_px = s.radius * g.pixelsPerMetre(g.depth[p]);
-  const double base_noise = frameNoise(i, j, frame);
-  const double step_noise = fract(base_noise * 0.7 + 0.15);
-  double visibility = 0.0;
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (int d = 0; d < s.directions; ++d) {
-    const Slice slice =
-        sliceAlong(g, x, v, normal, tangentDirection(v, kPi * (d + base_noise) / s.directions));
-    Angle h[2];
-    for (int side = 0; side < 2; ++side) {
-      const double sign = side == 0 ? -1.0 : 1.0;
-      const double low_cos = side == 0 ? slice.sin_n : -slice.sin_n;  // cos(n ± π/2)
-      const double c =
-          sideHorizonCos(g, i, j, x, v, slice.omega, sign, low_cos, radius_px, step_noise, s);
-      h[side] = horizonOf(c, side, slice);
-    }
-    accumulateSlice(slice, h, v, &visibility, &sum);
-  }
-  *ao = std::pow(std::clamp(visibility / s.directions, 0.0, 1.0), s.intensity);
-  *bent = sum.norm() > 1e-12 ? sum : normal;  // degenerate: the surface normal
-}
-
-Rgba8Image gtaoRuntimeFrame(const GBuffer& g, int frame, const GtaoRuntimeSettings& s) {
-  Rgba8Image out(g.pixels(), {0, 0, 0, 0});
-  forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
-    double ao = 0.0;
-    Eigen::Vector3d bent;
-    gtaoRuntimePixel(g, i, j, frame, s, &ao, &bent);
-    bent.normalize();
-    out[p] = {unorm8(bent.x() * 0.5 + 0.5), unorm8(bent.y() * 0.5 + 0.5),
-              unorm8(bent.z() * 0.5 + 0.5), unorm8(ao)};
-  });
-  return out;
-}
-
 AoEstimate gtaoRuntime(const GBuffer& g, const GtaoRuntimeSettings& s) {
-  validate(s);
-  Rgba8Image history;
-  for (int frame = 0; frame < s.frames; ++frame) {
-    Rgba8Image current = gtaoRuntimeFrame(g, frame, s);
-    if (s.blur) current = bilateralBlur(g, current);
-    history = temporalFilter(g, current, history, frame == 0 ? 0.0 : s.temporal_blend);
+  return std::move(gtaoRuntimeRuns(g, {s}).front());
+}
+
+std::vector<AoEstimate> gtaoRuntimeRuns(const GBuffer& g,
+                                        const std::vector<GtaoRuntimeSettings>& runs,
+                                        EstimateParts parts) {
+  if (runs.empty()) return {};
+  for (const GtaoRuntimeSettings& s : runs) {
+    validate(s);
+    if (s.directions != runs.front().directions || s.frames != runs.front().frames) {
+      throw Error("gtao-runtime: runs computed together must share directions and frames");
+    }
   }
-  return decodeRgba8(g, history);
+  const std::vector<PixelSetup> pixels = pixelSetup(g);
+  const std::vector<HorizonGroup> groups = horizonGroups(runs);
+  const FilterSetup filters = filterSetup(g);
+  std::vector<Rgba8Image> history(runs.size());
+  for (int frame = 0; frame < runs.front().frames; ++frame) {
+    std::vector<Rgba8Image> current(runs.size(), Rgba8Image(g.pixels(), {0, 0, 0, 0}));
+    forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
+      framePixel(g, i, j, p, pixels[p], frame, runs, groups, parts, &current);
+    });
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      if (runs[r].blur) current[r] = bilateralBlur(g, filters, current[r], parts);
+      history[r] = temporalFilter(g, filters, current[r], history[r],
+                                  frame == 0 ? 0.0 : runs[r].temporal_blend, parts);
+    }
+  }
+  std::vector<AoEstimate> out;
+  for (const Rgba8Image& image : history) out.push_back(decodeRgba8(g, image, parts));
+  return out;
 }
 
 }  // namespace gtbake

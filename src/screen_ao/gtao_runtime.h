@@ -37,23 +37,27 @@ using Rgba8Image = std::vector<std::array<std::uint8_t, 4>>;
 // Interleaved gradient noise of integer pixel (x, y): fract(52.9829189·fract(0.06711056·x +
 // 0.00583715·y)).
 double interleavedGradientNoise(int x, int y);
-// fract(IGN + (frame mod 64)·φ) (φ's fractional part).
-double frameNoise(int x, int y, int frame);
+// fract(ign + (frame mod 64)·φ) (φ's fractional part), ign the pixel's interleavedGradientNoise.
+double frameNoise(double ign, int frame);
 
 // The R10G10B10A2 normal buffer's decode of world normal n: n·½ + ½ rounded to 10 bits, back to
 // [−1, 1], normalised.
 Eigen::Vector3d r10g10b10Normal(const Eigen::Vector3d& n);
 
-// Pass 1 of one frame for pixel (i, j) before the RGBA8 store: AO (after the intensity power) and
-// the unnormalised view-space bent normal.
-void gtaoRuntimePixel(const GBuffer& g, int i, int j, int frame, const GtaoRuntimeSettings& s,
-                      double* ao, Eigen::Vector3d* bent);
-
-// Pass 1 of one frame, stored as RGBA8.
-Rgba8Image gtaoRuntimeFrame(const GBuffer& g, int frame, const GtaoRuntimeSettings& s);
-
 // All passes over s.frames frames; the final ao_filtered decoded (A = byte/255, bent normal
 // decoded, rotated to world space and normalised).
 AoEstimate gtaoRuntime(const GBuffer& g, const GtaoRuntimeSettings& s);
+
+// gtaoRuntime at each of several settings in one pass over the frames (docs/tune.md §7): the
+// runs must share `directions` and `frames` (a one-line gtbake::Error otherwise). Each pixel's
+// slices are shared by every run, its horizons by the runs with the same radius, steps and
+// thin_compensation (intensity only raises their sum to a power), and the filters' depth weights
+// and reprojection by every frame and run; each result has the bytes gtaoRuntime gives at its
+// settings.
+// With kAoOnly the bent normal is neither computed, stored in RGB nor filtered: no stage's A reads
+// it, so Â keeps its bytes.
+std::vector<AoEstimate> gtaoRuntimeRuns(const GBuffer& g,
+                                        const std::vector<GtaoRuntimeSettings>& runs,
+                                        EstimateParts parts = EstimateParts::kAoAndBent);
 
 }  // namespace gtbake

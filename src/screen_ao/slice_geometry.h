@@ -141,12 +141,13 @@ inline void bentIntegrals(double h0, double h1, double n, double* t0, double* t1
 }
 
 // Adds one slice with horizons h[0], h[1] to the running sums (memo Alg. 1 line 29, Alg. 2 line
-// 6): the visibility |N'| (arc(h0) + arc(h1)) and the bent-normal direction |N'| (t0 o + t1 V), V
-// the view vector.
+// 6): the visibility |N'| (arc(h0) + arc(h1)) and, unless sum is null, the bent-normal direction
+// |N'| (t0 o + t1 V), V the view vector.
 inline void accumulateSlice(const Slice& slice, const Angle h[2], const Eigen::Vector3d& v,
                             double* visibility, Eigen::Vector3d* sum) {
   *visibility += slice.projected_length * (arcIntegral(h[0], slice.sin_n, slice.cos_n) +
                                            arcIntegral(h[1], slice.sin_n, slice.cos_n));
+  if (sum == nullptr) return;
   double t0 = 0.0;
   double t1 = 0.0;
   addBentSide(h[0], slice.sin_n, slice.cos_n, &t0, &t1);
@@ -186,16 +187,21 @@ inline Eigen::Vector3d imageRay(const GBuffer& g, double x, double y) {
 }
 
 // The surface point seen through the image point (x, y), on the surface of the texel nearest to
-// it; false off the image or where that texel is masked (sky: no occluder).
-inline bool texelPlanePoint(const GBuffer& g, double x, double y, Eigen::Vector3d* point) {
+// it; false off the image or where that texel is masked (sky: no occluder). `reach` is
+// slabReach(g), which a loop over many samples computes once.
+inline bool texelPlanePoint(const GBuffer& g, double x, double y, double reach,
+                            Eigen::Vector3d* point) {
   const double fi = std::floor(x);
   const double fj = std::floor(y);
   if (fi < 0.0 || fj < 0.0 || fi >= g.width || fj >= g.height) return false;
   const Texel& t = g.texels[static_cast<std::size_t>(fj) * g.width + static_cast<std::size_t>(fi)];
   if (!(t.depth > 0.0f)) return false;
   const Eigen::Vector3d ray = imageRay(g, x, y);
-  *point = texelDepthOnRay(t, ray, slabReach(g)) * ray;
+  *point = texelDepthOnRay(t, ray, reach) * ray;
   return true;
+}
+inline bool texelPlanePoint(const GBuffer& g, double x, double y, Eigen::Vector3d* point) {
+  return texelPlanePoint(g, x, y, slabReach(g), point);
 }
 
 // Pixel p's view-space point and normal.

@@ -1,6 +1,7 @@
 #include "screen_ao/visibility_bitmask.h"
 
 #include <bitset>
+#include <limits>
 #include <vector>
 
 #include "common/error.h"
@@ -13,6 +14,11 @@ namespace {
 // Sectors (1e-4 rad for uniform ones): the float32 G-buffer puts a sample on the tangent plane up
 // to ~Z·1e-7/|D| rad off it, which must not set the sector at the hemisphere's end.
 constexpr double kSectorSlack = 1e-3;
+
+// Far past a hemisphere end: beyond it by this much (rad), against a computed back angle off by
+// well under 1e-7 (the worst is near θ = ±π, where acos turns an error of ~1e-15 in the cosine
+// into √(2e-15) ≈ 4.5e-8).
+constexpr double kEndMargin = 1e-6;
 
 // The map between slice angles and sector coordinates of one slice (n fixed).
 class SectorMap {
@@ -53,6 +59,11 @@ class SectorMap {
     return t;
   }
   double openMass() const { return open_; }
+  // Whether an angle on side `sign` (θ = sign·acos c) lies past that side's hemisphere end,
+  // n + sign·π/2, by more than kEndMargin.
+  bool farPastEnd(double theta, double sign) const {
+    return sign > 0.0 ? theta > n_ + 0.5 * kPi + kEndMargin : theta < n_ - 0.5 * kPi - kEndMargin;
+  }
 
  private:
   // ∫ from n − π/2 to θ of cos(x − n)|sin x| dx over the open mass, θ within the hemisphere
@@ -85,19 +96,45 @@ Angle sliceAngle(double c, double sign) {
   return {sign * std::acos(cc), sign * std::sqrt(1.0 - cc * cc), cc};
 }
 
+// The sectors of one sample (`front`, the offset from P, on side `sign`) for each thickness, OR-ed
+// into bits[k]. The slab's back point front − tV moves away from V as t grows (cos θ_b =
+// (f·V − t)/|f − tV| falls), so once its angle is far past the side's hemisphere end
+// (farPastEnd: further than any rounding of it), every thicker slab's back angle is past it too
+// and clamps to the same end coordinate, which is reused; the same bits as computing each.
+void sampleBits(const SectorMap& map, const Eigen::Vector3d& front, const Eigen::Vector3d& v,
+                double u_front, double sign, const std::vector<double>& thicknesses,
+                std::uint32_t* bits) {
+  double clamped_from = std::numeric_limits<double>::infinity();  // the thinnest slab past the end
+  double u_end = 0.0;
+  for (std::size_t k = 0; k < thicknesses.size(); ++k) {
+    double u_back = u_end;
+    if (thicknesses[k] < clamped_from) {
+      const Eigen::Vector3d back = front - thicknesses[k] * v;
+      const Angle theta = sliceAngle(back.normalized().dot(v), sign);
+      u_back = map.coordinate(theta);
+      if (map.farPastEnd(theta.a, sign)) {
+        clamped_from = thicknesses[k];
+        u_end = u_back;
+      }
+    }
+    bits[k] |= sectorBits(u_front, u_back);
+  }
+}
+
 // One slice's 32 sectors from both sides' samples, for each thickness (bits[k] for
 // thicknesses[k]): the samples and their front angles are shared, each thickness adds its own
 // back angles.
 void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const Eigen::Vector3d& v,
-               const Slice& slice, const SectorMap& map, double radius_px, const BitmaskSettings& s,
-               const std::vector<double>& thicknesses, std::uint32_t* bits) {
+               const Slice& slice, const SectorMap& map, double radius_px, double reach,
+               const BitmaskSettings& s, const std::vector<double>& thicknesses,
+               std::uint32_t* bits) {
   std::fill(bits, bits + thicknesses.size(), 0u);
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
     for (int step = 0; step < s.steps; ++step) {
       const double t = sign * (step + 0.5) / s.steps * radius_px;
       Eigen::Vector3d sample;
-      if (!texelPlanePoint(g, i + 0.5 + t * slice.omega.x(), j + 0.5 - t * slice.omega.y(),
+      if (!texelPlanePoint(g, i + 0.5 + t * slice.omega.x(), j + 0.5 - t * slice.omega.y(), reach,
                            &sample)) {
         continue;
       }
@@ -105,21 +142,19 @@ void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const E
       const double length = front.norm();
       if (length > s.radius || !(length > 0.0)) continue;
       const double u_front = map.coordinate(sliceAngle(front.dot(v) / length, sign));
-      for (std::size_t k = 0; k < thicknesses.size(); ++k) {
-        const Eigen::Vector3d back = front - thicknesses[k] * v;
-        bits[k] |= sectorBits(u_front, map.coordinate(sliceAngle(back.normalized().dot(v), sign)));
-      }
+      sampleBits(map, front, v, u_front, sign, thicknesses, bits);
     }
   }
 }
 
-// One slice's visibility and bent-normal terms from its sectors.
+// One slice's visibility and, unless sum is null, bent-normal terms from its sectors.
 void addSlice(std::uint32_t bits, const Slice& slice, const SectorMap& map,
               const Eigen::Vector3d& v, SectorWeights weights, double* visibility,
               Eigen::Vector3d* sum) {
   const double clear = 1.0 - static_cast<double>(std::bitset<32>(bits).count()) / kSectors;
   *visibility +=
       weights == SectorWeights::kUniform ? clear : slice.projected_length * map.openMass() * clear;
+  if (sum == nullptr) return;
   for (int run = 0; run < kSectors;) {  // each run of clear sectors
     if ((bits >> run) & 1u) {
       ++run;
@@ -136,7 +171,8 @@ void addSlice(std::uint32_t bits, const Slice& slice, const SectorMap& map,
   }
 }
 
-// Pixel p at every thickness: Â and the view-space bent normal into a[k], bent[k].
+// Pixel p at every thickness: Â and the view-space bent normal into a[k], bent[k] (Â alone when
+// bent is null).
 void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSettings& s,
                   const std::vector<double>& thicknesses, double* a, Eigen::Vector3d* bent) {
   const auto [x, v, normal] = pixelFrame(g, p);
@@ -144,13 +180,14 @@ void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSe
   const std::size_t T = thicknesses.size();
   std::vector<std::uint32_t> bits(T);
   std::fill(a, a + T, 0.0);
-  std::fill(bent, bent + T, Eigen::Vector3d::Zero());
+  if (bent != nullptr) std::fill(bent, bent + T, Eigen::Vector3d::Zero());
   for (int k = 0; k < s.slices; ++k) {
     const Slice slice = makeViewSlice(g, x, v, normal, kPi * (k + 0.5) / s.slices);
     const SectorMap map(slice.n, s.weights);
-    sliceBits(g, i, j, x, v, slice, map, radius_px, s, thicknesses, bits.data());
-    for (std::size_t t = 0; t < T; ++t)
-      addSlice(bits[t], slice, map, v, s.weights, &a[t], &bent[t]);
+    sliceBits(g, i, j, x, v, slice, map, radius_px, slabReach(g), s, thicknesses, bits.data());
+    for (std::size_t t = 0; t < T; ++t) {
+      addSlice(bits[t], slice, map, v, s.weights, &a[t], bent == nullptr ? nullptr : &bent[t]);
+    }
   }
   for (std::size_t t = 0; t < T; ++t) a[t] /= s.slices;
 }
@@ -193,19 +230,27 @@ AoEstimate visibilityBitmask(const GBuffer& g, const BitmaskSettings& s) {
 }
 
 std::vector<AoEstimate> visibilityBitmasks(const GBuffer& g, const BitmaskSettings& s,
-                                           const std::vector<double>& thicknesses) {
+                                           const std::vector<double>& thicknesses,
+                                           EstimateParts parts) {
   std::vector<AoEstimate> out;
   for (double t : thicknesses) {
     BitmaskSettings at = s;
     at.thickness = t;
     validate(at);
-    out.push_back(makeEstimate(g));
+    out.push_back(makeEstimate(g, parts));
   }
+  const bool with_bent = parts == EstimateParts::kAoAndBent;
   forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
     std::vector<double> a(thicknesses.size());
-    std::vector<Eigen::Vector3d> bent(thicknesses.size());
-    bitmaskPixel(g, i, j, p, s, thicknesses, a.data(), bent.data());
-    for (std::size_t k = 0; k < thicknesses.size(); ++k) storePixel(g, p, a[k], bent[k], &out[k]);
+    std::vector<Eigen::Vector3d> bent(with_bent ? thicknesses.size() : 0);
+    bitmaskPixel(g, i, j, p, s, thicknesses, a.data(), with_bent ? bent.data() : nullptr);
+    for (std::size_t k = 0; k < thicknesses.size(); ++k) {
+      if (with_bent) {
+        storePixel(g, p, a[k], bent[k], &out[k]);
+      } else {
+        storeAo(p, a[k], &out[k]);
+      }
+    }
   });
   return out;
 }

@@ -32,9 +32,10 @@ void validate(const BitmaskSettings& s);
 AoEstimate visibilityBitmask(const GBuffer& g, const BitmaskSettings& s);
 // The estimate at each of several thicknesses (s.thickness is not read) in one pass: the samples,
 // their slices and front angles are shared, and each result has the bytes visibilityBitmask gives
-// at that thickness.
+// at that thickness (Â alone with kAoOnly: the clear runs' bent-normal integrals are skipped).
 std::vector<AoEstimate> visibilityBitmasks(const GBuffer& g, const BitmaskSettings& s,
-                                           const std::vector<double>& thicknesses);
+                                           const std::vector<double>& thicknesses,
+                                           EstimateParts parts = EstimateParts::kAoAndBent);
 
 // Sector coordinate u ∈ [0, 1] of the slice angle θ (clamped to the hemisphere about n).
 double sectorCoordinate(double theta, double n, SectorWeights weights);

@@ -10,6 +10,7 @@
 #include "common/text_format.h"
 #include "fit/scene_jackknife.h"
 #include "fit/screen_estimate.h"
+#include "screen_ao/gtao_runtime.h"
 #include "screen_ao/visibility_bitmask.h"
 
 namespace gtbake {
@@ -42,31 +43,35 @@ void requireSameViews(const SweepData& data, const SweepImages& images) {
   }
 }
 
-// Â of every image at each value ([value][image]): the bitmasks' thickness values in one pass
-// per image (visibilityBitmasks shares the samples; the same bytes as one run per value), any
-// other setting one run per value.
+// Every value's estimate of one image in one pass: the bitmasks' thickness values share the
+// samples (visibilityBitmasks), the runtime pass's values its slices, horizons and filter weights
+// (gtaoRuntimeRuns); Â alone (tune reads no b̂), with the bytes of a run at that value alone.
+std::vector<AoEstimate> runImage(const GBuffer& g, const SettingGrid& grid,
+                                 const std::vector<double>& values) {
+  if (grid.key == "thickness") {
+    const ScreenAoSettings s;
+    const BitmaskSettings& b =
+        grid.estimator == "bitmask-uniform" ? s.bitmask_uniform : s.bitmask_cosine;
+    return visibilityBitmasks(g, b, values, EstimateParts::kAoOnly);
+  }
+  if (grid.estimator != "gtao-runtime") {
+    throw Error("internal: tune has no pass for " + grid.estimator + "." + grid.key);
+  }
+  std::vector<GtaoRuntimeSettings> runs;
+  for (double value : values) runs.push_back(settingsAt(grid, value).runtime);
+  return gtaoRuntimeRuns(g, runs, EstimateParts::kAoOnly);
+}
+
+// Â of every image at each value ([value][image]).
 std::vector<std::vector<std::vector<float>>> runValues(const SweepImages& images,
                                                        const SettingGrid& grid,
                                                        const std::vector<double>& values,
                                                        Progress& bar) {
   std::vector<std::vector<std::vector<float>>> out(values.size());
-  if (grid.key == "thickness") {
-    const ScreenAoSettings s;
-    const BitmaskSettings& b =
-        grid.estimator == "bitmask-uniform" ? s.bitmask_uniform : s.bitmask_cosine;
-    for (const SweepImage& image : images.images) {
-      std::vector<AoEstimate> e = visibilityBitmasks(image.gbuffer, b, values);
-      for (std::size_t k = 0; k < values.size(); ++k) out[k].push_back(std::move(e[k].a));
-      bar.add(values.size());
-    }
-    return out;
-  }
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    const ScreenAoSettings s = settingsAt(grid, values[k]);
-    for (const SweepImage& image : images.images) {
-      out[k].push_back(runEstimator(s, grid.estimator, image.gbuffer).a);
-      bar.add(1);
-    }
+  for (const SweepImage& image : images.images) {
+    std::vector<AoEstimate> e = runImage(image.gbuffer, grid, values);
+    for (std::size_t k = 0; k < values.size(); ++k) out[k].push_back(std::move(e[k].a));
+    bar.add(values.size());
   }
   return out;
 }

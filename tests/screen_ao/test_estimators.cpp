@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/error.h"
 #include "common/threads.h"
 #include "gbuffer_scenes.h"
 #include "screen_ao/ao_filters.h"
@@ -212,7 +213,7 @@ TEST(Estimators, SameBytesOnOneAndTwoThreads) {
 // Several thicknesses in one pass (what gtbake tune runs) give each thickness's own run's bytes.
 TEST(Estimators, BitmaskThicknessesInOnePassMatchOneRunEach) {
   const SweepImage image = test::traceImage(test::cornerField(0.3), 40, 40, 2, 0.3, 1);
-  const std::vector<double> thicknesses = {0.125, 0.5, 4.0};
+  const std::vector<double> thicknesses = {0.125, 0.5, 4.0, 2.0};  // not sorted: 2 after 4
   for (BitmaskSettings s :
        {ScreenAoSettings{}.bitmask_uniform, ScreenAoSettings{}.bitmask_cosine}) {
     const std::vector<AoEstimate> shared = visibilityBitmasks(image.gbuffer, s, thicknesses);
@@ -224,7 +225,42 @@ TEST(Estimators, BitmaskThicknessesInOnePassMatchOneRunEach) {
       EXPECT_EQ(shared[k].bent, one.bent) << thicknesses[k];
     }
     EXPECT_NE(shared[0].a, shared[2].a);  // the thickness matters on this scene
+    // Â alone (tune's pass): the same Â, no b̂.
+    const std::vector<AoEstimate> ao =
+        visibilityBitmasks(image.gbuffer, s, thicknesses, EstimateParts::kAoOnly);
+    for (std::size_t k = 0; k < thicknesses.size(); ++k) {
+      EXPECT_EQ(ao[k].a, shared[k].a) << thicknesses[k];
+      EXPECT_TRUE(ao[k].bent.empty());
+    }
   }
+}
+
+// tune's runtime pass: runs that differ in radius, intensity and thin compensation computed
+// together (shared slices, horizons of equal radius and thin compensation, filter weights) have
+// the bytes of one run each, and Â alone is the same Â.
+TEST(Estimators, RuntimeRunsInOnePassMatchOneRunEach) {
+  const SweepImage image = test::traceImage(test::cornerField(0.3), 40, 40, 2, 0.3, 1);
+  std::vector<GtaoRuntimeSettings> runs(5);
+  runs[0].radius = 0.5;
+  runs[2].intensity = 2.0;  // the horizons of run 1 (the defaults)
+  runs[3].thin_compensation = 0.5;
+  runs[4].radius = 2.0;
+  runs[4].blur = false;
+  const std::vector<AoEstimate> shared = gtaoRuntimeRuns(image.gbuffer, runs);
+  const std::vector<AoEstimate> ao = gtaoRuntimeRuns(image.gbuffer, runs, EstimateParts::kAoOnly);
+  ASSERT_EQ(shared.size(), runs.size());
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const AoEstimate one = gtaoRuntime(image.gbuffer, runs[k]);
+    EXPECT_EQ(shared[k].a, one.a) << k;
+    EXPECT_EQ(shared[k].bent, one.bent) << k;
+    EXPECT_EQ(ao[k].a, one.a) << k;
+    EXPECT_TRUE(ao[k].bent.empty());
+  }
+  EXPECT_NE(shared[1].a, shared[2].a);  // the intensity matters
+  EXPECT_EQ(shared[1].bent, shared[2].bent);
+  GtaoRuntimeSettings other;
+  other.directions = 8;
+  EXPECT_THROW(gtaoRuntimeRuns(image.gbuffer, {runs[0], other}), Error);
 }
 
 }  // namespace
