@@ -4,6 +4,18 @@
 
 namespace gtbake {
 
+namespace {
+
+// A tick's value as printed: rounding residue of the tick positions (|v| < 1e-12, e.g. −2e−17)
+// is zero, and a value that prints as zero carries no sign ("-0.0").
+std::string tickLabel(double v, const char* format) {
+  const std::string text = formatNumber(std::abs(v) < 1e-12 ? 0.0 : v, format);
+  if (text[0] == '-' && text.find_first_not_of("0.", 1) == std::string::npos) return text.substr(1);
+  return text;
+}
+
+}  // namespace
+
 SvgPlot::SvgPlot(double x0, double x1, double y0, double y1, const std::string& title,
                  const std::string& xlabel, const std::string& ylabel)
     : x0_(x0), x1_(x1) {
@@ -16,10 +28,7 @@ SvgPlot::SvgPlot(double x0, double x1, double y0, double y1, const std::string& 
   y0_ = std::floor(y0 / step + 1e-9) * step;
   y1_ = std::ceil(y1 / step - 1e-9) * step;
   const int y_ticks = static_cast<int>(std::lround((y1_ - y0_) / step));
-  out_ << "<svg xmlns='http://www.w3.org/2000/svg' width='" << kW << "' height='" << kH
-       << "' viewBox='0 0 " << kW << ' ' << kH << "' font-family='sans-serif' font-size='12'>\n"
-       << "<rect width='100%' height='100%' fill='white'/>\n"
-       << "<text x='" << kW / 2 << "' y='18' text-anchor='middle' font-size='14'>" << title
+  out_ << "<text x='" << kW / 2 << "' y='18' text-anchor='middle' font-size='14'>" << title
        << "</text>\n"
        << "<text x='" << (kL + kW - kR) / 2 << "' y='" << kH - 6 << "' text-anchor='middle'>"
        << xlabel << "</text>\n"
@@ -29,14 +38,13 @@ SvgPlot::SvgPlot(double x0, double x1, double y0, double y1, const std::string& 
     const double x = x0 + (x1 - x0) * t / 5.0;
     out_ << "<line x1='" << px(x) << "' y1='" << py(y0_) << "' x2='" << px(x) << "' y2='" << py(y1_)
          << "' stroke='#ddd'/>\n<text x='" << px(x) << "' y='" << py(y0_) + 16
-         << "' text-anchor='middle'>" << formatNumber(x, "%.1f") << "</text>\n";
+         << "' text-anchor='middle'>" << tickLabel(x, "%.1f") << "</text>\n";
   }
   for (int t = 0; t <= y_ticks; ++t) {
     const double y = y0_ + step * t;
     out_ << "<line x1='" << px(x0) << "' y1='" << py(y) << "' x2='" << px(x1) << "' y2='" << py(y)
          << "' stroke='#ddd'/>\n<text x='" << px(x0) - 4 << "' y='" << py(y) + 4
-         << "' text-anchor='end'>" << formatNumber(std::abs(y) < 1e-12 ? 0.0 : y, "%g")
-         << "</text>\n";
+         << "' text-anchor='end'>" << tickLabel(y, "%g") << "</text>\n";
   }
   out_ << "<rect x='" << kL << "' y='" << kT << "' width='" << kW - kL - kR << "' height='"
        << kH - kT - kB << "' fill='none' stroke='black'/>\n";
@@ -44,6 +52,11 @@ SvgPlot::SvgPlot(double x0, double x1, double y0, double y1, const std::string& 
 
 void SvgPlot::legendBottomRight(int rows) {
   legend_origin_ = {kW - kR - 180, kH - kB - 8 - 16.0 * rows};
+}
+
+void SvgPlot::legendBelow(int rows) {
+  below_ = 16.0 * rows + 4;
+  legend_origin_ = {kL + 10, kH + 12};
 }
 
 void SvgPlot::points(const std::vector<double>& xs, const std::vector<double>& ys,
@@ -93,7 +106,13 @@ void SvgPlot::legend(const std::string& text, const char* color, bool dashed) {
 }
 
 std::string SvgPlot::str() const {
-  return out_.str() + "</svg>\n";
+  std::ostringstream svg;
+  svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << kW << "' height='" << kH + below_
+      << "' viewBox='0 0 " << kW << ' ' << kH + below_
+      << "' font-family='sans-serif' font-size='12'>\n"
+      << "<rect width='100%' height='100%' fill='white'/>\n"
+      << out_.str() << "</svg>\n";
+  return svg.str();
 }
 
 double SvgPlot::px(double x) const {

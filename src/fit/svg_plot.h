@@ -17,8 +17,10 @@ class SvgPlot {
   SvgPlot(double x0, double x1, double y0, double y1, const std::string& title,
           const std::string& xlabel, const std::string& ylabel);
 
-  // Legends go top-left by default, bottom-right for plots whose curves fill the top-left.
+  // Legends go top-left by default, bottom-right for plots whose curves fill the top-left, or
+  // below the axes (the picture grows by `rows` lines) where curves may pass anywhere.
   void legendBottomRight(int rows);
+  void legendBelow(int rows);
   void points(const std::vector<double>& xs, const std::vector<double>& ys, const char* color,
               double radius = 1.5);
   void curve(const std::vector<double>& xs, const std::vector<double>& ys, const char* color,
@@ -37,6 +39,7 @@ class SvgPlot {
 
   double x0_, x1_, y0_ = 0.0, y1_ = 1.0;
   int legend_rows_ = 0;
+  double below_ = 0.0;  // height added under the picture for a legend below the axes
   std::pair<double, double> legend_origin_{kL + 10, kT + 14};
   std::ostringstream out_;
 };

@@ -49,7 +49,7 @@ std::string settingPlot(const SettingResult& r) {
   const double pad = 0.05 * std::max(hi - lo, 1e-6);
   SvgPlot plot(x.front(), x.back(), lo - pad, hi + pad,
                escapeHtml(r.grid.estimator + ": " + r.grid.key), axisLabel(r.grid), "RMSE of G");
-  plot.legendBottomRight(3);
+  plot.legendBelow(3);  // the curves cross every corner of the axes
   plot.curve(x, paper, kPaperColor);
   plot.points(x, paper, kPaperColor, 2.5);
   plot.curve(x, profile, kProfileColor);
