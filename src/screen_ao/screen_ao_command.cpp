@@ -29,29 +29,64 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Runs one estimator on every image, timed, with a progress bar over images.
-EstimatorRun runOne(const ScreenAoOptions& o, const std::string& name,
-                    const std::vector<SweepImage>& images, std::vector<AoEstimate>* estimates) {
+// Whether both bitmasks are requested with the same settings but their sector weights, so one
+// pass serves both (docs/screen_ao.md §4).
+bool bitmasksSharePass(const ScreenAoOptions& o) {
+  const auto requested = [&](const char* name) {
+    return std::find(o.estimators.begin(), o.estimators.end(), name) != o.estimators.end();
+  };
+  const BitmaskSettings& u = o.settings.bitmask_uniform;
+  const BitmaskSettings& c = o.settings.bitmask_cosine;
+  return requested("bitmask-uniform") && requested("bitmask-cosine") && u.radius == c.radius &&
+         u.slices == c.slices && u.steps == c.steps && u.thickness == c.thickness;
+}
+
+// The estimates of every image by the estimators `names` (one, or both bitmasks sharing a pass:
+// [name][image]), with a progress bar over images; the pass's wall seconds are split evenly
+// between them (docs/screen_ao.md §4).
+std::vector<std::vector<AoEstimate>> runPass(const ScreenAoOptions& o,
+                                             const std::vector<std::string>& names,
+                                             const std::vector<SweepImage>& images,
+                                             double* seconds) {
+  std::string label = names.front();
+  for (std::size_t k = 1; k < names.size(); ++k) label += "+" + names[k];
+  Progress bar("screen-ao " + label, images.size(), o.progress);
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<std::vector<AoEstimate>> out(names.size());
+  for (const SweepImage& image : images) {
+    if (names.size() == 1) {
+      out[0].push_back(runEstimator(o.settings, names[0], image.gbuffer));
+    } else {
+      std::vector<std::vector<AoEstimate>> both =
+          visibilityBitmasks(image.gbuffer, o.settings.bitmask_uniform,
+                             {SectorWeights::kUniform, SectorWeights::kCosine},
+                             {o.settings.bitmask_uniform.thickness}, EstimateParts::kAoAndBent);
+      for (std::size_t w = 0; w < names.size(); ++w) out[w].push_back(std::move(both[w][0]));
+    }
+    bar.add(1);
+  }
+  bar.finish();
+  *seconds = secondsSince(start) / static_cast<double>(names.size());
+  return out;
+}
+
+// One estimator's run from its estimates and seconds: settings, megapixels and errors.
+EstimatorRun describeRun(const ScreenAoOptions& o, const std::string& name,
+                         const std::vector<SweepImage>& images,
+                         const std::vector<AoEstimate>& estimates, double seconds) {
   EstimatorRun run;
   run.name = name;
   run.settings = settingsJson(o.settings, name);
   run.radius = estimatorRadius(o.settings, name);
-  Progress bar("screen-ao " + name, images.size(), o.progress);
-  const auto start = std::chrono::steady_clock::now();
+  run.seconds = seconds;
   double pixels = 0.0;
-  for (const SweepImage& image : images) {
-    estimates->push_back(runEstimator(o.settings, name, image.gbuffer));
-    pixels += static_cast<double>(image.gbuffer.pixels());
-    bar.add(1);
-  }
-  bar.finish();
-  run.seconds = secondsSince(start);
+  for (const SweepImage& image : images) pixels += static_cast<double>(image.gbuffer.pixels());
   run.megapixels = 1e-6 * pixels;
   const std::string channel = gbufferRadiusChannelName(run.radius);
   bool have = true;
   for (const SweepImage& image : images) have = have && image.truth.a_at_radius.count(channel) > 0;
   if (have) run.radius_channel = channel;
-  run.errors = errorStatistics(images, *estimates, have ? run.radius : -1.0);
+  run.errors = errorStatistics(images, estimates, have ? run.radius : -1.0);
   return run;
 }
 
@@ -63,6 +98,40 @@ void printRun(const EstimatorRun& run) {
               e.bent_mean_deg, e.bent_p95_deg,
               run.megapixels > 0 ? run.seconds / run.megapixels : 0.0);
   std::fflush(stdout);
+}
+
+// Runs every estimator in order (both bitmasks in one pass when bitmasksSharePass), printing
+// each one's line as soon as its estimates are in; estimates[e] is o.estimators[e]'s.
+std::vector<EstimatorRun> runEstimators(const ScreenAoOptions& o,
+                                        const std::vector<SweepImage>& images,
+                                        std::vector<std::vector<AoEstimate>>* estimates) {
+  const bool share = bitmasksSharePass(o);
+  const auto index = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(o.estimators.begin(), o.estimators.end(), name) -
+                                    o.estimators.begin());
+  };
+  std::vector<double> seconds(o.estimators.size(), 0.0);
+  std::vector<bool> done(o.estimators.size(), false);
+  std::vector<EstimatorRun> runs;
+  for (std::size_t e = 0; e < o.estimators.size(); ++e) {
+    if (!done[e]) {
+      const bool bitmask = o.estimators[e].rfind("bitmask-", 0) == 0;
+      const std::vector<std::string> names =
+          share && bitmask ? std::vector<std::string>{"bitmask-uniform", "bitmask-cosine"}
+                           : std::vector<std::string>{o.estimators[e]};
+      double pass_seconds = 0.0;
+      auto out = runPass(o, names, images, &pass_seconds);
+      for (std::size_t k = 0; k < names.size(); ++k) {
+        const std::size_t at = index(names[k]);
+        (*estimates)[at] = std::move(out[k]);
+        seconds[at] = pass_seconds;
+        done[at] = true;
+      }
+    }
+    runs.push_back(describeRun(o, o.estimators[e], images, (*estimates)[e], seconds[e]));
+    printRun(runs.back());
+  }
+  return runs;
 }
 
 }  // namespace
@@ -85,16 +154,14 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
 
   std::printf("%-16s %8s %8s %8s %8s %8s %8s %8s\n", "estimator", "bias", "RMSE", "bias@R",
               "RMSE@R", "bn mean", "bn p95", "s/MP");
-  std::vector<EstimatorRun> runs;
   std::vector<std::vector<AoEstimate>> estimates(o.estimators.size());
+  const std::vector<EstimatorRun> runs = runEstimators(o, sweep.images, &estimates);
   nlohmann::ordered_json estimators_json = nlohmann::ordered_json::object();
   ScreenAoResult result;
-  for (std::size_t e = 0; e < o.estimators.size(); ++e) {
-    runs.push_back(runOne(o, o.estimators[e], sweep.images, &estimates[e]));
-    printRun(runs.back());
-    estimators_json[o.estimators[e]] = estimatorJson(runs.back());
-    if (o.estimators[e] == "gtao-reference") {
-      const ErrorSummary& all = runs.back().errors.back().all;
+  for (const EstimatorRun& run : runs) {
+    estimators_json[run.name] = estimatorJson(run);
+    if (run.name == "gtao-reference") {
+      const ErrorSummary& all = run.errors.back().all;
       result.reference_rmse = all.pixels_at_radius ? all.rmse_at_radius : all.rmse;
     }
   }

@@ -1,5 +1,7 @@
 #include "screen_ao/visibility_bitmask.h"
 
+#include <algorithm>
+#include <array>
 #include <bitset>
 #include <limits>
 #include <vector>
@@ -19,6 +21,9 @@ constexpr double kSectorSlack = 1e-3;
 // well under 1e-7 (the worst is near θ = ±π, where acos turns an error of ~1e-15 in the cosine
 // into √(2e-15) ≈ 4.5e-8).
 constexpr double kEndMargin = 1e-6;
+
+// Sector weightings one pass can serve: uniform and cosine.
+constexpr std::size_t kMaxSectorMaps = 2;
 
 // The map between slice angles and sector coordinates of one slice (n fixed).
 class SectorMap {
@@ -96,39 +101,46 @@ Angle sliceAngle(double c, double sign) {
   return {sign * std::acos(cc), sign * std::sqrt(1.0 - cc * cc), cc};
 }
 
-// The sectors of one sample (`front`, the offset from P, on side `sign`) for each thickness, OR-ed
-// into bits[k]. The slab's back point front − tV moves away from V as t grows (cos θ_b =
-// (f·V − t)/|f − tV| falls), so once its angle is far past the side's hemisphere end
-// (farPastEnd: further than any rounding of it), every thicker slab's back angle is past it too
-// and clamps to the same end coordinate, which is reused; the same bits as computing each.
-void sampleBits(const SectorMap& map, const Eigen::Vector3d& front, const Eigen::Vector3d& v,
-                double u_front, double sign, const std::vector<double>& thicknesses,
-                std::uint32_t* bits) {
+// The sectors of one sample (`front`, the offset from P, on side `sign`) for each sector map and
+// thickness, OR-ed into bits[m·T + k] (u_front[m]: the front angle's coordinate under maps[m]).
+// Each back angle is computed once and read by every map. The slab's back point front − tV moves
+// away from V as t grows (cos θ_b = (f·V − t)/|f − tV| falls), so once its angle is far past the
+// side's hemisphere end (farPastEnd, which does not depend on the map: further than any rounding
+// of it), every thicker slab's back angle is past it too and clamps to the same end coordinate,
+// which is reused; the same bits as computing each.
+void sampleBits(const std::vector<SectorMap>& maps, const Eigen::Vector3d& front,
+                const Eigen::Vector3d& v, const double* u_front, double sign,
+                const std::vector<double>& thicknesses, std::uint32_t* bits) {
+  const std::size_t T = thicknesses.size();
   double clamped_from = std::numeric_limits<double>::infinity();  // the thinnest slab past the end
-  double u_end = 0.0;
-  for (std::size_t k = 0; k < thicknesses.size(); ++k) {
-    double u_back = u_end;
-    if (thicknesses[k] < clamped_from) {
+  std::array<double, kMaxSectorMaps> u_end{};
+  for (std::size_t k = 0; k < T; ++k) {
+    const bool clamped = !(thicknesses[k] < clamped_from);
+    Angle theta{};
+    bool past = false;
+    if (!clamped) {
       const Eigen::Vector3d back = front - thicknesses[k] * v;
-      const Angle theta = sliceAngle(back.normalized().dot(v), sign);
-      u_back = map.coordinate(theta);
-      if (map.farPastEnd(theta.a, sign)) {
-        clamped_from = thicknesses[k];
-        u_end = u_back;
-      }
+      theta = sliceAngle(back.normalized().dot(v), sign);
+      past = maps[0].farPastEnd(theta.a, sign);
+      if (past) clamped_from = thicknesses[k];
     }
-    bits[k] |= sectorBits(u_front, u_back);
+    for (std::size_t m = 0; m < maps.size(); ++m) {
+      const double u_back = clamped ? u_end[m] : maps[m].coordinate(theta);
+      if (past) u_end[m] = u_back;
+      bits[m * T + k] |= sectorBits(u_front[m], u_back);
+    }
   }
 }
 
-// One slice's 32 sectors from both sides' samples, for each thickness (bits[k] for
-// thicknesses[k]): the samples and their front angles are shared, each thickness adds its own
-// back angles.
+// One slice's 32 sectors from both sides' samples, for each sector map and thickness (bits[m·T +
+// k] for maps[m] at thicknesses[k]): the samples and their front angles are shared, each
+// thickness adds its own back angles and each map its own coordinates of them.
 void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const Eigen::Vector3d& v,
-               const Slice& slice, const SectorMap& map, double radius_px, double reach,
-               const BitmaskSettings& s, const std::vector<double>& thicknesses,
+               const Slice& slice, const std::vector<SectorMap>& maps, double radius_px,
+               double reach, const BitmaskSettings& s, const std::vector<double>& thicknesses,
                std::uint32_t* bits) {
-  std::fill(bits, bits + thicknesses.size(), 0u);
+  std::fill(bits, bits + maps.size() * thicknesses.size(), 0u);
+  std::array<double, kMaxSectorMaps> u_front{};
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
     for (int step = 0; step < s.steps; ++step) {
@@ -141,8 +153,9 @@ void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const E
       const Eigen::Vector3d front = sample - x;
       const double length = front.norm();
       if (length > s.radius || !(length > 0.0)) continue;
-      const double u_front = map.coordinate(sliceAngle(front.dot(v) / length, sign));
-      sampleBits(map, front, v, u_front, sign, thicknesses, bits);
+      const Angle theta = sliceAngle(front.dot(v) / length, sign);
+      for (std::size_t m = 0; m < maps.size(); ++m) u_front[m] = maps[m].coordinate(theta);
+      sampleBits(maps, front, v, u_front.data(), sign, thicknesses, bits);
     }
   }
 }
@@ -171,25 +184,31 @@ void addSlice(std::uint32_t bits, const Slice& slice, const SectorMap& map,
   }
 }
 
-// Pixel p at every thickness: Â and the view-space bent normal into a[k], bent[k] (Â alone when
-// bent is null).
+// Pixel p for each sector weighting and thickness: Â and the view-space bent normal into
+// a[w·T + k], bent[w·T + k] for weights[w] at thicknesses[k] (Â alone when bent is null).
 void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSettings& s,
-                  const std::vector<double>& thicknesses, double* a, Eigen::Vector3d* bent) {
+                  const std::vector<SectorWeights>& weights, const std::vector<double>& thicknesses,
+                  double* a, Eigen::Vector3d* bent) {
   const auto [x, v, normal] = pixelFrame(g, p);
   const double radius_px = s.radius * g.pixelsPerMetre(g.depth[p]);
   const std::size_t T = thicknesses.size();
-  std::vector<std::uint32_t> bits(T);
-  std::fill(a, a + T, 0.0);
-  if (bent != nullptr) std::fill(bent, bent + T, Eigen::Vector3d::Zero());
+  const std::size_t n = weights.size() * T;
+  std::vector<std::uint32_t> bits(n);
+  std::vector<SectorMap> maps;
+  maps.reserve(weights.size());
+  std::fill(a, a + n, 0.0);
+  if (bent != nullptr) std::fill(bent, bent + n, Eigen::Vector3d::Zero());
   for (int k = 0; k < s.slices; ++k) {
     const Slice slice = makeViewSlice(g, x, v, normal, kPi * (k + 0.5) / s.slices);
-    const SectorMap map(slice.n, s.weights);
-    sliceBits(g, i, j, x, v, slice, map, radius_px, slabReach(g), s, thicknesses, bits.data());
-    for (std::size_t t = 0; t < T; ++t) {
-      addSlice(bits[t], slice, map, v, s.weights, &a[t], bent == nullptr ? nullptr : &bent[t]);
+    maps.clear();
+    for (SectorWeights w : weights) maps.emplace_back(slice.n, w);
+    sliceBits(g, i, j, x, v, slice, maps, radius_px, slabReach(g), s, thicknesses, bits.data());
+    for (std::size_t t = 0; t < n; ++t) {
+      addSlice(bits[t], slice, maps[t / T], v, weights[t / T], &a[t],
+               bent == nullptr ? nullptr : &bent[t]);
     }
   }
-  for (std::size_t t = 0; t < T; ++t) a[t] /= s.slices;
+  for (std::size_t t = 0; t < n; ++t) a[t] /= s.slices;
 }
 
 }  // namespace
@@ -223,32 +242,47 @@ void validate(const BitmaskSettings& s) {
 
 AoEstimate visibilityBitmask(const GBuffer& g, const BitmaskSettings& s) {
   validate(s);
+  const std::vector<SectorWeights> weights = {s.weights};
   const std::vector<double> thickness = {s.thickness};
   return estimatePerPixel(g, [&](int i, int j, std::size_t p, double* a, Eigen::Vector3d* bent) {
-    bitmaskPixel(g, i, j, p, s, thickness, a, bent);
+    bitmaskPixel(g, i, j, p, s, weights, thickness, a, bent);
   });
 }
 
 std::vector<AoEstimate> visibilityBitmasks(const GBuffer& g, const BitmaskSettings& s,
                                            const std::vector<double>& thicknesses,
                                            EstimateParts parts) {
-  std::vector<AoEstimate> out;
-  for (double t : thicknesses) {
-    BitmaskSettings at = s;
-    at.thickness = t;
-    validate(at);
-    out.push_back(makeEstimate(g, parts));
+  return std::move(visibilityBitmasks(g, s, {s.weights}, thicknesses, parts).front());
+}
+
+std::vector<std::vector<AoEstimate>> visibilityBitmasks(const GBuffer& g, const BitmaskSettings& s,
+                                                        const std::vector<SectorWeights>& weights,
+                                                        const std::vector<double>& thicknesses,
+                                                        EstimateParts parts) {
+  if (weights.empty() || weights.size() > kMaxSectorMaps) {
+    throw Error("internal: a bitmask pass serves one or two sector weightings");
+  }
+  std::vector<std::vector<AoEstimate>> out(weights.size());
+  for (std::size_t w = 0; w < weights.size(); ++w) {
+    for (double t : thicknesses) {
+      BitmaskSettings at = s;
+      at.weights = weights[w];
+      at.thickness = t;
+      validate(at);
+      out[w].push_back(makeEstimate(g, parts));
+    }
   }
   const bool with_bent = parts == EstimateParts::kAoAndBent;
+  const std::size_t T = thicknesses.size();
   forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
-    std::vector<double> a(thicknesses.size());
-    std::vector<Eigen::Vector3d> bent(with_bent ? thicknesses.size() : 0);
-    bitmaskPixel(g, i, j, p, s, thicknesses, a.data(), with_bent ? bent.data() : nullptr);
-    for (std::size_t k = 0; k < thicknesses.size(); ++k) {
+    std::vector<double> a(weights.size() * T);
+    std::vector<Eigen::Vector3d> bent(with_bent ? a.size() : 0);
+    bitmaskPixel(g, i, j, p, s, weights, thicknesses, a.data(), with_bent ? bent.data() : nullptr);
+    for (std::size_t k = 0; k < a.size(); ++k) {
       if (with_bent) {
-        storePixel(g, p, a[k], bent[k], &out[k]);
+        storePixel(g, p, a[k], bent[k], &out[k / T][k % T]);
       } else {
-        storeAo(p, a[k], &out[k]);
+        storeAo(p, a[k], &out[k / T][k % T]);
       }
     }
   });

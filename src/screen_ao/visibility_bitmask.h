@@ -36,6 +36,14 @@ AoEstimate visibilityBitmask(const GBuffer& g, const BitmaskSettings& s);
 std::vector<AoEstimate> visibilityBitmasks(const GBuffer& g, const BitmaskSettings& s,
                                            const std::vector<double>& thicknesses,
                                            EstimateParts parts = EstimateParts::kAoAndBent);
+// The same for one or two sector weightings (s.weights is not read) in one pass: result[w][k] for
+// weights[w] at thicknesses[k]. The samples, slices, front and back angles are shared, each
+// weighting maps them to its own sectors (docs/screen_ao.md §3), and each result has the bytes of
+// that weighting's run alone.
+std::vector<std::vector<AoEstimate>> visibilityBitmasks(const GBuffer& g, const BitmaskSettings& s,
+                                                        const std::vector<SectorWeights>& weights,
+                                                        const std::vector<double>& thicknesses,
+                                                        EstimateParts parts);
 
 // Sector coordinate u ∈ [0, 1] of the slice angle θ (clamped to the hemisphere about n).
 double sectorCoordinate(double theta, double n, SectorWeights weights);

@@ -76,18 +76,24 @@ std::vector<std::vector<std::vector<float>>> runValues(const SweepImages& images
   return out;
 }
 
-// Scores every value of one setting's grid (the default value's run shared by the estimator's
-// settings through *at_default).
-std::vector<GridValueScore> runGrid(SweepData* data, const SweepImages& images,
-                                    const Grouping& clusters,
-                                    const std::vector<std::vector<long double>>& q,
-                                    const SettingGrid& grid,
-                                    std::optional<GridValueScore>* at_default, Progress& bar) {
+// The values of a grid that need a run: all but the default when *at_default holds its score.
+std::vector<double> valuesToRun(const SettingGrid& grid,
+                                const std::optional<GridValueScore>& at_default) {
   std::vector<double> to_run;
   for (double value : grid.values) {
-    if (value != grid.default_value || !at_default->has_value()) to_run.push_back(value);
+    if (value != grid.default_value || !at_default.has_value()) to_run.push_back(value);
   }
-  const auto estimates = runValues(images, grid, to_run, bar);
+  return to_run;
+}
+
+// Scores every value of one setting's grid from the runs of to_run ([value][image]; the default
+// value's run shared by the estimator's settings through *at_default).
+std::vector<GridValueScore> scoreGrid(SweepData* data, const SweepImages& images,
+                                      const Grouping& clusters,
+                                      const std::vector<std::vector<long double>>& q,
+                                      const SettingGrid& grid, const std::vector<double>& to_run,
+                                      const std::vector<std::vector<std::vector<float>>>& estimates,
+                                      std::optional<GridValueScore>* at_default) {
   std::vector<GridValueScore> scores;
   for (double value : grid.values) {
     const auto run = std::find(to_run.begin(), to_run.end(), value);
@@ -104,6 +110,70 @@ std::vector<GridValueScore> runGrid(SweepData* data, const SweepImages& images,
   return scores;
 }
 
+// Whether grids[k] and grids[k + 1] are the two bitmasks' thickness grids with the same values to
+// run (to_run, the first's) and the same other settings: then one pass per image serves both
+// (docs/tune.md §7). The second is another estimator, so its default is run too.
+bool bitmasksSharePass(const std::vector<SettingGrid>& grids, std::size_t k,
+                       const std::vector<double>& to_run) {
+  if (k + 1 >= grids.size()) return false;
+  const SettingGrid& a = grids[k];
+  const SettingGrid& b = grids[k + 1];
+  const ScreenAoSettings s;
+  const BitmaskSettings& u = s.bitmask_uniform;
+  const BitmaskSettings& c = s.bitmask_cosine;
+  const bool both = (a.estimator == "bitmask-uniform" && b.estimator == "bitmask-cosine") ||
+                    (a.estimator == "bitmask-cosine" && b.estimator == "bitmask-uniform");
+  return both && a.key == "thickness" && b.key == "thickness" && to_run == b.values &&
+         u.radius == c.radius && u.slices == c.slices && u.steps == c.steps;
+}
+
+SectorWeights weightsOf(const std::string& estimator) {
+  return estimator == "bitmask-uniform" ? SectorWeights::kUniform : SectorWeights::kCosine;
+}
+
+// Both bitmasks' thickness grids (bitmasksSharePass) from one pass per image: each image's Â of
+// both weightings at every value of to_run, then each grid scored as runGrid would.
+std::vector<SettingResult> runBitmaskPair(SweepData* data, const SweepImages& images,
+                                          const Grouping& clusters,
+                                          const std::vector<std::vector<long double>>& q,
+                                          const SettingGrid& first, const SettingGrid& second,
+                                          const std::vector<double>& to_run,
+                                          std::optional<GridValueScore>* at_default,
+                                          Progress& bar) {
+  const ScreenAoSettings defaults;
+  const std::vector<SettingGrid> grids = {first, second};
+  std::vector<std::vector<std::vector<std::vector<float>>>> out(
+      2, std::vector<std::vector<std::vector<float>>>(to_run.size()));  // [grid][value][image]
+  for (const SweepImage& image : images.images) {
+    auto e = visibilityBitmasks(image.gbuffer, defaults.bitmask_uniform,
+                                {weightsOf(first.estimator), weightsOf(second.estimator)}, to_run,
+                                EstimateParts::kAoOnly);
+    for (std::size_t w = 0; w < 2; ++w) {
+      for (std::size_t k = 0; k < to_run.size(); ++k) out[w][k].push_back(std::move(e[w][k].a));
+    }
+    bar.add(2 * to_run.size());
+  }
+  std::vector<SettingResult> results(2);
+  for (std::size_t w = 0; w < 2; ++w) {
+    if (w == 1) at_default->reset();  // another estimator
+    results[w].grid = grids[w];
+    results[w].scores = scoreGrid(data, images, clusters, q, grids[w], to_run, out[w], at_default);
+  }
+  return results;
+}
+
+// Scores every value of one setting's grid (the default value's run shared by the estimator's
+// settings through *at_default).
+std::vector<GridValueScore> runGrid(SweepData* data, const SweepImages& images,
+                                    const Grouping& clusters,
+                                    const std::vector<std::vector<long double>>& q,
+                                    const SettingGrid& grid,
+                                    std::optional<GridValueScore>* at_default, Progress& bar) {
+  const std::vector<double> to_run = valuesToRun(grid, *at_default);
+  const auto estimates = runValues(images, grid, to_run, bar);
+  return scoreGrid(data, images, clusters, q, grid, to_run, estimates, at_default);
+}
+
 void findOptima(SettingResult* r, const TuneAnalysis& a) {
   std::vector<double> x;
   for (double v : r->grid.values) x.push_back(axisValue(r->grid, v));
@@ -111,6 +181,39 @@ void findOptima(SettingResult* r, const TuneAnalysis& a) {
   const ObjectiveCurves profile = objectiveCurves(*r, a.cluster_points, a.albedos.size(), false);
   r->paper = sceneInterval(x, paper.pooled, paper.replicas);
   r->profile = sceneInterval(x, profile.pooled, profile.replicas);
+}
+
+// Runs and scores every grid in order, each under its own part of `parts`; the two bitmasks'
+// thickness grids under one part when they share a pass (bitmasksSharePass, docs/tune.md §7).
+void runGrids(StageParts& parts, SweepData* data, const SweepImages& images,
+              const Grouping& clusters, const std::vector<std::vector<long double>>& q,
+              const std::vector<SettingGrid>& grids, TuneAnalysis* a) {
+  std::optional<GridValueScore> at_default;
+  for (std::size_t k = 0; k < grids.size(); ++k) {
+    if (k == 0 || grids[k].estimator != grids[k - 1].estimator) at_default.reset();
+    const std::vector<double> to_run = valuesToRun(grids[k], at_default);
+    const std::size_t units = to_run.size() * images.images.size();
+    std::vector<SettingResult> results(1);
+    if (bitmasksSharePass(grids, k, to_run)) {
+      results = parts.run(grids[k].estimator + "+" + grids[k + 1].estimator + " thickness",
+                          2 * units, [&](Progress& bar) {
+                            return runBitmaskPair(data, images, clusters, q, grids[k], grids[k + 1],
+                                                  to_run, &at_default, bar);
+                          });
+      ++k;
+    } else {
+      results[0].grid = grids[k];
+      results[0].scores =
+          parts.run(grids[k].estimator + " " + grids[k].key, units, [&](Progress& bar) {
+            return runGrid(data, images, clusters, q, grids[k], &at_default, bar);
+          });
+    }
+    for (SettingResult& r : results) {
+      a->estimator_runs += to_run.size();
+      findOptima(&r, *a);
+      a->settings.push_back(std::move(r));
+    }
+  }
 }
 
 }  // namespace
@@ -221,20 +324,7 @@ TuneAnalysis analyzeTune(const std::filesystem::path& sweep, const std::vector<S
   a.albedos = data.albedos;
   a.sweep_version = images.sweep_version;
   const auto q = clusterTargetSquares(data, clusters);
-  std::optional<GridValueScore> at_default;
-  for (std::size_t k = 0; k < grids.size(); ++k) {
-    if (k == 0 || grids[k].estimator != grids[k - 1].estimator) at_default.reset();
-    const std::size_t runs = grids[k].values.size() - (at_default ? 1 : 0);
-    a.estimator_runs += runs;
-    SettingResult r;
-    r.grid = grids[k];
-    r.scores = parts.run(grids[k].estimator + " " + grids[k].key, runs * images.images.size(),
-                         [&](Progress& bar) {
-                           return runGrid(&data, images, clusters, q, grids[k], &at_default, bar);
-                         });
-    findOptima(&r, a);
-    a.settings.push_back(std::move(r));
-  }
+  runGrids(parts, &data, images, clusters, q, grids, &a);
   a.part_seconds = parts.seconds();
   return a;
 }

@@ -235,6 +235,40 @@ TEST(Estimators, BitmaskThicknessesInOnePassMatchOneRunEach) {
   }
 }
 
+// Both sector weightings in one pass (screen-ao's and tune's shared bitmask pass, docs/screen_ao.md
+// §4) give each weighting's own run's bytes at every thickness, in either order.
+TEST(Estimators, BitmaskWeightingsInOnePassMatchOneRunEach) {
+  const SweepImage image = test::traceImage(test::cornerField(0.3), 40, 40, 2, 0.3, 1);
+  const std::vector<double> thicknesses = {0.125, 0.5, 4.0, 2.0};
+  const ScreenAoSettings defaults;
+  for (const std::vector<SectorWeights>& weights :
+       {std::vector<SectorWeights>{SectorWeights::kUniform, SectorWeights::kCosine},
+        std::vector<SectorWeights>{SectorWeights::kCosine, SectorWeights::kUniform}}) {
+    const auto shared = visibilityBitmasks(image.gbuffer, defaults.bitmask_uniform, weights,
+                                           thicknesses, EstimateParts::kAoAndBent);
+    const auto ao = visibilityBitmasks(image.gbuffer, defaults.bitmask_cosine, weights, thicknesses,
+                                       EstimateParts::kAoOnly);
+    ASSERT_EQ(shared.size(), 2u);
+    for (std::size_t w = 0; w < 2; ++w) {
+      ASSERT_EQ(shared[w].size(), thicknesses.size());
+      BitmaskSettings s = defaults.bitmask_uniform;
+      s.weights = weights[w];
+      for (std::size_t k = 0; k < thicknesses.size(); ++k) {
+        s.thickness = thicknesses[k];
+        const AoEstimate one = visibilityBitmask(image.gbuffer, s);
+        EXPECT_EQ(shared[w][k].a, one.a) << w << " " << thicknesses[k];
+        EXPECT_EQ(shared[w][k].bent, one.bent) << w << " " << thicknesses[k];
+        EXPECT_EQ(ao[w][k].a, one.a) << w << " " << thicknesses[k];
+        EXPECT_TRUE(ao[w][k].bent.empty());
+      }
+    }
+    for (std::size_t k = 0; k < thicknesses.size(); ++k) {  // the weighting matters here
+      EXPECT_NE(shared[0][k].a, shared[1][k].a) << thicknesses[k];
+      EXPECT_NE(shared[0][k].bent, shared[1][k].bent) << thicknesses[k];
+    }
+  }
+}
+
 // tune's runtime pass: runs that differ in radius, intensity and thin compensation computed
 // together (shared slices, horizons of equal radius and thin compensation, filter weights) have
 // the bytes of one run each, and Â alone is the same Â.
