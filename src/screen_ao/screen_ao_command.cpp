@@ -37,8 +37,8 @@ bool bitmasksSharePass(const ScreenAoOptions& o) {
   };
   const BitmaskSettings& u = o.settings.bitmask_uniform;
   const BitmaskSettings& c = o.settings.bitmask_cosine;
-  return requested("bitmask-uniform") && requested("bitmask-cosine") && u.radius == c.radius &&
-         u.slices == c.slices && u.steps == c.steps && u.thickness == c.thickness;
+  return requested("bitmask-uniform") && requested("bitmask-cosine") && sameBitmaskSamples(u, c) &&
+         u.thickness == c.thickness;
 }
 
 // The estimates of every image by the estimators `names` (one, or both bitmasks sharing a pass:

@@ -28,6 +28,12 @@ struct BitmaskSettings {
 
 inline constexpr int kSectors = 32;
 
+// Whether two bitmask settings trace the same samples, so one visibilityBitmasks pass can serve
+// both weightings: they differ at most in weights and thickness.
+inline bool sameBitmaskSamples(const BitmaskSettings& a, const BitmaskSettings& b) {
+  return a.radius == b.radius && a.slices == b.slices && a.steps == b.steps;
+}
+
 void validate(const BitmaskSettings& s);
 AoEstimate visibilityBitmask(const GBuffer& g, const BitmaskSettings& s);
 // The estimate at each of several thicknesses (s.thickness is not read) in one pass: the samples,

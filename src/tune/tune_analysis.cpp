@@ -119,12 +119,10 @@ bool bitmasksSharePass(const std::vector<SettingGrid>& grids, std::size_t k,
   const SettingGrid& a = grids[k];
   const SettingGrid& b = grids[k + 1];
   const ScreenAoSettings s;
-  const BitmaskSettings& u = s.bitmask_uniform;
-  const BitmaskSettings& c = s.bitmask_cosine;
   const bool both = (a.estimator == "bitmask-uniform" && b.estimator == "bitmask-cosine") ||
                     (a.estimator == "bitmask-cosine" && b.estimator == "bitmask-uniform");
   return both && a.key == "thickness" && b.key == "thickness" && to_run == b.values &&
-         u.radius == c.radius && u.slices == c.slices && u.steps == c.steps;
+         sameBitmaskSamples(s.bitmask_uniform, s.bitmask_cosine);
 }
 
 SectorWeights weightsOf(const std::string& estimator) {
