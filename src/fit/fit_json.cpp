@@ -90,6 +90,7 @@ json eivJson(const MultiBounceFit& fit) {
     rows.push_back({{"rho", f.rho},
                     {"bias", cubicJson(f.eiv_bias)},
                     {"half_mean", cubicJson(f.half_mean)},
+                    {"bias_quadratic", cubicJson(f.eiv_bias_quadratic)},
                     {"bias_two_point", cubicJson(f.eiv_bias_two_point)},
                     {"ratio_to_se", cubicJson(ratio)}});
   }
@@ -97,14 +98,17 @@ json eivJson(const MultiBounceFit& fit) {
   for (int i = 0; i < 6; ++i) {
     ratio[i] = std::abs(lin.eiv_bias[i]) / lin.se[i];
     residual[i] =
-        remainingBias(lin.eiv_bias[i], lin.eiv_bias_two_point[i], fit.settings.eiv_correction);
+        remainingBias(lin.eiv_bias[i], lin.eiv_bias_quadratic[i], fit.settings.eiv_correction);
   }
   return {{"method",
            "SIMEX with the sweep's own noise: fits at noise variance v = 1 (full), 2 (halves), 3 "
-           "(full +- sqrt(2)(H0-H1)/2), quadratic extrapolation to v = 0; bias = fit(full) - "
-           "extrapolation; linear_two_point = mean(fit(H0),fit(H1)) - fit(full)"},
+           "(full +- sqrt(2)(H0-H1)/2), 4 (full +- sqrt(3)(H0-H1)/2), cubic extrapolation to "
+           "v = 0; bias = fit(full) - extrapolation; linear_quadratic: the same by quadratic "
+           "extrapolation through v = 1..3; residual_bound = |linear - linear_quadratic|; "
+           "linear_two_point = mean(fit(H0),fit(H1)) - fit(full)"},
           {"corrected", fit.settings.eiv_correction},
           {"linear", coeffsJson(lin.eiv_bias)},
+          {"linear_quadratic", coeffsJson(lin.eiv_bias_quadratic)},
           {"linear_two_point", coeffsJson(lin.eiv_bias_two_point)},
           {"linear_ratio_to_se", coeffsJson(ratio)},
           {"max_ratio_to_se", maxRatio(lin.eiv_bias, lin.se)},

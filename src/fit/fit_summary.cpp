@@ -70,7 +70,7 @@ void printCoefficients(const FitAnalysis& a, const MultiBounceCoeffs& other, con
               "diff/SEscene", "EIV bias", "left/SE");
   for (int i = 0; i < 6; ++i) {
     const double left =
-        remainingBias(lin.eiv_bias[i], lin.eiv_bias_two_point[i], a.fit.settings.eiv_correction);
+        remainingBias(lin.eiv_bias[i], lin.eiv_bias_quadratic[i], a.fit.settings.eiv_correction);
     char ratio[16] = "-";
     if (jk.available)
       std::snprintf(ratio, sizeof(ratio), "%.1f", (other[i] - lin.coeffs[i]) / jk.se[i]);

@@ -45,10 +45,13 @@ void extrapolate(const LevelSolves& solves, bool eiv_correction, AlbedoFit& f) {
     const double t1 = solves.theta[0][q];
     const double t2 = 0.5 * (solves.theta[1][q] + solves.theta[2][q]);
     const double t3 = 0.5 * (solves.theta[3][q] + solves.theta[4][q]);
+    const double t4 = 0.5 * (solves.theta[5][q] + solves.theta[6][q]);
     f.uncorrected[q] = t1;
     f.half_mean[q] = t2;
-    // Quadratic in v through v = 1, 2, 3, extrapolated to v = 0: θ0 = 3θ1 − 3θ2 + θ3.
-    f.eiv_bias[q] = t1 - (3.0 * t1 - 3.0 * t2 + t3);
+    // Cubic in v through v = 1, 2, 3, 4, extrapolated to v = 0: θ0 = 4θ1 − 6θ2 + 4θ3 − θ4.
+    f.eiv_bias[q] = t1 - (4.0 * t1 - 6.0 * t2 + 4.0 * t3 - t4);
+    // One order lower, quadratic through v = 1, 2, 3: θ0 = 3θ1 − 3θ2 + θ3.
+    f.eiv_bias_quadratic[q] = t1 - (3.0 * t1 - 3.0 * t2 + t3);
     f.eiv_bias_two_point[q] = t2 - t1;
     f.theta[q] = eiv_correction ? t1 - f.eiv_bias[q] : t1;
   }
@@ -177,8 +180,8 @@ void albedoErrors(const SweepData& data, const std::vector<double>& w,
 
 }  // namespace
 
-double remainingBias(double bias, double bias_two_point, bool corrected) {
-  return corrected ? std::abs(bias - bias_two_point) : std::abs(bias);
+double remainingBias(double bias, double bias_quadratic, bool corrected) {
+  return corrected ? std::abs(bias - bias_quadratic) : std::abs(bias);
 }
 
 MultiBounceCoeffs coefficientsFromStatistics(const LevelStatistics& sums,
@@ -227,6 +230,7 @@ MultiBounceFit fitMultiBounce(const SweepData& data, const FitSettings& settings
   lin.coeffs = lines.coeffs;
   lin.uncorrected = fitLines(data.albedos, column(&AlbedoFit::uncorrected), false).coeffs;
   lin.eiv_bias = applyLines(lines.L, column(&AlbedoFit::eiv_bias));
+  lin.eiv_bias_quadratic = applyLines(lines.L, column(&AlbedoFit::eiv_bias_quadratic));
   lin.eiv_bias_two_point = applyLines(lines.L, column(&AlbedoFit::eiv_bias_two_point));
   // Monte Carlo covariance of the six: Λ Cov(θ) Λᵀ, Λ(2q + e, 3j + q) = L(e, j).
   Eigen::MatrixXd Lambda = Eigen::MatrixXd::Zero(6, 3 * M);

@@ -19,12 +19,12 @@
 // coefficients, so its covariance propagates the full cross-albedo covariance exactly.
 // The scene-level uncertainty (what the choice of scenes moves) is scene_jackknife.h.
 //
-// Errors in variables (docs/fit.md §4): noise in A biases θ̂ by β·v + γ·v² + … in the noise
+// Errors in variables (docs/fit.md §6): noise in A biases θ̂ by β·v + γ·v² + … in the noise
 // variance v (v = 1 for the full estimate). With d_i = (h0_i − h1_i)/2 (same variance as the
-// full estimate's noise, uncorrelated with it) the sets full + c·d, c ∈ {±1, ±√2}, have v = 2, 3;
-// θ̂(v) through v = 1, 2, 3 is extrapolated quadratically to v = 0 (SIMEX with the sweep's own
-// noise): θ0 = 3θ1 − 3θ2 + θ3. With `eiv_correction` the reported θ is θ0; its first-order noise
-// equals θ̂_full's (the ±c pairs cancel d), so the SE applies to it unchanged.
+// full estimate's noise, uncorrelated with it) the sets full + c·d, c ∈ {±1, ±√2, ±√3}, have
+// v = 2, 3, 4; θ̂(v) through v = 1, 2, 3, 4 is extrapolated as a cubic to v = 0 (SIMEX with the
+// sweep's own noise): θ0 = 4θ1 − 6θ2 + 4θ3 − θ4. With `eiv_correction` the reported θ is θ0; its
+// first-order noise equals θ̂_full's (the ±c pairs cancel d), so the SE applies to it unchanged.
 #pragma once
 
 #include <array>
@@ -50,7 +50,8 @@ struct AlbedoFit {
   Cubic se_iid{};              // Ceres covariance × Σ w r²/(n − N)
   Cubic uncorrected{};         // θ̂ on the full estimate
   Cubic half_mean{};           // mean of θ̂ on the two halves
-  Cubic eiv_bias{};            // measured bias of θ̂_full (quadratic extrapolation in v)
+  Cubic eiv_bias{};            // measured bias of θ̂_full (cubic extrapolation in v)
+  Cubic eiv_bias_quadratic{};  // the same by quadratic extrapolation through v = 1..3
   Cubic eiv_bias_two_point{};  // the two-point estimate from the halves: half_mean − uncorrected
   double rmse = 0.0;           // of `theta` against the full-estimate points, unweighted
   double max_abs = 0.0;
@@ -63,6 +64,7 @@ struct LinearFit {
   std::array<double, 36> mc_covariance{};  // Monte Carlo covariance, row-major 6 × 6
   MultiBounceCoeffs uncorrected{};         // the same lines through the uncorrected θ̂_full
   MultiBounceCoeffs eiv_bias{};            // lines through the per-albedo biases
+  MultiBounceCoeffs eiv_bias_quadratic{};  // lines through the quadratic-extrapolation biases
   MultiBounceCoeffs eiv_bias_two_point{};  // lines through the two-point biases
   // Lack of fit of "linear in ρ": RMS and max |residual| of a(ρ), b(ρ), c(ρ) about their lines.
   // Model error of the law, not an uncertainty of the six numbers.
@@ -78,10 +80,10 @@ struct MultiBounceFit {
   std::vector<LevelStatistics> scene_stats;  // [scene] the sums the fit was solved from
 };
 
-// What remains of the errors-in-variables bias in a reported coefficient (docs/fit.md §4): with
-// the correction the gap between the quadratic and the two-point estimates (it bounds the next
-// order), without it the whole measured bias.
-double remainingBias(double bias, double bias_two_point, bool corrected);
+// What remains of the errors-in-variables bias in a reported coefficient (docs/fit.md §6): with
+// the correction the gap between the cubic and the quadratic extrapolations (it bounds what the
+// cubic leaves), without it the whole measured bias.
+double remainingBias(double bias, double bias_quadratic, bool corrected);
 
 // Stage 1 and 2 coefficients from summed statistics, no standard errors: a refit on any union of
 // scenes (the jackknife's replicas) costs ~40 Ceres solves of 2 or 3 parameters.

@@ -24,10 +24,16 @@
 
 namespace gtbake {
 
-inline constexpr int kLevels = 5;
-// c_l of the noise levels: full + c·(h0 − h1)/2 has (1 + c²) times the full estimate's variance.
-inline const std::array<double, kLevels> kLevelScale = {0.0, 1.0, -1.0, 1.4142135623730951,
-                                                        -1.4142135623730951};
+inline constexpr int kLevels = 7;
+// c_l of the noise levels: full + c·(h0 − h1)/2 has (1 + c²) times the full estimate's variance
+// (v = 1, 2, 2, 3, 3, 4, 4).
+inline const std::array<double, kLevels> kLevelScale = {0.0,
+                                                        1.0,
+                                                        -1.0,
+                                                        1.4142135623730951,
+                                                        -1.4142135623730951,
+                                                        1.7320508075688772,
+                                                        -1.7320508075688772};
 
 struct NormalEquations {
   std::array<long double, 9> gram{};               // Σ w x xᵀ, row-major 3 × 3
