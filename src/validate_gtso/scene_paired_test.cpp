@@ -28,29 +28,32 @@ constexpr double kTieSlack = 1e-12;
 // dependent additions per pattern.
 constexpr std::uint64_t kLanes = 8;
 
-// How many sign patterns in `patterns` give |Σ ±d| ≥ target; pattern bits from `bits(k)`. Each
-// pattern's sum is summed in scene order, and the count is an integer, so the result does not
-// depend on how the patterns are split across threads or lanes.
+// How many sign patterns in `patterns` give |Σ ±d| ≥ target; pattern k's sign of scene s is bit
+// s % 64 of `bits(k, s / 64)`. Each pattern's sum is summed in scene order, and the count is an
+// integer, so the result does not depend on how the patterns are split across threads or lanes.
 template <typename Bits>
 std::uint64_t countAtLeast(const std::vector<double>& d, double target, std::uint64_t patterns,
                            Bits&& bits) {
   std::vector<std::uint64_t> magnitude(d.size());
   std::memcpy(magnitude.data(), d.data(), d.size() * sizeof(double));
+  const std::size_t words = (d.size() + 63) / 64;
   return tbb::parallel_reduce(
       tbb::blocked_range<std::uint64_t>(0, (patterns + kLanes - 1) / kLanes), std::uint64_t{0},
       [&](const tbb::blocked_range<std::uint64_t>& r, std::uint64_t hits) {
+        std::vector<std::uint64_t> b(kLanes * words);  // [lane][word]
         for (std::uint64_t g = r.begin(); g != r.end(); ++g) {
           const std::uint64_t first = g * kLanes, n = std::min(kLanes, patterns - first);
-          std::uint64_t b[kLanes];
           double sum[kLanes];
           for (std::uint64_t p = 0; p < kLanes; ++p) {
-            b[p] = p < n ? bits(first + p) : 0;
+            for (std::size_t w = 0; w < words; ++w)
+              b[p * words + w] = p < n ? bits(first + p, w) : 0;
             sum[p] = 0.0;
           }
           for (std::size_t s = 0; s < d.size(); ++s) {
+            const std::size_t w = s / 64, bit = s % 64;
             for (std::uint64_t p = 0; p < kLanes; ++p) {
               // −d_s by its sign bit (exact, like the negation), without a branch on random bits.
-              const std::uint64_t v = magnitude[s] ^ (((b[p] >> s) & 1u) << 63);
+              const std::uint64_t v = magnitude[s] ^ (((b[p * words + w] >> bit) & 1u) << 63);
               double x;
               std::memcpy(&x, &v, sizeof x);
               sum[p] += x;
@@ -63,19 +66,21 @@ std::uint64_t countAtLeast(const std::vector<double>& d, double target, std::uin
       std::plus<>());
 }
 
-// The kSignFlipDraws random sign patterns of S scenes (stream S of seed 0x5167), drawn once per S
-// and shared by every test of a run: a ranking runs dozens of tests on the same scenes.
+// The kSignFlipDraws random sign patterns of S scenes (stream S of seed 0x5167; word w of pattern
+// k from counter (k, w), so S ≤ 64 draws the one word it always did), drawn once per S and shared
+// by every test of a run: a ranking runs dozens of tests on the same scenes. [pattern][word].
 const std::vector<std::uint64_t>& drawnPatterns(std::size_t S) {
   static std::mutex mutex;
   static std::map<std::size_t, std::vector<std::uint64_t>> drawn;
   const std::lock_guard<std::mutex> lock(mutex);
   std::vector<std::uint64_t>& patterns = drawn[S];
+  const std::size_t words = (S + 63) / 64;
   if (patterns.empty()) {
-    patterns.resize(kSignFlipDraws);
+    patterns.resize(kSignFlipDraws * words);
     const CounterRng rng(0x5167, S);
-    tbb::parallel_for(std::size_t{0}, patterns.size(), [&](std::size_t k) {
-      const auto w = rng.words(k, 0);
-      patterns[k] = (std::uint64_t{w[0]} << 32) | w[1];
+    tbb::parallel_for(std::size_t{0}, patterns.size(), [&](std::size_t i) {
+      const auto w = rng.words(i / words, static_cast<std::uint32_t>(i % words));
+      patterns[i] = (std::uint64_t{w[0]} << 32) | w[1];
     });
   }
   return patterns;
@@ -92,7 +97,9 @@ std::string pText(double p) {
 PairedTest pairedSignFlip(const std::vector<double>& x, const std::vector<double>& y) {
   if (x.size() != y.size()) throw Error("paired test: the two methods have different scenes");
   if (x.size() < 2) throw Error("paired test: needs at least 2 scenes");
-  if (x.size() > 64) throw Error("paired test: at most 64 scenes (one sign bit each)");
+  if (x.size() > kMaxPairedScenes) {
+    throw Error("paired test: at most " + std::to_string(kMaxPairedScenes) + " scenes");
+  }
   const std::size_t S = x.size();
   std::vector<double> d(S);
   for (std::size_t s = 0; s < S; ++s) d[s] = x[s] - y[s];
@@ -110,13 +117,15 @@ PairedTest pairedSignFlip(const std::vector<double>& x, const std::vector<double
   const double target = std::abs(sum) - kTieSlack * scale;
   if (S <= kExactSignFlipScenes) {
     const std::uint64_t patterns = std::uint64_t{1} << S;
-    out.p_value =
-        static_cast<double>(countAtLeast(d, target, patterns, [](std::uint64_t k) { return k; })) /
-        static_cast<double>(patterns);
+    out.p_value = static_cast<double>(countAtLeast(
+                      d, target, patterns, [](std::uint64_t k, std::size_t) { return k; })) /
+                  static_cast<double>(patterns);
   } else {
     const std::vector<std::uint64_t>& drawn = drawnPatterns(S);
+    const std::size_t words = (S + 63) / 64;
     const std::uint64_t hits =
-        countAtLeast(d, target, kSignFlipDraws, [&](std::uint64_t k) { return drawn[k]; });
+        countAtLeast(d, target, kSignFlipDraws,
+                     [&](std::uint64_t k, std::size_t w) { return drawn[k * words + w]; });
     out.p_value = (static_cast<double>(hits) + 1.0) / (static_cast<double>(kSignFlipDraws) + 1.0);
   }
   out.significant = out.p_value < kSignificance;

@@ -18,6 +18,8 @@ namespace gtbake {
 
 inline constexpr std::size_t kExactSignFlipScenes = 20;
 inline constexpr std::size_t kSignFlipDraws = 1u << 20;
+// The drawn patterns take 8 MB per 64 scenes, kept for the run.
+inline constexpr std::size_t kMaxPairedScenes = 1024;
 inline constexpr double kSignificance = 0.05;  // two-sided
 inline constexpr const char* kPairedTestMethod =
     "two-sided sign-flip permutation test of the mean per-scene difference (exact over all 2^S "
@@ -31,7 +33,8 @@ struct PairedTest {
   bool significant = false;  // p < kSignificance
 };
 
-// Throws gtbake::Error when x and y differ in length or have fewer than 2 or more than 64 scenes.
+// Throws gtbake::Error when x and y differ in length or have fewer than 2 or more than
+// kMaxPairedScenes scenes.
 PairedTest pairedSignFlip(const std::vector<double>& x, const std::vector<double>& y);
 
 // A method ranking at one roughness: `best` has the lowest pooled value; each other method is

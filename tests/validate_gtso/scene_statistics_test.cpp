@@ -66,6 +66,37 @@ TEST(PairedSignFlip, AgreesWithTheTTestForNormalData) {
   EXPECT_NEAR(t.p_value, 0.05, 0.02);
 }
 
+// Beyond 64 scenes a pattern spans several 64-bit words: with 150 normal differences at t = 1.976
+// (149 dof, two-sided p = 0.05) the drawn patterns give p within 0.01 of 0.05 (2^20 draws: SE
+// 0.0002), a difference carried by scenes 64..149 alone is still found, and a mirrored set
+// (each d with its −d) gives p = 1.
+TEST(PairedSignFlip, ManyScenesUseEveryScenesSign) {
+  constexpr std::size_t S = 150;
+  std::mt19937_64 gen(12);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<double> d(S);
+  for (double& v : d) v = normal(gen);
+  double mean = 0.0, ss = 0.0;
+  for (double v : d) mean += v / S;
+  for (double v : d) ss += (v - mean) * (v - mean);
+  const double sd = std::sqrt(ss / (S - 1));
+  for (double& v : d) v += 1.976 * sd / std::sqrt(double{S}) - mean;
+  const std::vector<double> zero(S, 0.0);
+  const PairedTest t = pairedSignFlip(d, zero);
+  EXPECT_NEAR(t.t, 1.976, 1e-9);
+  EXPECT_NEAR(t.p_value, 0.05, 0.01);
+  // Only the high words carry the difference: the low 64 scenes are exactly zero.
+  std::vector<double> high(S, 0.0);
+  for (std::size_t s = 64; s < S; ++s) high[s] = 1.0 + 0.01 * static_cast<double>(s % 7);
+  EXPECT_LT(pairedSignFlip(high, zero).p_value, 1e-5);
+  std::vector<double> mirrored(S);
+  for (std::size_t s = 0; s < S; s += 2) mirrored[s] = -(mirrored[s + 1] = 0.5 + 0.001 * s);
+  EXPECT_DOUBLE_EQ(pairedSignFlip(mirrored, zero).p_value, 1.0);
+  EXPECT_THROW(pairedSignFlip(std::vector<double>(kMaxPairedScenes + 1, 1.0),
+                              std::vector<double>(kMaxPairedScenes + 1, 0.0)),
+               Error);
+}
+
 TEST(PairedSignFlip, RankingStatementFollowsTheTests) {
   // A beats C on every scene (p = 2/128); B is best pooled and ties A (mixed signs).
   const std::vector<std::vector<double>> per_scene = {
