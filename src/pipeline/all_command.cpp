@@ -25,11 +25,12 @@ namespace gtbake {
 namespace {
 
 // The default corpus keeps the ray budget of the seven classic scenes at the sweep's defaults
-// (7 × 192² pixels × 384 walks and 64 specular samples per roughness): 48 views × 128² pixels
-// are 3.05 times the pixels, so 126 walks and 20 specular samples per pixel (docs/scenes.md).
+// (7 × 192² pixels × 384 walks and 64 specular samples per roughness): 72 views × 128² pixels
+// are 4.57 times the pixels, so 84 walks and 14 specular samples per pixel, the same totals
+// (docs/scenes.md).
 constexpr int kCorpusResolution = 128;
-constexpr int kCorpusSpp = 126;
-constexpr int kCorpusSpecularSpp = 20;
+constexpr int kCorpusSpp = 84;
+constexpr int kCorpusSpecularSpp = 14;
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -73,7 +74,7 @@ double specularProfiles(const AllOptions& options, std::vector<Profile>* profile
     v.luts = options.out;
     v.input.estimator = p.estimator;
     v.input.screen_ao = options.out / "screen_ao";
-    v.write_images = false;  // 48 PNGs per estimator; `gtbake validate-gtso --estimator` draws them
+    v.write_images = false;  // 72 PNGs per estimator; `gtbake validate-gtso --estimator` draws them
     v.print_summary = false;
     v.progress = options.progress;
     p.specular = runValidateGtso(v);
@@ -106,7 +107,7 @@ ScreenAoResult screenAndProfiles(const AllOptions& options, int threads,
     fit.out = options.out / "profiles" / estimators[k] / "fit.json";
     fit.input.estimator = estimators[k];
     fit.input.screen_ao = screen_ao.out;
-    fit.write_report = false;  // 48 scatter plots per profile; `gtbake fit --estimator` draws them
+    fit.write_report = false;  // 72 scatter plots per profile; `gtbake fit --estimator` draws them
     fit.progress = false;
     fit.print_summary = false;
     (*profiles)[k] = {estimators[k], runFit(fit), {}};

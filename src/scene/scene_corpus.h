@@ -34,8 +34,8 @@ class VariantDraws {
   std::uint64_t variant_;
 };
 
-// Variants per type in the default corpus: 12 types × 4 = 48 scenes.
-inline constexpr int kCorpusVariants = 4;
+// Variants per type in the default corpus: 12 types × 6 = 72 scenes (docs/scenes.md).
+inline constexpr int kCorpusVariants = 6;
 
 // The twelve corpus types in their fixed order: the seven classic ones, then interior, colonnade,
 // rocks, thin, mechanical.

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "scene/scene_corpus.h"
+
 namespace gtbake {
 
 struct ScenesOptions {
@@ -14,7 +16,7 @@ struct ScenesOptions {
   bool progress = true;
   // The seven classic scenes only (data/scenes/ holds them, seed 1), named by their type.
   bool classic = false;
-  int variants = 4;  // per corpus type (kCorpusVariants)
+  int variants = kCorpusVariants;  // per corpus type
 };
 
 // Writes <out>/<name>.gltf and <out>/<name>.bin for every corpus scene <type>_<variant> (type by

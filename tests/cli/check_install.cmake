@@ -1,6 +1,7 @@
 # `cmake --install` into a scratch prefix puts gtbake in bin/ and the shipped luts in
-# share/gtbake/luts (the header, the DDS/KTX2 volumes and the sweep that `validate` reads), and
-# leaves out the intermediate scenes/ of `gtbake all`.
+# share/gtbake/luts (the header, the DDS/KTX2 volumes, the JSON results), and leaves out the
+# intermediate scenes/ of `gtbake all`. The per-view EXRs are installed only where `gtbake all`
+# wrote them: a clone does not hold them (docs/reproducibility.md "What luts/ keeps").
 file(REMOVE_RECURSE ${PREFIX})
 execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD} --prefix ${PREFIX}
                 RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
@@ -10,7 +11,7 @@ endif()
 foreach(file bin/gtbake share/gtbake/luts/gtbake_tables.h share/gtbake/luts/gtbake_tables.hlsl
              share/gtbake/luts/gtbake_tables.glsl share/gtbake/luts/gtso3d.dds
              share/gtbake/luts/gtso4d.ktx2 share/gtbake/luts/fit.json share/gtbake/luts/sweep.json
-             share/gtbake/luts/cavity_0.exr share/gtbake/luts/gtso/gtso.json
+             share/gtbake/luts/gtso/gtso.json
              share/gtbake/luts/encode.json share/gtbake/luts/screen_ao/screen_ao.json)
   if(NOT EXISTS ${PREFIX}/${file})
     message(FATAL_ERROR "cmake --install did not install ${file}")

@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "cli_harness.h"
-#include "common/output_set.h"
 
 namespace gtbake::test {
 namespace {
@@ -26,8 +25,21 @@ std::string printed(const char* format, double value) {
 }
 
 TEST(Validate, DiffOverSeColumnIsTheGivenOffsetInStandardErrors) {
-  const fs::path luts = fs::path(GTBAKE_SOURCE_DIR) / "luts";
-  const json fit = json::parse(readBytes(luts / "fit.json"));
+  // A small sweep of the seven classic scenes and its fit (luts/ does not commit the sweep's
+  // per-view images, docs/reproducibility.md).
+  const TempDir dir("validate-column");
+  const fs::path sweep = dir.path() / "sweep";
+  const std::string scenes = (fs::path(GTBAKE_SOURCE_DIR) / "data" / "scenes").string();
+  const RunResult swept =
+      runGtbake("sweep --quiet --scenes " + scenes + " --out " + sweep.string() +
+                " --res 32x32 --spp 32 --specular-roughness none "
+                "--gbuffer-radius none");
+  ASSERT_EQ(swept.exit_code, 0) << swept.err;
+  const fs::path fit_path = dir.path() / "fit" / "fit.json";
+  const RunResult fitted =
+      runGtbake("fit --sweep " + sweep.string() + " --out " + fit_path.string());
+  ASSERT_EQ(fitted.exit_code, 0) << fitted.err;
+  const json fit = json::parse(readBytes(fit_path));
   const std::array<const char*, 6> names = {"a1", "a0", "b1", "b0", "c1", "c0"};
   // Distinct offsets, none near a rounding boundary of %.1f, so a swapped or misnamed column fails.
   const std::array<double, 6> k = {2.0, -3.0, 0.5, 1.0, -1.5, 4.0};
@@ -36,19 +48,6 @@ TEST(Validate, DiffOverSeColumnIsTheGivenOffsetInStandardErrors) {
     const double refit = fit["linear"][names[i]].get<double>();
     const double se = fit["linear_se"][names[i]].get<double>();
     coeffs += (i ? "," : "") + printed("%.17g", refit + k[i] * se);
-  }
-  // luts/ committed before output sets has no sweep.manifest.json: validate a sealed copy then.
-  const TempDir copy("validate-luts");
-  fs::path sweep = luts;
-  if (!fs::exists(luts / "sweep.manifest.json")) {
-    std::vector<std::string> names_in_set = {"sweep.json"};
-    const json sweep_json = json::parse(readBytes(luts / "sweep.json"));
-    for (const json& scene : sweep_json["scenes"]) {
-      names_in_set.push_back(scene["file"].get<std::string>());
-    }
-    for (const std::string& name : names_in_set) fs::copy_file(luts / name, copy.path() / name);
-    sealOutputSet(copy.path(), "sweep", names_in_set);
-    sweep = copy.path();
   }
   const RunResult run =
       runGtbake("validate --quiet --sweep " + sweep.string() + " --coeffs " + coeffs);

@@ -45,7 +45,7 @@ TEST(Corpus, VariantsAreSeededAndDiffer) {
 }
 
 // Every default corpus camera sees geometry in every pixel of an 8 × 8 grid (the 128² corpus
-// sweep agrees: every pixel of all 48 views is unmasked), and its basis is a rotation.
+// sweep agrees: every pixel of all 72 views is unmasked), and its basis is a rotation.
 TEST(Corpus, DefaultCorpusShowsNoSky) {
   constexpr int kGrid = 8;
   for (const auto& type : corpusTypeNames()) {
