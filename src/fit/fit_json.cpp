@@ -107,6 +107,7 @@ json eivJson(const MultiBounceFit& fit) {
            "extrapolation through v = 1..3; residual_bound = |linear - linear_quadratic|; "
            "linear_two_point = mean(fit(H0),fit(H1)) - fit(full)"},
           {"corrected", fit.settings.eiv_correction},
+          {"a_noise_free", fit.a_noise_free},
           {"linear", coeffsJson(lin.eiv_bias)},
           {"linear_quadratic", coeffsJson(lin.eiv_bias_quadratic)},
           {"linear_two_point", coeffsJson(lin.eiv_bias_two_point)},

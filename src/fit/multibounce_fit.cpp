@@ -57,6 +57,25 @@ void extrapolate(const LevelSolves& solves, bool eiv_correction, AlbedoFit& f) {
   }
 }
 
+// True when no point's A carries Monte Carlo noise: both halves give the full estimate (a
+// screen-space estimator's A). Every level then shares the regressors and differs only by ±c·δG,
+// in which least squares is linear, so θ̂(v) = θ̂(1) for every v and the bias is exactly zero.
+bool aIsNoiseFree(const SweepData& data) {
+  for (std::size_t i = 0; i < data.points(); ++i) {
+    if (data.half[0].A[i] != data.full.A[i] || data.half[1].A[i] != data.full.A[i]) return false;
+  }
+  return true;
+}
+
+// The exact zero bias of noise-free A, in place of the levels' rounding-level differences.
+void clearEivBias(AlbedoFit& f) {
+  f.eiv_bias = {};
+  f.eiv_bias_quadratic = {};
+  f.eiv_bias_two_point = {};
+  f.half_mean = f.uncorrected;
+  f.theta = f.uncorrected;
+}
+
 // The lines q(ρ) = q1 ρ + q0 of stage 2 and the map L = (RᵀR)⁻¹Rᵀ (2 × M) they apply.
 struct Lines {
   MultiBounceCoeffs coeffs{};
@@ -207,6 +226,7 @@ MultiBounceFit fitMultiBounce(const SweepData& data, const FitSettings& settings
   const LevelStatistics sums =
       sumScenes(fit.scene_stats, std::vector<bool>(data.scenes.size(), true));
 
+  fit.a_noise_free = aIsNoiseFree(data);
   std::vector<LevelSolves> solves(M);
   fit.per_albedo.resize(M);
   for (std::size_t j = 0; j < M; ++j) {
@@ -214,6 +234,7 @@ MultiBounceFit fitMultiBounce(const SweepData& data, const FitSettings& settings
     fit.per_albedo[j].rho = data.albedos[j];
     fit.per_albedo[j].points = data.points();
     extrapolate(solves[j], settings.eiv_correction, fit.per_albedo[j]);
+    if (fit.a_noise_free) clearEivBias(fit.per_albedo[j]);
   }
   const Eigen::MatrixXd cov = monteCarloCovariance(data, fit.weights, solves, p);
   albedoErrors(data, fit.weights, solves, p, cov, fit.per_albedo);

@@ -76,6 +76,7 @@ struct MultiBounceFit {
   FitSettings settings;
   std::vector<AlbedoFit> per_albedo;
   LinearFit linear;
+  bool a_noise_free = false;  // every point's halves equal its full A: no errors-in-variables bias
   std::vector<double> weights;               // per point, mean 1
   std::vector<LevelStatistics> scene_stats;  // [scene] the sums the fit was solved from
 };

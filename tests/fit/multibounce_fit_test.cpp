@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -121,6 +122,35 @@ TEST(MultiBounceFit, EivResidualBoundCoversTheCorrectedFitsError) {
   // Not vacuous: where the bound stands clear of the noise, the actual error reaches a real
   // part of it (measured 0.86 at σ_A = 0.075).
   EXPECT_GT(worst_share, 0.5);
+}
+
+// A without noise (a screen-space estimate: both halves carry the full A) has no
+// errors-in-variables bias: the levels differ only in G, in which least squares is linear. The fit
+// reports exact zeros, not the levels' rounding, and the corrected and plain fits are one; a
+// single noisy point in A turns the detection off.
+TEST(MultiBounceFit, EivBiasIsExactlyZeroForNoiseFreeA) {
+  SweepData data = knownCoefficientSweep(kPaperCoeffs, 20000, 0.0, 0.02, 0.0, 17);
+  const MultiBounceFit fit = fitMultiBounce(data);
+  EXPECT_TRUE(fit.a_noise_free);
+  for (const AlbedoFit& f : fit.per_albedo) {
+    for (int q = 0; q < 3; ++q) {
+      EXPECT_EQ(f.eiv_bias[q], 0.0);
+      EXPECT_EQ(f.eiv_bias_quadratic[q], 0.0);
+      EXPECT_EQ(f.eiv_bias_two_point[q], 0.0);
+      EXPECT_EQ(f.theta[q], f.uncorrected[q]);
+    }
+  }
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_EQ(fit.linear.eiv_bias[i], 0.0);
+    EXPECT_EQ(fit.linear.coeffs[i], fit.linear.uncorrected[i]);
+  }
+  data.half[0].A[123] += 1e-3;
+  data.half[1].A[123] -= 1e-3;
+  const MultiBounceFit noisy = fitMultiBounce(data);
+  EXPECT_FALSE(noisy.a_noise_free);
+  double largest = 0.0;
+  for (int i = 0; i < 6; ++i) largest = std::max(largest, std::abs(noisy.linear.eiv_bias[i]));
+  EXPECT_GT(largest, 0.0);
 }
 
 // The fit from per-scene sums equals an independent raw-point implementation of the same
