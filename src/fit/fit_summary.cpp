@@ -43,6 +43,20 @@ void printBand(const FitAnalysis& a, const char* name, const BandScore& score) {
   }
   std::printf("  Monte Carlo SE of G (another seed): max %.5f at A = %.3f, rho = %.2f\n",
               jk.mc_band_max.value, jk.mc_band_max.A, jk.mc_band_max.rho);
+  const SceneJackknife& types = a.type_jackknife;
+  if (types.available) {
+    std::printf(
+        "  type-jackknife SE of G (%zu types; content unlike any type): max %.4f at A = "
+        "%.3f, rho = %.2f\n",
+        types.scenes, types.band_max.value, types.band_max.A, types.band_max.rho);
+  }
+  if (jk.available) {
+    std::printf(
+        "  smallest curve difference the verdict detects everywhere (threshold %.2f x "
+        "band): %.4f at A = %.3f, rho = %.2f\n",
+        score.threshold, score.largest_undetectable.value, score.largest_undetectable.A,
+        score.largest_undetectable.rho);
+  }
   std::printf("%s constants: %s\n", name, score.verdict.c_str());
 }
 
