@@ -1,9 +1,9 @@
 // gtbake-docs: keeps the numbers docs quote from artifacts equal to the artifacts.
 //
-//   gtbake-docs --check  [--luts DIR] PATH...   list every mismatch, missing value and malformed
-//                                                marker as FILE:LINE: message; exit 1 if any
-//   gtbake-docs --update [--luts DIR] PATH...   rewrite the quoted numbers in place (atomically,
-//                                                per file); exit 1 if a marker cannot be resolved
+//   gtbake-docs --check  [--luts DIR] [--data DIR] PATH...   list every mismatch, missing value
+//                                     and malformed marker as FILE:LINE: message; exit 1 if any
+//   gtbake-docs --update [--luts DIR] [--data DIR] PATH...   rewrite the quoted numbers in place
+//                                     (atomically, per file); exit 1 if a marker cannot be resolved
 //
 // PATH is a Markdown file or a directory (its *.md files, recursively, in sorted order). The
 // marker syntax is in src/docs/doc_numbers.h and docs/index.md.
@@ -55,11 +55,14 @@ int main(int argc, char** argv) {
   bool check = false;
   bool update = false;
   std::string luts = "luts";
+  std::string data = "data";
   std::vector<std::string> paths;
   auto* check_flag = app.add_flag("--check", check, "Report every number that disagrees");
   app.add_flag("--update", update, "Rewrite the numbers to the artifacts' values")
       ->excludes(check_flag);
   app.add_option("--luts", luts, "Artifact directory the markers' files are relative to")
+      ->capture_default_str();
+  app.add_option("--data", data, "Directory of the committed studies markers name as data/...")
       ->capture_default_str();
   app.add_option("paths", paths, "Markdown files or directories")->required();
   try {
@@ -74,7 +77,7 @@ int main(int argc, char** argv) {
   }
 
   try {
-    const gtbake::docs::ValueLookup lookup = gtbake::docs::jsonLookup(luts);
+    const gtbake::docs::ValueLookup lookup = gtbake::docs::jsonLookup(luts, data);
     int markers = 0;
     int issues = 0;
     int rewritten = 0;

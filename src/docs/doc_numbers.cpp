@@ -177,18 +177,22 @@ std::string formatNumber(const std::string& format, double value) {
   return buffer;
 }
 
-ValueLookup jsonLookup(const std::filesystem::path& artifact_dir) {
+ValueLookup jsonLookup(const std::filesystem::path& artifact_dir,
+                       const std::filesystem::path& data_dir) {
   // Each file is read and parsed once; a file that fails to parse keeps its error.
   struct Parsed {
     nlohmann::json json;
     std::string error;
   };
   auto cache = std::make_shared<std::map<std::string, Parsed>>();
-  return [artifact_dir, cache](const std::string& file, const std::string& pointer) {
+  return [artifact_dir, data_dir, cache](const std::string& file, const std::string& pointer) {
     auto it = cache->find(file);
     if (it == cache->end()) {
       Parsed parsed;
-      const std::filesystem::path path = artifact_dir / file;
+      static const std::string kData = "data/";
+      const std::filesystem::path path = !data_dir.empty() && file.rfind(kData, 0) == 0
+                                             ? data_dir / file.substr(kData.size())
+                                             : artifact_dir / file;
       try {
         parsed.json = nlohmann::json::parse(readFile(path));
       } catch (const Error& e) {

@@ -4,7 +4,8 @@
 //
 //   <!--@ FILE POINTER FORMAT [xSCALE]-->
 //
-// FILE is a JSON file relative to the artifact directory (luts/), POINTER an RFC 6901 JSON
+// FILE is a JSON file relative to the artifact directory (luts/), or `data/...` relative to the
+// data directory's parent (the committed studies under data/), POINTER an RFC 6901 JSON
 // pointer into it, FORMAT one printf conversion of a double and nothing else (`%.4f`, `%+.3g`,
 // `%.1e`, `%.0f`: flags, width, precision, then f, F, e, E, g or G), and xSCALE an optional factor
 // applied first (`x100` for percentages). The number before the
@@ -69,7 +70,10 @@ using ValueLookup =
     std::function<LookupResult(const std::string& file, const std::string& pointer)>;
 
 // Reads FILE under `artifact_dir` (each file parsed once per lookup object) and resolves POINTER.
-ValueLookup jsonLookup(const std::filesystem::path& artifact_dir);
+// A FILE starting with "data/" names a committed study outside luts/ (docs/index.md) and is read
+// from `data_dir` instead; with an empty `data_dir` such a FILE is looked up like any other.
+ValueLookup jsonLookup(const std::filesystem::path& artifact_dir,
+                       const std::filesystem::path& data_dir = {});
 
 // The number a marker should show: its formatted value, in the doc's minus-sign style.
 // Returns nullopt and sets `error` when the lookup or the format fails.

@@ -172,6 +172,23 @@ TEST(DocNumbers, JsonLookupReportsMissingFilePointerAndNonNumbers) {
   EXPECT_NE(lookup("bad.json", "/a").error.find("not valid JSON"), std::string::npos);
 }
 
+// "data/..." reads the data directory (the committed studies outside luts/), everything else the
+// artifact directory; without a data directory "data/..." is just a path under the artifacts.
+TEST(DocNumbers, JsonLookupReadsDataFilesFromTheDataDirectory) {
+  const test::TempDir dir("docs-data");
+  std::filesystem::create_directories(dir.path() / "luts" / "data" / "study");
+  std::filesystem::create_directories(dir.path() / "data" / "study");
+  writeFileAtomically(dir.path() / "luts" / "fit.json", R"({"x": 1})");
+  writeFileAtomically(dir.path() / "luts" / "data" / "study" / "fit.json", R"({"x": 2})");
+  writeFileAtomically(dir.path() / "data" / "study" / "fit.json", R"({"x": 3})");
+  const ValueLookup both = jsonLookup(dir.path() / "luts", dir.path() / "data");
+  EXPECT_EQ(both("fit.json", "/x").value, 1.0);
+  EXPECT_EQ(both("data/study/fit.json", "/x").value, 3.0);
+  EXPECT_NE(both("data/gone.json", "/x").error.find((dir.path() / "data").string()),
+            std::string::npos);
+  EXPECT_EQ(jsonLookup(dir.path() / "luts")("data/study/fit.json", "/x").value, 2.0);
+}
+
 // The tool as CTest and scripts/regen-luts.sh run it.
 int runTool(const std::string& arguments, const test::TempDir& dir) {
   const std::string command = std::string(GTBAKE_DOCS_BINARY) + " " + arguments + " >" +
