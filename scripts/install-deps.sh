@@ -14,7 +14,8 @@ tool_packages=(
 # Tests and benchmarks only: GoogleTest; libsquish and NVTT (the BC4 benchmark); glslang and
 # Mesa's lavapipe (the shader includes compiled and executed); Chromium (the reports rendered
 # headless); clang (the sanitizer tier and libFuzzer); slurm-wlm + munge and GNU parallel (the
-# cluster tier); assimp and its test models (real meshes in the slow tier).
+# cluster tier); assimp and its test models (real meshes in the slow tier); jq (the summary of
+# scripts/corpus-seeds.sh).
 test_packages=(
   libgtest-dev libgmock-dev
   libsquish-dev libnvtt-dev
@@ -23,6 +24,7 @@ test_packages=(
   clang libclang-rt-14-dev
   slurm-wlm munge parallel
   assimp-utils assimp-testmodels
+  jq
 )
 case "$group" in
   tool) packages=("${tool_packages[@]}") ;;

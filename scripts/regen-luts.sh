@@ -5,4 +5,4 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build/gtbake all --out luts
-build/gtbake-docs --update --luts luts docs README.md
+build/gtbake-docs --update --luts luts --data data docs README.md
