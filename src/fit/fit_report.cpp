@@ -252,9 +252,9 @@ std::string coefficientTables(const FitAnalysis& a, const MultiBounceCoeffs& shi
          formatNumber(shipped[i]),
          jk.available ? formatNumber((shipped[i] - lin.coeffs[i]) / jk.se[i], "%.1f") : "&ndash;",
          formatNumber(lin.eiv_bias[i], "%+.5f"),
-         formatNumber(
-             remainingBias(lin.eiv_bias[i], lin.eiv_bias_quadratic[i], a.fit.settings.eiv_correction),
-             "%.5f")});
+         formatNumber(remainingBias(lin.eiv_bias[i], lin.eiv_bias_quadratic[i],
+                                    a.fit.settings.eiv_correction),
+                      "%.5f")});
   }
   std::string html =
       "<h2>Linear coefficients</h2>\n" +
