@@ -8,7 +8,7 @@
 # Usage: scripts/real-meshes.sh OUT [GTBAKE]        (GTBAKE: default build/gtbake)
 # Writes OUT/scenes/<mesh>.gltf, OUT/sweep/ (sweep.json and the views' EXRs), OUT/fit.json and
 # OUT/report/. data/real_meshes/ commits this run's sweep.json and fit.json (docs quote them);
-# test Slow.RealMeshesReproduceCommittedFit reruns it and compares.
+# test Slow.RealMeshesSweepAndFitWithAutomaticCameras reruns it and compares.
 set -euo pipefail
 out="${1:?usage: scripts/real-meshes.sh OUT [GTBAKE]}"
 gtbake="${2:-build/gtbake}"

@@ -4,8 +4,8 @@
 //
 //   <!--@ FILE POINTER FORMAT [xSCALE]-->
 //
-// FILE is a JSON file relative to the artifact directory (luts/), or `data/...` relative to the
-// data directory's parent (the committed studies under data/), POINTER an RFC 6901 JSON
+// FILE is a JSON file relative to the artifact directory (luts/), or `data/...`, read from the
+// data directory (the committed studies outside luts/, jsonLookup), POINTER an RFC 6901 JSON
 // pointer into it, FORMAT one printf conversion of a double and nothing else (`%.4f`, `%+.3g`,
 // `%.1e`, `%.0f`: flags, width, precision, then f, F, e, E, g or G), and xSCALE an optional factor
 // applied first (`x100` for percentages). The number before the
