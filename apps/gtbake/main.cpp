@@ -39,6 +39,21 @@ using namespace gtbake;
 
 constexpr int kExitError = 1;  // bad input or a failed stage
 constexpr int kExitUsage = 2;  // the command line itself did not parse
+// validate's verdicts (docs/fit.md §10): consistent exits 0.
+constexpr int kExitOutside = 3;      // the constants are outside the band (beyond --fail-above)
+constexpr int kExitCannotJudge = 4;  // too few scenes to judge
+
+int verdictExitCode(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::kOutside:
+      return kExitOutside;
+    case Verdict::kTooFewScenes:
+      return kExitCannotJudge;
+    case Verdict::kConsistent:
+      break;
+  }
+  return 0;
+}
 
 // What every subcommand's run step gets from the shell.
 struct RunContext {
@@ -48,7 +63,8 @@ struct RunContext {
 
 struct Subcommand {
   CLI::App* parser = nullptr;
-  std::function<void(const RunContext&)> run;  // called only if this subcommand was given
+  // Called only if this subcommand was given; returns the exit code of a run without error.
+  std::function<int(const RunContext&)> run;
 };
 
 std::string joinArguments(int argc, char** argv) {
@@ -97,6 +113,7 @@ Subcommand addScenesCommand(CLI::App& app) {
             options->seed = parseSeed(*seed, "--seed");
             options->progress = context.progress;
             runScenes(*options);
+            return 0;
           }};
 }
 
@@ -151,6 +168,7 @@ Subcommand addSweepCommand(CLI::App& app) {
             options->command_line = context.command_line;
             options->progress = context.progress;
             runSweep(*options);
+            return 0;
           }};
 }
 
@@ -160,7 +178,10 @@ Subcommand addMergeCommand(CLI::App& app) {
   parser->add_option("--out", options->out, "Output directory (as gtbake sweep --out)")->required();
   parser->add_option("shards", options->shards, "Shard directories (gtbake sweep --shard)")
       ->required();
-  return {parser, [options](const RunContext&) { runMerge(*options); }};
+  return {parser, [options](const RunContext&) {
+            runMerge(*options);
+            return 0;
+          }};
 }
 
 Subcommand addFitCommand(CLI::App& app) {
@@ -185,27 +206,41 @@ Subcommand addFitCommand(CLI::App& app) {
             options->input = parseAoInput(input->estimator, input->screen_ao, options->sweep);
             options->progress = context.progress;
             runFit(*options);
+            return 0;
           }};
 }
 
 Subcommand addValidateCommand(CLI::App& app) {
   auto options = std::make_shared<ValidateOptions>();
   auto coeffs = std::make_shared<std::string>();
-  auto* parser =
-      app.add_subcommand("validate", "Score shipped Equation 10 constants against a sweep");
-  parser->add_option("--sweep", options->sweep, "Directory written by gtbake sweep")->required();
+  auto* parser = app.add_subcommand(
+      "validate",
+      "Score Equation 10 constants by range of A against a sweep or a fit's shipped sums; exit "
+      "0 consistent, 3 outside, 4 too few scenes to judge");
+  parser->add_option("--sweep", options->sweep, "Directory written by gtbake sweep");
+  parser->add_option("--luts", options->luts,
+                     "A fit's output directory with validate_data.json (e.g. luts): no images");
   auto* coeffs_option = parser->add_option("--coeffs", *coeffs,
                                            "a1,a0,b1,b0,c1,c0 (default: the paper's Equation 10)");
   auto weighting = std::make_shared<std::string>("pixel");
   parser->add_option("--weighting", *weighting, "Point weights of the refit")
       ->capture_default_str();
   auto input = addAoInputOptions(parser);
-  return {parser, [options, coeffs, coeffs_option, weighting, input](const RunContext& context) {
+  auto json = std::make_shared<std::string>();
+  auto* json_option = parser->add_option("--json", *json, "Also write the report as JSON");
+  auto fail_above = std::make_shared<double>(0.0);
+  auto* fail_option = parser->add_option(
+      "--fail-above", *fail_above,
+      "Tolerance in G: fail only where a range is outside by more than this (also the power a "
+      "range needs to be judged; default 0.05)");
+  return {parser, [=](const RunContext& context) {
             if (coeffs_option->count() > 0) options->coeffs = parseCoeffs(*coeffs);
             options->weighting = parseWeighting(*weighting);
             options->input = parseAoInput(input->estimator, input->screen_ao, options->sweep);
+            if (json_option->count() > 0) options->json = *json;
+            if (fail_option->count() > 0) options->rule.fail_above = *fail_above;
             options->progress = context.progress;
-            runValidate(*options);
+            return verdictExitCode(runValidate(*options));
           }};
 }
 
@@ -231,6 +266,7 @@ Subcommand addGtsoCommand(CLI::App& app) {
   return {parser, [options](const RunContext& context) {
             options->progress = context.progress;
             runGtso(*options);
+            return 0;
           }};
 }
 
@@ -254,6 +290,7 @@ Subcommand addValidateGtsoCommand(CLI::App& app) {
             options->write_images = parser->count("--no-images") == 0;
             options->progress = context.progress;
             runValidateGtso(*options);
+            return 0;
           }};
 }
 
@@ -267,6 +304,7 @@ Subcommand addEncodeCommand(CLI::App& app) {
   return {parser, [options](const RunContext& context) {
             options->progress = context.progress;
             runEncode(*options);
+            return 0;
           }};
 }
 
@@ -288,6 +326,7 @@ Subcommand addExportCommand(CLI::App& app) {
   return {parser, [options](const RunContext& context) {
             options->command_line = context.command_line;
             runExport(*options);
+            return 0;
           }};
 }
 
@@ -312,6 +351,7 @@ Subcommand addScreenAoCommand(CLI::App& app) {
             for (const std::string& s : *settings) applySetting(&options->settings, s);
             options->progress = context.progress;
             runScreenAo(*options);
+            return 0;
           }};
 }
 
@@ -344,6 +384,7 @@ Subcommand addTuneCommand(CLI::App& app) {
             options->estimators = parseEstimatorList(*estimators);
             options->progress = context.progress;
             runTune(*options);
+            return 0;
           }};
 }
 
@@ -365,6 +406,7 @@ Subcommand addAllCommand(CLI::App& app) {
             }
             options->progress = context.progress;
             runAll(*options);
+            return 0;
           }};
 }
 
@@ -422,7 +464,7 @@ std::optional<int> parseCommandLine(CLI::App& app, int argc, char** argv) {
 int runSelectedSubcommand(const std::vector<Subcommand>& subcommands, const RunContext& context) {
   try {
     for (const Subcommand& subcommand : subcommands) {
-      if (*subcommand.parser) subcommand.run(context);
+      if (*subcommand.parser) return subcommand.run(context);
     }
   } catch (const gtbake::SweepInterrupted& e) {
     std::fprintf(stderr, "gtbake: %s\n", firstLine(e.what()).c_str());

@@ -12,6 +12,7 @@
 #include "common/progress.h"
 #include "fit/fit_outputs.h"
 #include "fit/fit_report.h"
+#include "fit/validate_output.h"
 
 namespace gtbake {
 
@@ -32,6 +33,10 @@ FitSettings settingsOf(const FitOptions& o) {
 FitResult runFit(const FitOptions& options) {
   if (options.out.empty()) throw Error("fit: no output file given (--out FILE.json)");
   requireFiniteCoeffs(options.shipped, "shipped constants");
+  if (options.write_validate_data && options.out.filename() == kValidateDataFile) {
+    throw Error("fit: --out must not be named " + std::string(kValidateDataFile) +
+                " (the fit writes that file beside it)");
+  }
   std::vector<fs::path> inputs = outputSetPaths(options.sweep, "sweep");
   inputs.push_back(options.sweep / "sweep.json");
   if (!options.input.rayTraced()) {
@@ -47,6 +52,8 @@ FitResult runFit(const FitOptions& options) {
   Progress bar("fit", kAnalysisStages + 2, options.progress);
   const FitAnalysis a =
       analyzeSweep(options.sweep, settingsOf(options), options.shipped, &bar, options.input);
+  const ValidateData validate_data = validateDataOf(a);
+  const ValidateReport shipped_report = validateReport(validate_data, options.shipped);
   ensureDirectory(out_dir);
   const fs::path report_dir = options.report ? *options.report : out_dir / "report";
   // The report is part of the fit set when it lies inside out_dir (gtbake all: luts/report/);
@@ -66,12 +73,15 @@ FitResult runFit(const FitOptions& options) {
   }
   bar.add(1);
   output.add(options.out.filename().string(),
-             fitJson(options.out, a, options.shipped).dump(2) + "\n");
+             fitJson(options.out, a, options.shipped, shipped_report).dump(2) + "\n");
+  if (options.write_validate_data) {
+    output.add(kValidateDataFile, validateDataText(validate_data));
+  }
   output.commit();
   bar.add(1);
   bar.finish();
   if (options.print_summary) {
-    printFitSummary(a, options.shipped);
+    printFitSummary(a, options.shipped, shipped_report);
     if (options.write_report) {
       std::printf("wrote %s and %s\n", options.out.string().c_str(),
                   (report_dir / "index.html").string().c_str());
@@ -89,14 +99,58 @@ FitResult runFit(const FitOptions& options) {
           a.shipped_errors.rmse};
 }
 
-void runValidate(const ValidateOptions& options) {
+namespace {
+
+ValidateData validateData(const ValidateOptions& options) {
+  if (options.sweep.empty() == options.luts.empty()) {
+    throw Error(
+        "validate: give either --sweep DIR (a sweep) or --luts DIR (a fit's output, e.g. "
+        "luts)");
+  }
+  if (!options.sweep.empty()) {
+    FitSettings settings;
+    settings.weighting = options.weighting;
+    Progress bar("validate", kAnalysisStages, options.progress);
+    const FitAnalysis a =
+        analyzeSweep(options.sweep, settings, options.coeffs, &bar, options.input);
+    bar.finish();
+    return validateDataOf(a);
+  }
+  if (!options.input.rayTraced()) {
+    throw Error(
+        "validate: --estimator needs --sweep DIR (luts/ ships the sums of the "
+        "ray-traced fit only)");
+  }
+  ValidateData data = readValidateData(options.luts);
+  if (data.settings.weighting != options.weighting) {
+    throw Error("validate: " + data.source + " holds a fit with " +
+                weightingName(data.settings.weighting) + " weighting; --weighting " +
+                weightingName(options.weighting) + " needs --sweep DIR");
+  }
+  return data;
+}
+
+}  // namespace
+
+Verdict runValidate(const ValidateOptions& options) {
   requireFiniteCoeffs(options.coeffs, "validate --coeffs");
-  FitSettings settings;
-  settings.weighting = options.weighting;
-  Progress bar("validate", kAnalysisStages, options.progress);
-  const FitAnalysis a = analyzeSweep(options.sweep, settings, options.coeffs, &bar, options.input);
-  bar.finish();
-  printValidateSummary(a, options.coeffs);
+  if (options.rule.fail_above && !(*options.rule.fail_above > 0.0)) {
+    throw Error("validate: --fail-above must be a positive difference in G");
+  }
+  std::vector<fs::path> inputs;
+  if (options.json) {
+    inputs = options.sweep.empty() ? outputSetPaths(options.luts, "fit")
+                                   : outputSetPaths(options.sweep, "sweep");
+    checkOutputFile(*options.json, "--json", inputs);
+  }
+  const ValidateData data = validateData(options);
+  const ValidateReport report = validateReport(data, options.coeffs, options.rule);
+  printValidateReport(data, report);
+  if (options.json) {
+    writeFileAtomically(*options.json, validateReportJson(data, report).dump(2) + "\n");
+    std::printf("wrote %s\n", options.json->string().c_str());
+  }
+  return report.verdict.verdict;
 }
 
 }  // namespace gtbake

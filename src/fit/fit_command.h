@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "fit/curve_verdict.h"
 #include "fit/multibounce_coeffs.h"
 #include "fit/normal_equations.h"
 #include "fit/screen_estimate.h"
@@ -17,7 +18,8 @@ struct FitOptions {
   std::filesystem::path out;                    // fit.json
   std::optional<std::filesystem::path> report;  // HTML report directory (default: beside `out`)
   bool write_report = true;                     // false: fit.json alone
-  MultiBounceCoeffs shipped = kPaperCoeffs;     // the constants compared against the refit
+  bool write_validate_data = true;  // validate_data.json beside fit.json (docs/fit.md §10)
+  MultiBounceCoeffs shipped = kPaperCoeffs;  // the constants compared against the refit
   bool eiv_correction = true;  // SIMEX correction of the bias from noise in A (docs/fit.md §4)
   Weighting weighting = Weighting::kPixel;
   bool constrain_open = false;  // a − b + c = 1 for every ρ (G(1, ρ) = 1)
@@ -41,15 +43,20 @@ struct FitResult {
 FitResult runFit(const FitOptions& options);
 
 struct ValidateOptions {
+  // Exactly one of the two: a sweep (everything recomputed from its images), or a fit's output
+  // directory holding validate_data.json (luts/: no image needed, docs/fit.md §10).
   std::filesystem::path sweep;
+  std::filesystem::path luts;
   MultiBounceCoeffs coeffs = kPaperCoeffs;
   Weighting weighting = Weighting::kPixel;
   AoInput input;  // ray-traced A, or a screen-space estimator's (docs/profiles.md)
+  VerdictRule rule;
+  std::optional<std::filesystem::path> json;  // --json FILE: the report as JSON
   bool progress = true;
 };
 
-// Prints the error table of `coeffs` beside the refit's and their score against the refit's
-// scene-level band. Writes nothing.
-void runValidate(const ValidateOptions& options);
+// Prints the verdict on `coeffs` by range of A, their error table beside the refit's, and writes
+// the JSON report if asked. Returns the verdict (the shell maps it to the exit code).
+Verdict runValidate(const ValidateOptions& options);
 
 }  // namespace gtbake

@@ -5,6 +5,7 @@
 
 #include "common/atomic_file.h"
 #include "fit/fit_outputs.h"
+#include "fit/validate_output.h"
 #include "gtbake_version.h"
 
 namespace gtbake {
@@ -151,6 +152,8 @@ json jackknifeJson(const SceneJackknife& jk) {
   out["t_quantile"] = jk.pointwise_threshold;
   out["simultaneous_threshold"] = jk.threshold;
   out["pointwise_t_false_alarm_rate"] = jk.pointwise_false_alarm;
+  out["range_thresholds"] = jk.range_thresholds;
+  out["ranges_of_A"] = jk.rule.ranges;
   return out;
 }
 
@@ -229,7 +232,8 @@ json inputJson(const AoInput& input, const fs::path& base) {
 
 }  // namespace
 
-json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceCoeffs& shipped) {
+json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceCoeffs& shipped,
+             const ValidateReport& shipped_report) {
   const MultiBounceFit& fit = a.fit;
   json out;
   out["settings"] = {{"weighting", weightingName(fit.settings.weighting)},
@@ -284,6 +288,12 @@ json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceC
                       {"rho", a.shipped_difference.rho},
                       {"refit_minus_shipped", a.shipped_difference.signed_value}}},
                     {"against_band", scoreJson(a.shipped_score)}};
+  // The verdict by range of A and the pixel-weighted difference (docs/fit.md §5, §10).
+  out["shipped"]["verdict"] = json::parse(curveVerdictJson(shipped_report.verdict).dump());
+  out["shipped"]["pixel_rms_difference"] = {
+      {"value", shipped_report.rms_difference.rms},
+      {"scene_se", shipped_report.rms_difference.se},
+      {"interval_95", {shipped_report.rms_difference.lo, shipped_report.rms_difference.hi}}};
   if (a.jackknife.available) {
     MultiBounceCoeffs z;
     for (int i = 0; i < 6; ++i) z[i] = (shipped[i] - fit.linear.coeffs[i]) / a.jackknife.se[i];

@@ -57,7 +57,7 @@ void printBand(const FitAnalysis& a, const char* name, const BandScore& score) {
         score.threshold, score.largest_undetectable.value, score.largest_undetectable.A,
         score.largest_undetectable.rho);
   }
-  std::printf("%s constants: %s\n", name, score.verdict.c_str());
+  std::printf("%s constants over the whole grid: %s\n", name, score.verdict.c_str());
 }
 
 // The header, the band and the verdict on `other` (the shipped or given constants).
@@ -182,35 +182,34 @@ void printPerAlbedo(const MultiBounceFit& fit) {
       rms[0], rms[1], rms[2]);
 }
 
+// The shipped constants' verdict by range of A (docs/fit.md §5).
+void printRanges(const ValidateReport& r) {
+  const CurveVerdict& v = r.verdict;
+  for (std::size_t i = 0; i < v.ranges.size(); ++i) {
+    const RangeScore& s = v.ranges[i];
+    std::printf("  A in [%.1f, %.1f%c (%4.1f%% of pixels): %s\n", s.lo, s.hi,
+                i + 1 == v.ranges.size() ? ']' : ')', 100.0 * s.pixel_share, s.text.c_str());
+  }
+  std::printf("  pixel-weighted RMS of G_shipped - G_refit: %.5f", r.rms_difference.rms);
+  if (r.rms_difference.interval) {
+    std::printf(" (scene-level 95%% interval %.5f .. %.5f)", r.rms_difference.lo,
+                r.rms_difference.hi);
+  }
+  std::printf("\nshipped constants by range of A: %s\n", v.headline.c_str());
+}
+
 }  // namespace
 
-void printFitSummary(const FitAnalysis& a, const MultiBounceCoeffs& shipped) {
+void printFitSummary(const FitAnalysis& a, const MultiBounceCoeffs& shipped,
+                     const ValidateReport& shipped_report) {
   printVerdict("fit", a, "shipped");
+  printRanges(shipped_report);
   printCoefficients(a, shipped, "shipped");
   printAlternatives(a);
   printErrorTables(a, a.refit_errors, a.shipped_errors, "refit", "shipped");
   printHeldOut(a, "shipped");
   printLeaveOneOut(a);
   printPerAlbedo(a.fit);
-}
-
-void printValidateSummary(const FitAnalysis& a, const MultiBounceCoeffs& given) {
-  printVerdict("validate", a, "given");
-  // Layout kept for scripts (tests/cli parses the first five columns); the scene columns follow.
-  const LinearFit& lin = a.fit.linear;
-  const SceneJackknife& jk = a.jackknife;
-  std::printf("\n%-5s %10s %10s %9s %8s %9s %12s\n", "coef", "given", "refit", "SE", "diff/SE",
-              "SE scene", "diff/SEscene");
-  for (int i = 0; i < 6; ++i) {
-    const double diff = given[i] - lin.coeffs[i];
-    char scene[16] = "-";
-    if (jk.available) std::snprintf(scene, sizeof(scene), "%.1f", diff / jk.se[i]);
-    std::printf("%-5s %10.4f %10.4f %9.5f %8.1f %9.4f %12s\n", kCoeffNames[i], given[i],
-                lin.coeffs[i], lin.se[i], diff / lin.se[i], jk.se[i], scene);
-  }
-  std::printf("SE: Monte Carlo (what another seed moves); SE scene: delete-one-scene jackknife\n");
-  printErrorTables(a, a.shipped_errors, a.refit_errors, "given", "refit");
-  printHeldOut(a, "given");
 }
 
 }  // namespace gtbake

@@ -26,22 +26,10 @@ constexpr double kT975[30] = {
      2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
 // clang-format on
 
-// Calls f(A, ρ) on the grid of `rule`, A slowest, ρ fastest (A = 0 is excluded: G = 0 there for
-// every k, and |ΔG| / SE_G tends to a finite limit).
-template <typename F>
-void forEachGridPoint(const BandRule& rule, F&& f) {
-  for (int u = 1; u <= rule.a_steps; ++u) {
-    const double A = static_cast<double>(u) / rule.a_steps;
-    for (int v = 0; v <= rule.rho_steps; ++v) {
-      f(A, kRhoMin + (kRhoMax - kRhoMin) * v / rule.rho_steps);
-    }
-  }
-}
-
 template <typename Band>
 GridPoint bandMax(const BandRule& rule, Band&& band_at) {
   GridPoint best;
-  forEachGridPoint(rule, [&](double A, double rho) {
+  forEachBandPoint(rule, [&](double A, double rho) {
     const double band = band_at(A, rho);
     if (band > best.value) best = {band, A, rho};
   });
@@ -100,7 +88,7 @@ ReplicateMatrix bandReplicates(const SceneJackknife& jk) {
   ReplicateMatrix out;
   for (const LeaveOneOut& r : jk.leave_one_out) {
     std::vector<double> curve;
-    forEachGridPoint(
+    forEachBandPoint(
         jk.rule, [&](double A, double rho) { curve.push_back(evalMultiBounce(r.linear, A, rho)); });
     out.push_back(std::move(curve));
   }
@@ -157,6 +145,7 @@ bool leaveOneGroupOut(const SweepData& data, const MultiBounceFit& fit,
 // The jackknife covariance, SEs and correlation of the leave-one-out refits.
 void jackknifeCovariance(SceneJackknife& out) {
   const double S = static_cast<double>(out.leave_one_out.size());
+  out.covariance.fill(0.0);
   MultiBounceCoeffs mean{};
   for (const LeaveOneOut& r : out.leave_one_out) {
     for (int i = 0; i < 6; ++i) mean[i] += r.linear[i] / S;
@@ -215,17 +204,38 @@ SceneJackknife groupJackknife(const SweepData& data, const MultiBounceFit& fit,
                   ", so there is no jackknife SE, band or verdict (only the Monte Carlo SE)";
     return out;
   }
-  out.available = true;
-  jackknifeCovariance(out);
-  out.band_max = bandMax(rule, [&](double A, double rho) { return jackknifeBand(out, A, rho); });
-  forEachGridPoint(rule, [&](double A, double rho) {
-    out.scored.push_back(A < 1.0 && jackknifeBand(out, A, rho) > kBandFloor ? 1 : 0);
+  completeJackknife(out);
+  // One simulation gives the thresholds over the whole grid and per range of A.
+  std::vector<int> range_of;
+  std::size_t j = 0;
+  forEachBandPoint(rule, [&](double A, double) {
+    range_of.push_back(out.scored[j++] != 0 ? static_cast<int>(rangeOf(rule, A)) : -1);
   });
-  const std::vector<double> maxima = simulatedMaxT(bandReplicates(out), S, out.scored, rule.max_t);
+  const std::size_t ranges = rule.ranges.size() - 1;
+  const std::vector<double> by_range =
+      simulatedGroupMaxT(bandReplicates(out), S, range_of, ranges, rule.max_t);
+  const std::vector<double> maxima = overallMaxima(by_range, ranges);
   out.threshold = maxTQuantile(maxima, rule.max_t.level);
+  out.range_thresholds = jointGroupThresholds(by_range, ranges, rule.max_t.level);
   out.pointwise_threshold = studentT975(S - 1);
   out.pointwise_false_alarm = maxTExceedance(maxima, out.pointwise_threshold);
   return out;
+}
+
+void completeJackknife(SceneJackknife& jk) {
+  jk.available = true;
+  jackknifeCovariance(jk);
+  jk.band_max = bandMax(jk.rule, [&](double A, double rho) { return jackknifeBand(jk, A, rho); });
+  jk.scored.clear();
+  forEachBandPoint(jk.rule, [&](double A, double rho) {
+    jk.scored.push_back(A < 1.0 && jackknifeBand(jk, A, rho) > kBandFloor ? 1 : 0);
+  });
+}
+
+std::size_t rangeOf(const BandRule& rule, double A) {
+  std::size_t r = 0;
+  while (r + 2 < rule.ranges.size() && A >= rule.ranges[r + 1]) ++r;
+  return r;
 }
 
 BandScore scoreAgainstBand(const SceneJackknife& jackknife, const MultiBounceCoeffs& refit,
@@ -240,7 +250,7 @@ BandScore scoreAgainstBand(const SceneJackknife& jackknife, const MultiBounceCoe
   score.pointwise_threshold = jackknife.pointwise_threshold;
   score.smallest_detectable.value = std::numeric_limits<double>::infinity();
   std::size_t j = 0;
-  forEachGridPoint(jackknife.rule, [&](double A, double rho) {
+  forEachBandPoint(jackknife.rule, [&](double A, double rho) {
     if (jackknife.scored[j++] == 0) {
       ++score.excluded_points;
       return;

@@ -57,7 +57,27 @@ struct BandRule {
   int a_steps = 200;   // steps of 0.005 in A
   int rho_steps = 80;  // steps of 0.01 in ρ
   MaxTRule max_t;
+  // The ranges of A the verdict judges apart (docs/fit.md §5, "The verdict by range of A"):
+  // [e_r, e_{r+1}), the last one closed. Where the data live — few pixels below 0.3, most
+  // between 0.3 and 1 — and apart from A → 1, where open pixels pin the band to ~0.
+  std::vector<double> ranges = {0.0, 0.3, 0.7, 1.0};
 };
+
+// The range of `rule.ranges` that holds A (A = 1 in the last).
+std::size_t rangeOf(const BandRule& rule, double A);
+
+// Calls f(A, ρ) on the band grid of `rule`, A slowest, ρ fastest: A = k / a_steps for
+// k = 1..a_steps (A = 0 is left out: G = 0 there for every set of constants) and ρ in rho_steps
+// equal steps of [0.1, 0.9].
+template <typename F>
+void forEachBandPoint(const BandRule& rule, F&& f) {
+  for (int u = 1; u <= rule.a_steps; ++u) {
+    const double A = static_cast<double>(u) / rule.a_steps;
+    for (int v = 0; v <= rule.rho_steps; ++v) {
+      f(A, kRhoMin + (kRhoMax - kRhoMin) * v / rule.rho_steps);
+    }
+  }
+}
 
 // Constants scored against the band.
 struct BandScore {
@@ -98,8 +118,11 @@ struct SceneJackknife {
   GridPoint band_max;     // max SE_G over the grid
   GridPoint mc_band_max;  // the same for the Monte Carlo covariance
   BandRule rule;
-  std::vector<char> scored;          // [grid point]: enters the maximum (see above)
-  double threshold = 0.0;            // simultaneous max-t threshold over the scored points
+  std::vector<char> scored;  // [grid point]: enters the maximum (see above)
+  double threshold = 0.0;    // simultaneous max-t threshold over the scored points
+  // Per range of A (rule.ranges), simultaneous over the ranges and the points of each, from the
+  // same simulated draws (jointGroupThresholds): the thresholds of the verdict by range.
+  std::vector<double> range_thresholds;
   double pointwise_threshold = 0.0;  // t_{0.975, S−1}
   // How often the pointwise threshold would be exceeded somewhere on the grid under "no
   // difference" (the simulated maxima above it): that rule's false-alarm rate on this band.
@@ -126,6 +149,11 @@ SceneJackknife sceneJackknife(const SweepData& data, const MultiBounceFit& fit,
 // groupJackknife over groupByType.
 SceneJackknife typeJackknife(const SweepData& data, const MultiBounceFit& fit,
                              const MultiBounceCoeffs& shipped, const BandRule& rule = {});
+
+// From `jk.leave_one_out` and `jk.rule`: available, the covariance, SEs and correlation, the band's
+// maximum and the scored points (everything but the simulated thresholds). groupJackknife calls
+// it; a jackknife read back from its replicas (validate_data.h) calls it too.
+void completeJackknife(SceneJackknife& jk);
 
 // The leave-one-out curves on the band grid, [replica][grid point] (ρ fastest).
 ReplicateMatrix bandReplicates(const SceneJackknife& jk);

@@ -44,6 +44,21 @@ double maxTThreshold(const ReplicateMatrix& replicates, std::size_t n,
 // preconditions and errors.
 std::vector<double> simulatedMaxT(const ReplicateMatrix& replicates, std::size_t n,
                                   const std::vector<char>& scored, const MaxTRule& rule = {});
+// The same simulation with the points split into groups (e.g. ranges of A): group_of[j] is point
+// j's group in [0, groups), or −1 for a point not scored. Returns each draw's maximum over each
+// group's points, [draw · groups + group]; the maximum over all groups is simulatedMaxT's draw.
+std::vector<double> simulatedGroupMaxT(const ReplicateMatrix& replicates, std::size_t n,
+                                       const std::vector<int>& group_of, std::size_t groups,
+                                       const MaxTRule& rule);
+// Each draw's maximum over every group, ascending (simulatedMaxT's maxima).
+std::vector<double> overallMaxima(const std::vector<double>& group_maxima, std::size_t groups);
+// Per-group thresholds c_g, simultaneous over the groups and over every point within each: c_g is
+// group g's simulated maxima at one common rank k, the smallest k at which at most a share
+// 1 − level of the draws has any group above its threshold. So a rule "some group's largest
+// |Δ| / SE exceeds its c_g" raises a false alarm at most 1 − level of the time, and each group's
+// own false-alarm rate is the same tail share (between (1 − level)/groups and 1 − level).
+std::vector<double> jointGroupThresholds(const std::vector<double>& group_maxima,
+                                         std::size_t groups, double level);
 // The level-quantile of ascending simulated maxima.
 double maxTQuantile(const std::vector<double>& maxima, double level);
 // The fraction of simulated maxima above `threshold`: the false-alarm rate of a rule using it.

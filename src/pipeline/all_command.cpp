@@ -108,6 +108,8 @@ ScreenAoResult screenAndProfiles(const AllOptions& options, int threads,
     fit.input.estimator = estimators[k];
     fit.input.screen_ao = screen_ao.out;
     fit.write_report = false;  // 72 scatter plots per profile; `gtbake fit --estimator` draws them
+    // validate --estimator reads the sweep (the shipped sums are the ray-traced fit's only).
+    fit.write_validate_data = false;
     fit.progress = false;
     fit.print_summary = false;
     (*profiles)[k] = {estimators[k], runFit(fit), {}};

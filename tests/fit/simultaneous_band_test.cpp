@@ -88,5 +88,53 @@ TEST(MaxTThreshold, SameBitsOnOneAndTwoThreads) {
   EXPECT_EQ(t[0], t[1]);
 }
 
+// Groups: each group's maximum in a draw is the overall simulation restricted to its points, the
+// overall maximum is their largest, and the joint thresholds are simultaneous: on fresh draws
+// (another seed) the share with some group above its threshold is 5 %, and each group's own
+// share lies between 5 % / groups and 5 %.
+TEST(MaxTGroups, GroupMaximaAreTheRestrictedSimulation) {
+  const ReplicateMatrix r = matrix(9, 60, [](std::size_t s, std::size_t c) {
+    return std::sin(0.05 * c * (s + 1.0)) + 0.2 * std::cos(2.0 * s + 0.3 * c);
+  });
+  std::vector<int> group(60);
+  for (std::size_t c = 0; c < group.size(); ++c) group[c] = c < 5 ? -1 : static_cast<int>(c % 3);
+  const MaxTRule rule{0.95, 500, 11};
+  const std::vector<double> by_group = simulatedGroupMaxT(r, 9, group, 3, rule);
+  ASSERT_EQ(by_group.size(), 500u * 3u);
+  std::vector<char> scored(60, 0);
+  for (std::size_t c = 5; c < scored.size(); ++c) scored[c] = 1;
+  EXPECT_EQ(overallMaxima(by_group, 3), simulatedMaxT(r, 9, scored, rule));
+  EXPECT_THROW(simulatedGroupMaxT(r, 9, group, 2, rule), Error);  // a group out of range
+}
+
+TEST(MaxTGroups, JointThresholdsAreSimultaneousOverTheGroups) {
+  // Three groups of independent points (Šidák within each, independent across groups).
+  const ReplicateMatrix r = matrix(12, 9, [](std::size_t s, std::size_t c) {
+    return std::cos(1.7 * static_cast<double>(s * (c + 1)) + 0.4 * c);
+  });
+  std::vector<int> group(9);
+  for (std::size_t c = 0; c < group.size(); ++c) group[c] = static_cast<int>(c / 3);
+  const std::vector<double> thresholds =
+      jointGroupThresholds(simulatedGroupMaxT(r, 12, group, 3, {0.95, 20000, 5}), 3, 0.95);
+  const std::vector<double> fresh = simulatedGroupMaxT(r, 12, group, 3, {0.95, 20000, 6});
+  std::size_t any = 0, each[3] = {0, 0, 0};
+  for (std::size_t d = 0; d < 20000; ++d) {
+    bool above = false;
+    for (std::size_t g = 0; g < 3; ++g) {
+      const bool out = fresh[d * 3 + g] > thresholds[g];
+      each[g] += out ? 1 : 0;
+      above = above || out;
+    }
+    any += above ? 1 : 0;
+  }
+  // Binomial SD of a 5 % rate over 20000 draws is 0.15 %; the thresholds' own sampling adds as
+  // much: 0.6 % is 3 SD of both.
+  EXPECT_NEAR(static_cast<double>(any) / 20000, 0.05, 0.006);
+  for (std::size_t g = 0; g < 3; ++g) {
+    EXPECT_GT(static_cast<double>(each[g]) / 20000, 0.05 / 3 - 0.004) << g;
+    EXPECT_LT(static_cast<double>(each[g]) / 20000, 0.05) << g;
+  }
+}
+
 }  // namespace
 }  // namespace gtbake
