@@ -18,6 +18,7 @@
 #include "common/error.h"
 #include "docs/doc_numbers.h"
 #include "docs/ranking_block.h"
+#include "docs/verdict_block.h"
 
 namespace {
 
@@ -46,6 +47,34 @@ std::vector<fs::path> markdownFiles(const std::vector<std::string>& paths) {
     }
   }
   return files;
+}
+
+// The generated blocks a document may hold, each rebuilt from its artifact in luts/: the ranking
+// list (docs/validate_gtso.md §2, validate_gtso.json) and the verdict by range of A (docs/fit.md
+// §5, fit.json). Sets them in `text`; without --update a block that differs is a problem.
+int setGeneratedBlocks(const fs::path& file, const std::string& luts, bool update,
+                       std::string& text) {
+  struct Block {
+    const char* tag;
+    const char* artifact;
+    std::string (*lines)(const nlohmann::json&);
+  };
+  const Block blocks[] = {{"ranking-tests", "validate_gtso.json", gtbake::docs::rankingLines},
+                          {"shipped-verdict", "fit.json", gtbake::docs::verdictLines}};
+  int issues = 0;
+  for (const Block& b : blocks) {
+    if (text.find(std::string("<!-- ") + b.tag + ":begin -->") == std::string::npos) continue;
+    const std::string lines =
+        b.lines(nlohmann::json::parse(gtbake::readFile(fs::path(luts) / b.artifact)));
+    const auto block = gtbake::docs::withGeneratedBlock(text, b.tag, lines);
+    if (block && *block != text && !update) {
+      std::fprintf(stderr, "%s: the %s block differs from %s/%s\n", file.string().c_str(), b.tag,
+                   luts.c_str(), b.artifact);
+      ++issues;
+    }
+    if (block) text = *block;
+  }
+  return issues;
 }
 
 }  // namespace
@@ -94,18 +123,7 @@ int main(int argc, char** argv) {
         ++issues;
       }
       std::string updated = result.updated_text;
-      // The generated ranking list (docs/validate_gtso.md §2), from luts/validate_gtso.json.
-      if (updated.find("<!-- ranking-tests:begin -->") != std::string::npos) {
-        const std::string lines = gtbake::docs::rankingLines(
-            nlohmann::json::parse(gtbake::readFile(fs::path(luts) / "validate_gtso.json")));
-        const auto block = gtbake::docs::withRankingBlock(updated, lines);
-        if (block && *block != updated && !update) {
-          std::fprintf(stderr, "%s: the ranking list differs from %s/validate_gtso.json\n",
-                       file.string().c_str(), luts.c_str());
-          ++issues;
-        }
-        if (block) updated = *block;
-      }
+      issues += setGeneratedBlocks(file, luts, update, updated);
       if (update && updated != text) {
         gtbake::writeFileAtomically(file, updated);
         std::printf("gtbake-docs: updated %d number(s) in %s\n", result.mismatches,

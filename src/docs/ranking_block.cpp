@@ -4,15 +4,9 @@
 #include <cstdio>
 
 #include "common/error.h"
+#include "docs/verdict_block.h"
 
 namespace gtbake::docs {
-
-namespace {
-
-const char kBegin[] = "<!-- ranking-tests:begin -->\n";
-const char kEnd[] = "<!-- ranking-tests:end -->";
-
-}  // namespace
 
 std::string rankingLines(const nlohmann::json& validate_gtso) {
   if (!validate_gtso.contains("ranking_tests") || !validate_gtso.contains("sweep")) {
@@ -34,12 +28,7 @@ std::string rankingLines(const nlohmann::json& validate_gtso) {
 }
 
 std::optional<std::string> withRankingBlock(const std::string& text, const std::string& lines) {
-  const std::size_t b = text.find(kBegin);
-  if (b == std::string::npos) return std::nullopt;
-  const std::size_t from = b + sizeof(kBegin) - 1;
-  const std::size_t e = text.find(kEnd, from);
-  if (e == std::string::npos) return std::nullopt;
-  return text.substr(0, from) + lines + text.substr(e);
+  return withGeneratedBlock(text, "ranking-tests", lines);
 }
 
 }  // namespace gtbake::docs

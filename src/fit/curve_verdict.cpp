@@ -34,6 +34,9 @@ void scanRange(const SceneJackknife& jk, const MultiBounceCoeffs& refit,
     ++out.scored_points;
     const double band = jackknifeBand(jk, A, rho);
     bands.push_back(band);
+    if (A < kOpenLimitA && std::abs(diff) / band > out.max_ratio_away.value) {
+      out.max_ratio_away = {std::abs(diff) / band, A, rho};
+    }
     if (std::abs(diff) / band > out.max_ratio.value) {
       out.max_ratio = {std::abs(diff) / band, A, rho};
       out.ratio_difference = diff;
@@ -59,9 +62,11 @@ std::string rangeText(const RangeScore& r, const VerdictRule& rule) {
                          formatNumber(r.threshold, "%.2f") + " at " + at(r.max_ratio) + " (dG " +
                          formatNumber(r.ratio_difference, "%+.5f") + ", band " +
                          formatNumber(r.ratio_band, "%.2g") + "); " + largest;
-      if (r.narrow_band) {
-        text += "; set where the band is " + formatNumber(r.median_band / r.ratio_band, "%.0f") +
-                "x narrower than the range's median (open pixels pin G(1, rho) = 1)";
+      if (r.near_open) {
+        text += "; set at A >= " + formatNumber(kOpenLimitA, "%.2f") +
+                ", where open pixels pin G(1, rho) = 1 (below it: " +
+                formatNumber(r.max_ratio_away.value, "%.2f") + " band widths at " +
+                at(r.max_ratio_away) + ")";
       }
       if (!r.fails) {
         text += "; within the tolerance " + formatNumber(*rule.fail_above, "%.4g");
@@ -83,20 +88,20 @@ std::string rangeText(const RangeScore& r, const VerdictRule& rule) {
 
 std::string headline(const CurveVerdict& v) {
   std::string where;
-  bool only_narrow = true;
+  bool only_open = true;
   double largest = 0.0;
   for (std::size_t r = 0; r < v.ranges.size(); ++r) {
     const RangeScore& s = v.ranges[r];
     const bool counts = v.verdict == Verdict::kOutside ? s.fails : s.verdict == v.verdict;
     if (!counts) continue;
     where += (where.empty() ? "" : ", ") + rangeName(s, r + 1 == v.ranges.size());
-    only_narrow = only_narrow && s.narrow_band;
+    only_open = only_open && s.near_open && s.max_ratio_away.value <= s.threshold;
     largest = std::max(largest, s.max_difference.value);
   }
   switch (v.verdict) {
     case Verdict::kOutside:
       return "outside for A in " + where + ", by up to " + formatNumber(largest, "%.4f") + " in G" +
-             (only_narrow ? " (only where open pixels pin the band near A = 1)" : "");
+             (only_open ? " (only at A >= 0.95, where open pixels pin the band)" : "");
     case Verdict::kTooFewScenes:
       return "too few scenes to judge for A in " + where +
              " (the detectable difference there exceeds " +
@@ -142,7 +147,7 @@ CurveVerdict judgeCurve(const SceneJackknife& jk, const MultiBounceCoeffs& refit
     }
     s.detected = s.scored_points > 0 && s.max_ratio.value > s.threshold;
     s.fails = s.detected && (!rule.fail_above || s.max_difference.value > *rule.fail_above);
-    s.narrow_band = s.detected && s.ratio_band < kNarrowBandShare * s.median_band;
+    s.near_open = s.detected && s.max_ratio.A >= kOpenLimitA;
     if (s.detected) {
       s.verdict = Verdict::kOutside;
     } else if (s.scored_points == 0 || s.detectable.value > rule.powerNeeded()) {

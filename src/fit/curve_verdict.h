@@ -15,8 +15,9 @@
 //   - a verdict: outside (the largest ratio exceeds c_r), else "too few scenes to judge" when
 //     the detectable difference exceeds the useful power (default 0.05 in G, or the tolerance
 //     --fail-above), else consistent.
-// A range whose largest ratio sits where the band is under a tenth of the range's median band
-// (the open-surface limit) says so: its verdict tests the curve there, not the range.
+// A range whose largest ratio sits at A ≥ 0.95 (the open-surface limit, where every scene's open
+// pixels pin G(1, ρ) = 1 and the band shrinks to ~1e-4) says so, with its largest ratio below
+// A = 0.95: its verdict there tests G(1, ρ) = 1, not the range.
 #pragma once
 
 #include <cstddef>
@@ -36,9 +37,8 @@ const char* verdictName(Verdict verdict);
 // A detectable difference above this (in G) is too little power to call a range consistent: a
 // difference of 0.05 darkens a mid-grey pixel visibly.
 inline constexpr double kUsefulPower = 0.05;
-// A largest ratio found where the band is below this share of the range's median band is set by
-// the open-surface limit, not by the range.
-inline constexpr double kNarrowBandShare = 0.1;
+// From this A on, the band is pinned by open pixels (the open-surface limit).
+inline constexpr double kOpenLimitA = 0.95;
 
 struct VerdictRule {
   double useful_power = kUsefulPower;
@@ -59,7 +59,8 @@ struct RangeScore {
   double threshold = 0.0;          // c_r
   GridPoint detectable;            // max of c_r · SE_G over the scored points, and where
   double median_band = 0.0;        // median SE_G over the scored points
-  bool narrow_band = false;        // max_ratio sits where SE_G < kNarrowBandShare · median
+  bool near_open = false;          // max_ratio sits at A ≥ kOpenLimitA
+  GridPoint max_ratio_away;        // max |ΔG| / SE_G over the scored points with A < kOpenLimitA
   bool detected = false;           // max_ratio > c_r
   bool fails = false;              // detected and beyond the tolerance (if any)
   Verdict verdict = Verdict::kTooFewScenes;

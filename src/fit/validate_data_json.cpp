@@ -22,6 +22,8 @@ constexpr int kMaxBandSteps = 1000;  // a_steps (200 by default)
 constexpr int kMaxRhoSteps = 200;    // rho_steps (80 by default)
 constexpr int kMaxRanges = 10;
 constexpr int kMaxDraws = 1'000'000;
+// Points of all views together: 2^16 views of 8192² pixels (kMaxSweepViews, kMaxImageSide).
+constexpr double kMaxPoints = 65536.0 * 8192.0 * 8192.0;
 
 ordered_json coeffArray(const MultiBounceCoeffs& k) {
   ordered_json out = ordered_json::array();
@@ -278,13 +280,16 @@ ValidateData parseValidateData(const json& j, const std::string& where) {
     d.floor_per_albedo.push_back(finite(f, where + " floor"));
   }
   std::set<std::string> names;
+  double points = 0.0;
   for (const json& v :
        array(member(j, "views", where), 1, static_cast<std::size_t>(kMaxSweepViews), where)) {
     d.views.push_back(view(v, d.albedos.size(), where + " view"));
     if (!names.insert(d.views.back().name).second) {
       throw Error(where + ": two views are named '" + d.views.back().name + "'");
     }
+    points += pointCount(d.views.back(), 0, kValidateBins);
   }
+  if (points > kMaxPoints) throw Error(where + ": more points than any sweep holds");
   const BandRule rule = bandRule(member(j, "band_rule", where), where + " band_rule");
   d.scene_jackknife = jackknife(member(j, "scene_jackknife", where), rule, d.refit,
                                 groupNames(d.views, &ViewSums::scene), where + " scene_jackknife");

@@ -123,7 +123,8 @@ ordered_json rangeJson(const RangeScore& s) {
   out["threshold"] = s.threshold;
   out["detectable_difference"] = pointJson(s.detectable);
   out["median_band"] = s.median_band;
-  out["set_where_band_narrows"] = s.narrow_band;
+  out["set_near_open_limit"] = s.near_open;
+  out["max_ratio_below_open_limit"] = pointJson(s.max_ratio_away);
   out["scored_points"] = s.scored_points;
   out["text"] = s.text;
   return out;

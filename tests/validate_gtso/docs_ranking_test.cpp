@@ -52,18 +52,39 @@ TEST(DocsRanking, TextIsTheGeneratedStatements) {
   }
 }
 
-// The Eq. 10 verdict's words in docs/fit.md and docs/index.md follow fit.json
-// /shipped/against_band/consistent (the numbers beside them are markers).
+// The Eq. 10 verdict's words in docs/fit.md and docs/index.md follow fit.json /shipped/verdict (the
+// generated lines and the numbers beside them are checked by gtbake-docs): the bold verdict word,
+// and the prose claims "inside the band" and "only near A → 1", which may stand only where the
+// verdict by range of A supports them.
 TEST(DocsVerdict, WordsFollowFitJson) {
   const char* env = std::getenv("GTBAKE_LUTS_DIR");
   const std::string luts = env != nullptr ? env : std::string(GTBAKE_SOURCE_DIR) + "/luts";
   const nlohmann::json j = nlohmann::json::parse(readFile(luts + "/fit.json"));
-  const bool consistent = j.at("shipped").at("against_band").at("consistent").get<bool>();
+  const nlohmann::json& verdict = j.at("shipped").at("verdict");
+  const std::string word = verdict.at("verdict").get<std::string>();
   const std::string fit = readFile(std::string(GTBAKE_SOURCE_DIR) + "/docs/fit.md");
   const std::string index = readFile(std::string(GTBAKE_SOURCE_DIR) + "/docs/index.md");
-  const std::string word = consistent ? "consistent with" : "outside the scene-mix uncertainty";
-  EXPECT_NE(fit.find("**Verdict on the paper's constants: " + word), std::string::npos) << word;
-  EXPECT_NE(index.find("the paper's constants are\n" + word), std::string::npos) << word;
+  EXPECT_NE(fit.find("**Verdict on the paper's constants, by range of A: " + word + ".**"),
+            std::string::npos)
+      << word;
+  EXPECT_NE(index.find("the verdict on the paper's constants by range of A is **" + word + "**"),
+            std::string::npos)
+      << word;
+  bool only_near_one = word == "outside";
+  for (const nlohmann::json& r : verdict.at("ranges")) {
+    if (r.at("verdict") != "outside") continue;
+    only_near_one = only_near_one && r.at("set_near_open_limit").get<bool>() &&
+                    r.at("max_ratio_below_open_limit").at("value").get<double>() <=
+                        r.at("threshold").get<double>();
+  }
+  for (const std::string* doc : {&fit, &index}) {
+    if (word != "consistent") {
+      EXPECT_EQ(doc->find("inside the band"), std::string::npos);
+    }
+    if (!only_near_one) {
+      EXPECT_EQ(doc->find("only near A → 1"), std::string::npos);
+    }
+  }
 }
 
 }  // namespace
