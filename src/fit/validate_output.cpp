@@ -141,6 +141,29 @@ ordered_json rmseJson(const RmseRow& row) {
           {"held_out", row.held_out}, {"floor", row.floor}, {"points", row.points}};
 }
 
+// ΔG and the band over the whole domain on a coarse grid (A = 0.05..1 step 0.05, ρ = 0.1..0.9
+// step 0.1), for plots: difference[i][j] and band[i][j] at A[i], rho[j].
+ordered_json domainJson(const ValidateData& d, const MultiBounceCoeffs& given) {
+  ordered_json out = {{"A", ordered_json::array()}, {"rho", ordered_json::array()}};
+  ordered_json difference = ordered_json::array(), band = ordered_json::array();
+  for (int j = 1; j <= 9; ++j) out["rho"].push_back(0.1 * j);
+  for (int i = 1; i <= 20; ++i) {
+    const double A = 0.05 * i;
+    out["A"].push_back(A);
+    ordered_json drow = ordered_json::array(), brow = ordered_json::array();
+    for (int j = 1; j <= 9; ++j) {
+      const double rho = 0.1 * j;
+      drow.push_back(evalMultiBounce(given, A, rho) - evalMultiBounce(d.refit, A, rho));
+      brow.push_back(d.scene_jackknife.available ? jackknifeBand(d.scene_jackknife, A, rho) : 0.0);
+    }
+    difference.push_back(drow);
+    band.push_back(brow);
+  }
+  out["given_minus_refit"] = difference;
+  out["band"] = band;
+  return out;
+}
+
 }  // namespace
 
 ordered_json curveVerdictJson(const CurveVerdict& v) {
@@ -178,6 +201,7 @@ ordered_json validateReportJson(const ValidateData& d, const ValidateReport& r) 
                                  {"has_interval", r.rms_difference.interval}};
   out["max_curve_difference"] = {
       {"value", r.max_difference.value}, {"A", r.max_difference.A}, {"rho", r.max_difference.rho}};
+  out["domain"] = domainJson(d, r.given);
   out["coefficients"] = ordered_json::array();
   for (const CoefficientRow& c : r.coefficients) {
     out["coefficients"].push_back({{"name", c.name},
