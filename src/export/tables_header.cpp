@@ -392,8 +392,8 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
     << " at A = " << jsonAt(fj, {"scene_jackknife", "band_max", "A"})
     << ", rho = " << jsonAt(fj, {"scene_jackknife", "band_max", "rho"}) << "; weighting "
     << jsonAt(fj, {"settings", "weighting"}) << "; scenes " << jsonAt(fj, {"sweep", "scenes"})
-    << "\n//   shipped constants vs the band: "
-    << jsonAt(fj, {"shipped", "against_band", "verdict"}) << "\n"
+    << "\n//   shipped constants by range of A (docs/fit.md section 5): "
+    << jsonAt(fj, {"shipped", "verdict", "headline"}) << "\n"
     << "// gtso.json: version " << jsonAt(gj, {"version"}) << "; roughness "
     << jsonAt(gj, {"roughness_convention"}) << "; texel rule " << jsonAt(gj, {"texel_rule"})
     << "\n";

@@ -93,7 +93,7 @@ FitResult runFit(const FitOptions& options) {
           a.fit.linear.se,
           a.jackknife.se,
           a.jackknife.band_max.value,
-          a.shipped_score.verdict,
+          shipped_report.verdict.headline,
           a.refit_errors.rmse,
           a.held_out_errors ? a.held_out_errors->rmse : 0.0,
           a.shipped_errors.rmse};

@@ -33,7 +33,7 @@ struct FitResult {
   MultiBounceCoeffs linear_se{};  // Monte Carlo (another seed, same pixels)
   MultiBounceCoeffs scene_se{};   // scene jackknife (zero without one)
   double band_max = 0.0;          // largest scene-jackknife SE of G(A, ρ)
-  std::string verdict;            // the shipped constants against the band
+  std::string verdict;            // the shipped constants' verdict by range of A (headline)
   double rmse = 0.0;              // of G with the refit, every point and albedo
   double held_out_rmse = 0.0;     // the same, each scene scored by the fit without it (0: none)
   double shipped_rmse = 0.0;      // of G with the shipped constants
