@@ -96,7 +96,7 @@ TEST(FitCommand, CavityLawRefitMatchesItsOwnCubicWithinMonteCarloError) {
   EXPECT_TRUE(fs::is_regular_file(report / "refit_vs_shipped.svg"));
 }
 
-// fit.json's shipped error table, errorTable() and validate's printed table are the same numbers.
+// fit.json's shipped error table, errorTable() and validate's printed RMSE are the same numbers.
 TEST(FitCommand, FitAndValidateAgreeOnThePapersErrors) {
   const fs::path out = test::freshDir("agree_fit") / "fit.json";
   FitOptions options;
@@ -116,9 +116,10 @@ TEST(FitCommand, FitAndValidateAgreeOnThePapersErrors) {
   runValidate(validate);
   std::fflush(stdout);
   const std::string printed = testing::internal::GetCapturedStdout();
+  // validate's RMSE comes from the binned sums of validate_data.h (exact to ~1e-13).
   char all_line[128];
-  std::snprintf(all_line, sizeof(all_line), "%10.5f %10.5f", table.rmse, table.max_abs);
-  EXPECT_NE(printed.find(std::string("all           ") + all_line), std::string::npos) << printed;
+  std::snprintf(all_line, sizeof(all_line), "%-14s %9.5f", "all", table.rmse);
+  EXPECT_NE(printed.find(all_line), std::string::npos) << printed;
 }
 
 TEST(FitCommand, ValidateRejectsNonFiniteCoefficients) {
