@@ -11,10 +11,11 @@
 //     the relative tolerance kTolerances gives its file and key (each with its reason), plus one
 //     unit in the last printed digit in text files (JSON: timing keys and ray counts, which
 //     measure the run, ignored);
-//   - PNG previews are pictures of the compared data and are not compared, nor are the
-//     output-set manifests (*.manifest.json: hashes of files that hold run timings);
-//   - the sweep's and screen-ao's per-view EXRs, which luts/ does not commit: on a CPU with AVX2
-//     their SHA-256 must equal the ones the committed manifests list.
+//   - the output-set manifests are not compared (*.manifest.json: hashes of files that hold run
+//     timings);
+//   - the images luts/ does not commit (the per-view EXRs of the sweep and screen-ao, the reports'
+//     PNG and SVG pictures): on a CPU with AVX2 their SHA-256 must equal the ones the committed
+//     manifests list.
 // docs/reproducibility.md explains the tolerances.
 #include <gtest/gtest.h>
 
@@ -235,22 +236,32 @@ void expectSameOutputs(const fs::path& committed, const fs::path& fresh) {
   EXPECT_GE(compared, 8u);
 }
 
-// luts/ does not commit the per-view images of the sweep and screen-ao (docs/reproducibility.md
-// "What luts/ keeps"), but their committed manifests keep each one's SHA-256: on a CPU with AVX2
-// the fresh run must write those exact bytes.
+// luts/ does not commit the per-view EXRs of the sweep and screen-ao, nor the reports' pictures
+// (PNG, SVG) and pages (docs/reproducibility.md "What luts/ keeps"), but the committed manifests
+// keep each one's SHA-256: on a CPU with AVX2 the fresh run must write those exact bytes for every
+// image (the pages are verified as members of their fresh sets below).
 void expectSameUncommittedImages(const fs::path& committed, const fs::path& fresh) {
-  const std::pair<const char*, const char*> sets[] = {{".", "sweep"}, {"screen_ao", "screen_ao"}};
+  static const std::set<std::string> kImages = {".exr", ".png", ".svg"};
   int checked = 0;
-  for (const auto& [dir, command] : sets) {
-    const json want = json::parse(readBytes(committed / dir / manifestFileName(command)));
+  for (const auto& entry : fs::recursive_directory_iterator(committed)) {
+    const std::string name = entry.path().filename().string();
+    const std::string suffix = ".manifest.json";
+    if (name.size() <= suffix.size() ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) {
+      continue;
+    }
+    const fs::path dir = fs::relative(entry.path().parent_path(), committed);
+    const std::string command = name.substr(0, name.size() - suffix.size());
+    const json want = json::parse(readBytes(entry.path()));
     const OutputManifest got = readOutputSet(fresh / dir, command);
     for (const json& file : want["files"]) {
-      const std::string name = file["name"].get<std::string>();
-      if (fs::path(name).extension() != ".exr") continue;
-      const OutputFile* entry = got.find(name);
-      ASSERT_NE(entry, nullptr) << dir << "/" << name;
-      EXPECT_EQ(entry->sha256, file["sha256"].get<std::string>()) << dir << "/" << name;
-      got.readVerified(name);  // the fresh file is what its manifest says
+      const std::string member = file["name"].get<std::string>();
+      if (!kImages.count(fs::path(member).extension().string())) continue;
+      if (fs::exists(committed / dir / member)) continue;  // committed: compared above
+      const OutputFile* found = got.find(member);
+      ASSERT_NE(found, nullptr) << dir / member;
+      EXPECT_EQ(found->sha256, file["sha256"].get<std::string>()) << dir / member;
+      got.readVerified(member);  // the fresh file is what its manifest says
       ++checked;
     }
   }
