@@ -221,7 +221,26 @@ void figure6(const FitAnalysis& a, Figures& figures) {
   }
 }
 
-std::string headline(const FitAnalysis& a) {
+// The shipped constants' verdict by range of A (docs/fit.md §5): one row per range.
+std::string rangeVerdict(const CurveVerdict& v) {
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t r = 0; r < v.ranges.size(); ++r) {
+    const RangeScore& s = v.ranges[r];
+    rows.push_back(
+        {"[" + formatNumber(s.lo, "%.1f") + ", " + formatNumber(s.hi, "%.1f") +
+             (r + 1 == v.ranges.size() ? "]" : ")"),
+         formatNumber(100.0 * s.pixel_share, "%.1f") + " %", formatNumber(s.detectable.value),
+         formatNumber(s.max_difference.value),
+         formatNumber(s.max_ratio.value, "%.2f") + " / " + formatNumber(s.threshold, "%.2f"),
+         "<b>" + std::string(verdictName(s.verdict)) + "</b>", escapeHtml(s.text)});
+  }
+  return "<p><b>Shipped constants by range of A: " + escapeHtml(v.headline) + ".</b></p>\n" +
+         table({"A range", "pixels", "detectable |&Delta;G|", "max |&Delta;G|",
+                "max |&Delta;G|/band / threshold", "verdict", "why"},
+               rows);
+}
+
+std::string headline(const FitAnalysis& a, const CurveVerdict* verdict) {
   const SceneJackknife& jk = a.jackknife;
   std::string html = "<h2>How sure: the curve band</h2>\n<p>";
   if (jk.available) {
@@ -235,8 +254,11 @@ std::string headline(const FitAnalysis& a) {
   } else {
     html += escapeHtml(jk.message) + ".";
   }
-  html += "</p>\n<p><b>Shipped constants: " + escapeHtml(a.shipped_score.verdict) +
-          ".</b> Largest |G<sub>refit</sub> &minus; G<sub>shipped</sub>|: " +
+  html += "</p>\n";
+  if (verdict != nullptr) html += rangeVerdict(*verdict);
+  html += "<p>Over the whole grid (one maximum, dominated by A &rarr; 1): " +
+          escapeHtml(a.shipped_score.verdict) +
+          ". Largest |G<sub>refit</sub> &minus; G<sub>shipped</sub>|: " +
           curveDistance(a.shipped_difference) + ".</p>\n";
   return html;
 }
@@ -390,7 +412,8 @@ std::string perAlbedoTable(const MultiBounceFit& fit) {
 }  // namespace
 
 void writeFitReport(OutputSet& set, const std::string& prefix, const fs::path& dir,
-                    const FitAnalysis& a, const MultiBounceCoeffs& shipped) {
+                    const FitAnalysis& a, const MultiBounceCoeffs& shipped,
+                    const CurveVerdict* verdict) {
   Figures figures(set, prefix);
   bandFigures(a, shipped, figures);
   figure7(a, shipped, figures);
@@ -408,12 +431,14 @@ void writeFitReport(OutputSet& set, const std::string& prefix, const fs::path& d
       "th{background:#f3f3f3}img{margin:4px;border:1px solid #eee}</style></head><body>\n"
       "<h1>gtbake fit: multi-bounce Eq. 10</h1>\n<p>Sweep <code>" +
       escapeHtml(relativePath(a.data.dir, dir)) +
-      "</code>: " + std::to_string(a.data.scenes.size()) + " scenes (" + scenes + "), " +
-      std::to_string(a.data.points()) + " points, " + std::to_string(a.data.spp) + " spp, " +
-      std::to_string(a.data.bounces) + " bounces. Weighting " + weightingName(s.weighting) +
-      ", open surface " + (s.constrain_open ? "constrained" : "free") + ", EIV correction " +
+      "</code>: " + std::to_string(a.data.scenes.size()) + " views of " +
+      std::to_string(a.jackknife.scenes) + " scenes of " + std::to_string(a.type_jackknife.scenes) +
+      " types (" + scenes + "), " + std::to_string(a.data.points()) + " points, " +
+      std::to_string(a.data.spp) + " spp, " + std::to_string(a.data.bounces) +
+      " bounces. Weighting " + weightingName(s.weighting) + ", open surface " +
+      (s.constrain_open ? "constrained" : "free") + ", EIV correction " +
       (s.eiv_correction ? "on" : "off") + ". gtbake " + GTBAKE_VERSION +
-      ". G = a(&rho;)A&sup3; &minus; b(&rho;)A&sup2; + c(&rho;)A.</p>\n" + headline(a) +
+      ". G = a(&rho;)A&sup3; &minus; b(&rho;)A&sup2; + c(&rho;)A.</p>\n" + headline(a, verdict) +
       coefficientTables(a, shipped) + alternativeTables(a) + errorTables(a) +
       leaveOneOutTable(a.jackknife) + leaveOneOutTable(a.type_jackknife) + perAlbedoTable(a.fit) +
       thumbnails(a, dir) + figures.html() + "</body></html>\n";

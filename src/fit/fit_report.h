@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <string>
 
+#include "fit/curve_verdict.h"
 #include "fit/fit_analysis.h"
 
 namespace gtbake {
@@ -19,8 +20,10 @@ class OutputSet;
 
 // Stages index.html and the *.svg figures in `set` under `prefix` ("" or "report/"), so the
 // report is committed with (and verified like) the rest of the set; `dir` is the directory the
-// page ends up in (for the relative link to the sweep).
+// page ends up in (for the relative link to the sweep). With `verdict`, the page leads with the
+// shipped constants' verdict by range of A (docs/fit.md §5).
 void writeFitReport(OutputSet& set, const std::string& prefix, const std::filesystem::path& dir,
-                    const FitAnalysis& a, const MultiBounceCoeffs& shipped);
+                    const FitAnalysis& a, const MultiBounceCoeffs& shipped,
+                    const CurveVerdict* verdict = nullptr);
 
 }  // namespace gtbake
