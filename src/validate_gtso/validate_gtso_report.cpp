@@ -92,7 +92,7 @@ void writeMethodTable(const Analysis& a, std::ostringstream& o) {
        "collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}"
        "td:first-child{text-align:left}img{max-width:100%}</style></head><body>\n";
   o << "<h1>GTSO against path-traced specular occlusion</h1>\n<p>gtbake " << GTBAKE_VERSION
-    << ". Every unmasked pixel of " << sweep.scenes.size() << " scenes; truth: GGX (alpha = r_p^2, "
+    << ". Every unmasked pixel of " << sweep.scenes.size() << " views; truth: GGX (alpha = r_p^2, "
     << "height-correlated Smith, F = 1) against the binary sky visibility, " << sweep.specular_spp
     << " VNDF samples per pixel. ";
   if (a.rayTraced()) {
