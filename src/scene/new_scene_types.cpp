@@ -3,6 +3,9 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <tuple>
+#include <vector>
 
 #include "common/math_constants.h"
 #include "common/rng.h"
@@ -45,6 +48,195 @@ void addTable(MeshBuilder& mesh, const Eigen::Vector3d& at, double hx, double hz
   }
 }
 
+// The floor rectangle a piece of furniture covers: centre, half-extents along its own axes
+// (addBox's, turned by yaw about +Y).
+struct Footprint {
+  double x, z, hx, hz, yaw;
+};
+
+// Whether a and b are more than `gap` apart along one of their four edge directions (two convex
+// rectangles that do not overlap are separated along one of them).
+bool apart(const Footprint& a, const Footprint& b, double gap) {
+  const auto reach = [](const Footprint& f, const Eigen::Vector2d& n) {
+    return f.hx * std::abs(n.dot(Eigen::Vector2d(std::cos(f.yaw), -std::sin(f.yaw)))) +
+           f.hz * std::abs(n.dot(Eigen::Vector2d(std::sin(f.yaw), std::cos(f.yaw))));
+  };
+  for (const Footprint* f : {&a, &b}) {
+    for (const double angle : {f->yaw, f->yaw + 0.5 * kPi}) {
+      const Eigen::Vector2d n(std::cos(angle), -std::sin(angle));
+      const double distance = std::abs(n.dot(Eigen::Vector2d(b.x - a.x, b.z - a.z)));
+      if (distance > reach(a, n) + reach(b, n) + gap) return true;
+    }
+  }
+  return false;
+}
+
+// Cabinets against the back wall (0.4–0.6 m deep, with gaps between them) and a sideboard along
+// each side wall, between the cabinets' zone and the opening; returns their footprints.
+std::vector<Footprint> addCabinets(MeshBuilder& mesh, const VariantDraws& u, double W, double D,
+                                   double H) {
+  std::vector<Footprint> placed;
+  double x = -0.5 * W + 0.05;
+  for (std::uint32_t k = 0; x < 0.5 * W - 0.5; ++k) {
+    const double half = u.in(4 + k, 0.25, 0.7), depth = u.in(12 + k, 0.2, 0.3);
+    const double height = u.in(20 + k, 0.5, 0.9) * H;
+    if (x + 2.0 * half > 0.5 * W - 0.05) break;
+    placed.push_back({x + half, -0.5 * D + depth + 0.02, half, depth, 0.0});
+    addBox(mesh, {placed.back().x, 0.0, placed.back().z}, half, depth, height, 0.0);
+    x += 2.0 * half + u.in(28 + k, 0.05, 0.6);
+  }
+  const double lo = -0.5 * D + 0.7, hi = 0.5 * D - 0.5;  // clear of the cabinets (≤ 0.62 deep)
+  for (int side = 0; side < 2; ++side) {
+    const double half = u.in(36 + side, 0.6, 1.2), depth = 0.25;
+    const double sx = (side == 0 ? -1.0 : 1.0) * (0.5 * W - depth - 0.02);
+    placed.push_back({sx, lo + half + u(38 + side) * (hi - lo - 2.0 * half), depth, half, 0.0});
+    addBox(mesh, {sx, 0.0, placed.back().z}, depth, half, u.in(40 + side, 0.7, 1.1), 0.0);
+  }
+  return placed;
+}
+
+// Tables in the middle, a chair (seat box and back slab) in front of each; a table and its chair
+// are left out where they would come within 5 cm of furniture already placed.
+void addTablesAndChairs(MeshBuilder& mesh, const VariantDraws& u, double W, double D,
+                        std::vector<Footprint>& placed) {
+  const int tables = 1 + static_cast<int>(3.0 * u(44));
+  for (int k = 0; k < tables; ++k) {
+    const double tx = (k + 0.5) / tables * (W - 2.4) - 0.5 * (W - 2.4);
+    const double tz = u.in(45 + k, -0.25, 0.05) * D;
+    const double yaw = u.in(50 + k, -0.3, 0.3);
+    const double hx = u.in(55 + k, 0.35, 0.6), hz = u.in(60 + k, 0.3, 0.45);
+    // The seat (turned by yaw, reaching 0.25 from its centre) 5 cm in front of the table.
+    const double reach = hz * std::cos(yaw) + hx * std::abs(std::sin(yaw));
+    const Eigen::Vector3d seat(tx + 0.15, 0.0, tz + reach + 0.3);
+    const Footprint group[3] = {{tx, tz, hx, hz, yaw},
+                                {seat.x(), seat.z(), 0.2, 0.2, yaw},
+                                {seat.x(), seat.z() + 0.18, 0.2, 0.02, 0.0}};
+    const bool clear = std::all_of(placed.begin(), placed.end(), [&](const Footprint& f) {
+      return apart(f, group[0], 0.05) && apart(f, group[1], 0.05) && apart(f, group[2], 0.05);
+    });
+    if (!clear) continue;
+    placed.insert(placed.end(), std::begin(group), std::end(group));
+    addTable(mesh, {tx, 0.0, tz}, hx, hz, 0.75, yaw);
+    addBox(mesh, seat, 0.2, 0.2, 0.45, yaw);
+    addOrientedBox(mesh, seat + Eigen::Vector3d(0.0, 0.7, 0.18), kX, kUp, kZ, {0.2, 0.25, 0.02});
+  }
+}
+
+// A polygon fanned from `centre`, which sees every outline point (the L shapes here: a point of
+// the square both bars share).
+PrismSection fanSection(const std::vector<Eigen::Vector2d>& outline,
+                        const Eigen::Vector2d& centre) {
+  PrismSection p;
+  const int middle = p.add(centre.x(), centre.y());
+  for (const Eigen::Vector2d& q : outline) p.outline.push_back(p.add(q.x(), q.y()));
+  for (std::size_t k = 0; k < p.outline.size(); ++k) {
+    p.triangles.push_back({middle, p.outline[k], p.outline[(k + 1) % p.outline.size()]});
+  }
+  return p;
+}
+
+// An arcade in the (x, y) plane: `piers` piers of half-width r centred at x0 + k·spacing, from
+// the ground to the springing line, semicircular arches of radius spacing/2 − r between them and
+// the wall above them up to `top`: one polygon, its outline running along the ground, up the
+// piers and over the arches, then back along the top.
+struct ArcadeLayout {
+  int piers;
+  double x0, spacing, r, springing, top;
+};
+
+// Segments of each arch's intrados (a semicircle): kSegments per full turn.
+constexpr int kArchSteps = kSegments / 2;
+
+// The points shared between the piers, the arches and the wall: per pier, its foot corners,
+// its springing corners and centre, its top, and the points on its centre line where the rays
+// from both neighbouring arches' centres meet it (side[k][0] = the springing centre).
+struct ArcadePoints {
+  std::vector<int> foot_l, foot_r, spring_l, spring_r, top;
+  std::vector<std::vector<int>> side;
+  int top_left = 0, top_right = 0;
+};
+
+ArcadePoints arcadePiers(PrismSection& p, const ArcadeLayout& g, int corner_step) {
+  ArcadePoints q;
+  for (int k = 0; k < g.piers; ++k) {
+    const double x = g.x0 + k * g.spacing;
+    q.foot_l.push_back(p.add(x - g.r, 0.0));
+    q.foot_r.push_back(p.add(x + g.r, 0.0));
+    q.spring_l.push_back(p.add(x - g.r, g.springing));
+    q.spring_r.push_back(p.add(x + g.r, g.springing));
+    q.side.push_back({p.add(x, g.springing)});
+    for (int j = 1; j <= corner_step; ++j) {
+      q.side[k].push_back(p.add(x, g.springing + 0.5 * g.spacing * std::tan(kPi * j / kArchSteps)));
+    }
+    q.top.push_back(p.add(x, g.top));
+    // The pier below the springing line: a pentagon (its top edge split at the centre).
+    p.triangles.push_back({q.foot_l[k], q.foot_r[k], q.spring_r[k]});
+    p.triangles.push_back({q.foot_l[k], q.spring_r[k], q.side[k][0]});
+    p.triangles.push_back({q.foot_l[k], q.side[k][0], q.spring_l[k]});
+  }
+  q.top_left = p.add(g.x0 - g.r, g.top);
+  q.top_right = p.add(g.x0 + (g.piers - 1) * g.spacing + g.r, g.top);
+  return q;
+}
+
+// Arch k (between piers k and k + 1) and the wall above it: each half is a strip of quads
+// between the intrados and the pier's centre line along the rays from the arch's centre, up to
+// the last ray below the top corner, then a fan from that corner; the crown triangle joins the
+// halves. Returns the intrados points, right (angle 0) to left.
+std::vector<int> addArch(PrismSection& p, const ArcadeLayout& g, const ArcadePoints& q, int k,
+                         int corner_step) {
+  const double centre = g.x0 + (k + 0.5) * g.spacing, a = 0.5 * g.spacing - g.r;
+  std::vector<int> arc(kArchSteps + 1);
+  arc.front() = q.spring_l[k + 1];
+  arc.back() = q.spring_r[k];
+  for (int j = 1; j < kArchSteps; ++j) {
+    const double angle = kPi * j / kArchSteps;
+    arc[j] = p.add(centre + a * std::cos(angle), g.springing + a * std::sin(angle));
+  }
+  for (int half = 0; half < 2; ++half) {
+    const auto at = [&](int m) { return arc[half == 0 ? m : kArchSteps - m]; };
+    const std::vector<int>& side = q.side[half == 0 ? k + 1 : k];
+    const int corner = q.top[half == 0 ? k + 1 : k];
+    for (int m = 0; m < corner_step; ++m) p.quad(at(m), at(m + 1), side[m + 1], side[m]);
+    p.triangles.push_back({side[corner_step], corner, at(corner_step)});
+    for (int m = corner_step; m < kArchSteps / 2; ++m) {
+      p.triangles.push_back({corner, at(m), at(m + 1)});
+    }
+  }
+  p.triangles.push_back({q.top[k + 1], q.top[k], arc[kArchSteps / 2]});
+  return arc;
+}
+
+PrismSection arcadeProfile(const ArcadeLayout& g) {
+  // The last ray from an arch's centre that meets the pier's centre line below the top.
+  const double corner_angle = std::atan2(g.top - g.springing, 0.5 * g.spacing);
+  int corner_step = 0;
+  while (kPi * (corner_step + 1) / kArchSteps < corner_angle) ++corner_step;
+  PrismSection p;
+  const ArcadePoints q = arcadePiers(p, g, corner_step);
+  for (int k = 0; k < g.piers; ++k) {
+    p.outline.insert(p.outline.end(), {q.foot_l[k], q.foot_r[k], q.spring_r[k]});
+    if (k + 1 == g.piers) break;
+    const std::vector<int> arc = addArch(p, g, q, k, corner_step);
+    p.outline.insert(p.outline.end(), arc.rbegin() + 1, arc.rend());
+  }
+  // The wall above the end piers: fans from their outer springing corners.
+  const int last = g.piers - 1;
+  for (const auto& [from, pier, outer] : {std::tuple{q.spring_l[0], 0, q.top_left},
+                                          std::tuple{q.spring_r[last], last, q.top_right}}) {
+    const std::vector<int>& side = q.side[pier];
+    for (std::size_t j = 0; j + 1 < side.size(); ++j) {
+      p.triangles.push_back({from, side[j], side[j + 1]});
+    }
+    p.triangles.push_back({from, side.back(), q.top[pier]});
+    p.triangles.push_back({from, q.top[pier], outer});
+  }
+  p.outline.push_back(q.top_right);
+  p.outline.insert(p.outline.end(), q.top.rbegin(), q.top.rend());
+  p.outline.insert(p.outline.end(), {q.top_left, q.spring_l[0]});
+  return p;
+}
+
 }  // namespace
 
 Scene makeInteriorScene(std::uint64_t seed, int variant) {
@@ -67,33 +259,8 @@ Scene makeInteriorScene(std::uint64_t seed, int variant) {
   mesh.quad(c[0], c[1], c[5], c[4], in(c[0], c[5]));  // back, z = −D/2
   mesh.quad(c[0], c[2], c[6], c[4], in(c[0], c[6]));  // x = −W/2
   mesh.quad(c[1], c[3], c[7], c[5], in(c[1], c[7]));  // x = +W/2
-  // Cabinets against the back wall, 0.4–0.6 m deep, with gaps between them.
-  double x = -0.5 * W + 0.05;
-  for (std::uint32_t k = 0; x < 0.5 * W - 0.5; ++k) {
-    const double half = u.in(4 + k, 0.25, 0.7), depth = u.in(12 + k, 0.2, 0.3);
-    const double height = u.in(20 + k, 0.5, 0.9) * H;
-    if (x + 2.0 * half > 0.5 * W - 0.05) break;
-    addBox(mesh, {x + half, 0.0, -0.5 * D + depth + 0.02}, half, depth, height, 0.0);
-    x += 2.0 * half + u.in(28 + k, 0.05, 0.6);
-  }
-  // A sideboard along each side wall.
-  for (int side = 0; side < 2; ++side) {
-    const double half = u.in(36 + side, 0.6, 1.2), depth = 0.25;
-    const double sx = (side == 0 ? -1.0 : 1.0) * (0.5 * W - depth - 0.02);
-    addBox(mesh, {sx, 0.0, u.in(38 + side, -0.3, 0.3) * D}, depth, half, u.in(40 + side, 0.7, 1.1),
-           0.0);
-  }
-  // Tables in the middle, a chair (seat box and back slab) beside each.
-  const int tables = 1 + static_cast<int>(3.0 * u(44));
-  for (int k = 0; k < tables; ++k) {
-    const double tx = (k + 0.5) / tables * (W - 2.4) - 0.5 * (W - 2.4);
-    const double tz = u.in(45 + k, -0.25, 0.05) * D;
-    const double yaw = u.in(50 + k, -0.3, 0.3);
-    addTable(mesh, {tx, 0.0, tz}, u.in(55 + k, 0.35, 0.6), u.in(60 + k, 0.3, 0.45), 0.75, yaw);
-    const Eigen::Vector3d seat(tx + 0.15, 0.0, tz + 0.75);
-    addBox(mesh, seat, 0.2, 0.2, 0.45, yaw);
-    addOrientedBox(mesh, seat + Eigen::Vector3d(0.0, 0.7, 0.18), kX, kUp, kZ, {0.2, 0.25, 0.02});
-  }
+  std::vector<Footprint> placed = addCabinets(mesh, u, W, D, H);
+  addTablesAndChairs(mesh, u, W, D, placed);
   const Eigen::Vector3d eye(0.1 * W, 0.62 * H, 0.5 * D - 0.05);
   return mesh.finish("interior", lookAt(eye, {0.0, 0.15 * H, -0.3 * D}, kUp, kFov));
 }
@@ -101,7 +268,7 @@ Scene makeInteriorScene(std::uint64_t seed, int variant) {
 Scene makeColonnadeScene(std::uint64_t seed, int variant) {
   // A row of columns along x in front of a back wall, carrying either a flat roof slab (a
   // portico) or semicircular arches with a wall above them (an arcade); even variants are
-  // porticoes, odd ones arcades.
+  // porticoes, odd ones arcades. No two pieces overlap (docs/scenes.md, "Pieces that touch").
   const VariantDraws u(seed, kColonnadeStream, variant);
   const int columns = 4 + static_cast<int>(4.0 * u(0));
   const double spacing = u.in(1, 0.9, 1.6), radius = u.in(2, 0.1, 0.25) * spacing;
@@ -111,38 +278,31 @@ Scene makeColonnadeScene(std::uint64_t seed, int variant) {
   addFlatGround(mesh, 8.0);
   const double span = (columns - 1) * spacing;
   const double x0 = -0.5 * span;
-  for (int k = 0; k < columns; ++k) {
-    const Eigen::Vector3d base(x0 + k * spacing, 0.0, 0.0);
-    if (arcade) {
-      addBox(mesh, base, radius, radius, height, 0.0);  // square piers
-    } else {
-      addCylinder(mesh, base, radius, height, kSegments);
-    }
-  }
   const double slab = 0.2 * spacing;
   const double half_x = 0.5 * span + 2.0 * radius;
-  // Back wall behind the columns.
-  addOrientedBox(mesh, {0.0, 0.5 * (height + slab), -depth}, kX, kUp, kZ,
-                 {half_x, 0.5 * (height + slab), 0.1});
-  if (!arcade) {
-    addOrientedBox(mesh, {0.0, height + 0.5 * slab, -0.5 * depth}, kX, kUp, kZ,
-                   {half_x, 0.5 * slab, 0.5 * depth + 2.0 * radius});
+  if (arcade) {
+    // Back wall behind the arcade, clear of it.
+    addOrientedBox(mesh, {0.0, 0.5 * (height + slab), -depth}, kX, kUp, kZ,
+                   {half_x, 0.5 * (height + slab), 0.1});
+    addPrism(mesh,
+             arcadeProfile({columns, x0, spacing, radius, height - 0.5 * spacing, height + slab}),
+             Eigen::Vector3d::Zero(), kX, kUp, -radius, radius);
   } else {
-    // Each arch: a half ring of voussoirs (boxes) between two piers, the spandrel wall above.
-    const double a = 0.5 * spacing - radius, w = radius;  // inner radius, ring width
-    constexpr int kStones = 9;
-    for (int k = 0; k + 1 < columns; ++k) {
-      const Eigen::Vector3d centre(x0 + (k + 0.5) * spacing, height - a - w, 0.0);
-      for (int s = 0; s < kStones; ++s) {
-        const double angle = kPi * (s + 0.5) / kStones;
-        const Eigen::Vector3d radial(std::cos(angle), std::sin(angle), 0.0);
-        const Eigen::Vector3d tangent(-std::sin(angle), std::cos(angle), 0.0);
-        addOrientedBox(mesh, centre + (a + 0.5 * w) * radial, radial, tangent, kZ,
-                       {0.5 * w, 0.5 * kPi * (a + w) / kStones, radius});
-      }
+    // Round columns standing on the ground, their tops against the slab's underside.
+    for (int k = 0; k < columns; ++k) {
+      addCylinder(mesh, {x0 + k * spacing, 0.0, 0.0}, radius, height, kSegments);
     }
-    addOrientedBox(mesh, {0.0, height + 0.5 * slab, 0.0}, kX, kUp, kZ,
-                   {half_x, 0.5 * slab, radius});
+    // The back wall (0.2 thick, centred at z = −depth, up to the slab's top) and the roof slab
+    // (from the wall's back face to 2 radii in front of the columns) as one solid: an L in the
+    // (z, y) plane.
+    const double back = -depth - 0.1, face = -depth + 0.1, front = 2.0 * radius;
+    const double top = height + slab;
+    addPrism(
+        mesh,
+        fanSection(
+            {{back, 0.0}, {face, 0.0}, {face, height}, {front, height}, {front, top}, {back, top}},
+            {-depth, height + 0.5 * slab}),
+        Eigen::Vector3d::Zero(), kZ, kUp, -half_x, half_x);
   }
   // Looking down 37° (more than half the field of view): rays over the wall meet the ground.
   const double distance = 1.6 * height + 0.5 * span;
@@ -242,9 +402,10 @@ Scene makeThinScene(std::uint64_t seed, int variant) {
   for (int k = 0; k < posts; ++k) {
     addBox(mesh, {1.6, 0.0, -0.4 + 2.8 * k / (posts - 1)}, post, post, rail_height, 0.0);
   }
-  for (double y : {0.5 * rail_height, rail_height + 0.02}) {
-    addOrientedBox(mesh, {1.6, y, 1.0}, kX, kUp, kZ, {0.025, 0.02, 1.45});
-  }
+  // The middle rail against the posts' +x side, the top rail on the posts' tops.
+  addOrientedBox(mesh, {1.6 + post + 0.025, 0.5 * rail_height, 1.0}, kX, kUp, kZ,
+                 {0.025, 0.02, 1.45});
+  addOrientedBox(mesh, {1.6, rail_height + 0.02, 1.0}, kX, kUp, kZ, {0.025, 0.02, 1.45});
   return mesh.finish("thin", groundCamera(0.85));
 }
 
@@ -258,12 +419,15 @@ Scene makeMechanicalScene(std::uint64_t seed, int variant) {
   const double module = u.in(0, 0.05, 0.1);            // tooth size, m
   const int teeth[2] = {12 + static_cast<int>(12.0 * u(1)), 8 + static_cast<int>(8.0 * u(2))};
   const double width = u.in(3, 0.1, 0.35);
-  double x = -1.5;
+  double x = -1.5, centre[2], tip[2];
   for (int g = 0; g < 2; ++g) {
     const double pitch_r = 0.5 * module * teeth[g];
     std::vector<Eigen::Vector2d> profile;  // four points per tooth: root, flank, flank, root
+    // Turned so that the first gear shows a gap's middle to the second (angle 0, +x) and the
+    // second a tooth's middle to the first (angle π).
+    const double step = 2.0 * kPi / teeth[g], phase = g == 0 ? 0.1 * step : kPi - 0.4 * step;
     for (int t = 0; t < teeth[g]; ++t) {
-      const double step = 2.0 * kPi / teeth[g], a = t * step;
+      const double a = t * step + phase;
       const double radii[4] = {pitch_r - 1.25 * module, pitch_r + module, pitch_r + module,
                                pitch_r - 1.25 * module};
       const double at[4] = {a, a + 0.3 * step, a + 0.5 * step, a + 0.8 * step};
@@ -272,13 +436,22 @@ Scene makeMechanicalScene(std::uint64_t seed, int variant) {
       }
     }
     x += pitch_r;
+    centre[g] = x;
+    tip[g] = pitch_r + module;
     addExtrusion(mesh, {x, 0.1, -0.4}, profile, width);
     addCylinder(mesh, {x, 0.1 + width, -0.4}, 0.3 * pitch_r, 0.15, kSegments / 2);  // hub
-    x += pitch_r + 0.02;
+    x += pitch_r + 0.5 * module + 0.02;  // teeth engage 1.5 modules deep, clear of each other
   }
+  // The tube beside the gears (at z = 0.55), moved along +x until it clears their tips by 5 cm.
   const double tube_r = u.in(4, 0.15, 0.4);
-  addTube(mesh, {0.2, 0.1, 0.55}, tube_r * u.in(5, 0.6, 0.85), tube_r, u.in(6, 0.3, 1.0),
-          kSegments);
+  Eigen::Vector3d tube(0.2, 0.1, 0.55);
+  for (int g = 0; g < 2; ++g) {
+    const double clear = tip[g] + tube_r + 0.05, across = tube.z() + 0.4;
+    if (clear > across) {
+      tube.x() = std::max(tube.x(), centre[g] + std::sqrt(clear * clear - across * across));
+    }
+  }
+  addTube(mesh, tube, tube_r * u.in(5, 0.6, 0.85), tube_r, u.in(6, 0.3, 1.0), kSegments);
   std::vector<Eigen::Vector2d> hexagon;
   for (int k = 0; k < 6; ++k) {
     hexagon.emplace_back(std::cos(-k * kPi / 3.0), std::sin(-k * kPi / 3.0));
@@ -292,11 +465,12 @@ Scene makeMechanicalScene(std::uint64_t seed, int variant) {
     addExtrusion(mesh, at, head, 0.7 * s);
     addCylinder(mesh, at + 0.7 * s * kUp, 0.55 * s, u.in(16 + k, 0.1, 0.4), 16);
   }
-  // L bracket: a foot and an upright with a gusset.
-  const double leg = u.in(20, 0.4, 0.8);
-  addBox(mesh, {1.6, 0.0, -0.9}, leg * 0.5, 0.25, 0.05, 0.0);
-  addOrientedBox(mesh, {1.6 - 0.5 * leg + 0.025, 0.5 * leg, -0.9}, kX, kUp, kZ,
-                 {0.025, 0.5 * leg, 0.25});
+  // L bracket, one solid: a foot 5 cm thick and an upright 5 cm thick at its −x end, 0.5 wide.
+  const double leg = u.in(20, 0.4, 0.8), xl = 1.6 - 0.5 * leg, xr = 1.6 + 0.5 * leg, t = 0.05;
+  addPrism(mesh,
+           fanSection({{xl, 0.0}, {xr, 0.0}, {xr, t}, {xl + t, t}, {xl + t, leg}, {xl, leg}},
+                      {xl + 0.5 * t, 0.5 * t}),
+           {0.0, 0.0, -0.9}, kX, kUp, -0.25, 0.25);
   return mesh.finish("mechanical", groundCamera(0.75));
 }
 

@@ -2,6 +2,7 @@
 // (scene_corpus.h; the ranges are listed in docs/scenes.md).
 #include "scene/scene_corpus.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
@@ -162,6 +163,26 @@ void addTube(MeshBuilder& mesh, const Eigen::Vector3d& base, double inner, doubl
     mesh.quad(ring[0][s], ring[0][t], ring[2][t], ring[2][s], -out);
     mesh.quad(ring[0][s], ring[0][t], ring[1][t], ring[1][s], -up);
     mesh.quad(ring[2][s], ring[2][t], ring[3][t], ring[3][s], up);
+  }
+}
+
+void addPrism(MeshBuilder& mesh, const PrismSection& profile, const Eigen::Vector3d& origin,
+              const Eigen::Vector3d& u, const Eigen::Vector3d& v, double w0, double w1) {
+  const Eigen::Vector3d w = u.cross(v);
+  std::vector<std::uint32_t> low, high;
+  for (const Eigen::Vector2d& p : profile.points) {
+    low.push_back(mesh.vertex(origin + p.x() * u + p.y() * v + w0 * w));
+    high.push_back(mesh.vertex(origin + p.x() * u + p.y() * v + w1 * w));
+  }
+  for (const auto& t : profile.triangles) {
+    mesh.triangle(low[t[0]], low[t[1]], low[t[2]], -w);
+    mesh.triangle(high[t[0]], high[t[1]], high[t[2]], w);
+  }
+  const std::size_t n = profile.outline.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const int a = profile.outline[k], b = profile.outline[(k + 1) % n];
+    const Eigen::Vector2d d = profile.points[b] - profile.points[a];  // outward: d turned right
+    mesh.quad(low[a], low[b], high[b], high[a], d.y() * u - d.x() * v);
   }
 }
 

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -60,5 +61,26 @@ void addExtrusion(MeshBuilder& mesh, const Eigen::Vector3d& base,
 // Upright tube: radii inner < outer, flat annular ends, `segments` sides.
 void addTube(MeshBuilder& mesh, const Eigen::Vector3d& base, double inner, double outer,
              double height, int segments);
+
+// A planar polygon for addPrism: its points (each added once, so every triangle using a point
+// uses the same vertex), a triangulation of it, and its outline (point indices counter-clockwise,
+// every outline point among them and no point of the triangulation on an outline edge).
+struct PrismSection {
+  std::vector<Eigen::Vector2d> points;
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<int> outline;
+  int add(double x, double y) {
+    points.emplace_back(x, y);
+    return static_cast<int>(points.size()) - 1;
+  }
+  void quad(int a, int b, int c, int d) {  // a-b-c-d in order around a convex quad
+    triangles.push_back({a, b, c});
+    triangles.push_back({a, c, d});
+  }
+};
+// The profile (point p at origin + p.x u + p.y v, u ⟂ v unit) extruded along w = u × v from w0
+// to w1 > w0: one closed solid whose caps are the triangulation.
+void addPrism(MeshBuilder& mesh, const PrismSection& profile, const Eigen::Vector3d& origin,
+              const Eigen::Vector3d& u, const Eigen::Vector3d& v, double w0, double w1);
 
 }  // namespace gtbake

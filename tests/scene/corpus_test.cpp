@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <set>
+#include <utility>
 
 #include "common/error.h"
 #include "common/math_constants.h"
@@ -64,7 +65,8 @@ TEST(Corpus, DefaultCorpusShowsNoSky) {
   }
 }
 
-// Closed solids of the new building blocks: no boundary, consistently oriented.
+// Closed solids of the new building blocks (box, extrusion, tube, prism): no boundary,
+// consistently oriented.
 TEST(Corpus, BuildingBlocksAreClosedAndOriented) {
   MeshBuilder mesh;
   const Eigen::Vector3d a0 = Eigen::Vector3d(1, 1, 0).normalized();
@@ -77,6 +79,18 @@ TEST(Corpus, BuildingBlocksAreClosedAndOriented) {
   }
   addExtrusion(mesh, {4, 0, 0}, star, 0.3);
   addTube(mesh, {-4, 0, 0}, 0.5, 0.8, 1.0, 16);
+  // An L section (bars 2 × 0.5 and 0.5 × 1.5, area 1.5) fanned from the square they share,
+  // extruded 1 along z.
+  PrismSection ell;
+  const int centre = ell.add(0.25, 0.25);
+  for (const auto& [x, y] :
+       {std::pair{0.0, 0.0}, {2.0, 0.0}, {2.0, 0.5}, {0.5, 0.5}, {0.5, 1.5}, {0.0, 1.5}}) {
+    ell.outline.push_back(ell.add(x, y));
+  }
+  for (std::size_t k = 0; k < 6; ++k) {
+    ell.triangles.push_back({centre, ell.outline[k], ell.outline[(k + 1) % 6]});
+  }
+  addPrism(mesh, ell, {0, 0, 4}, Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), -0.5, 0.5);
   const Scene scene = mesh.finish("blocks", {});
   const auto census = test::edgeCensus(scene);
   EXPECT_EQ(census.boundary, 0u);
@@ -91,7 +105,7 @@ TEST(Corpus, BuildingBlocksAreClosedAndOriented) {
   }
   const double star_area = 10 * 0.5 * 1.0 * 0.5 * std::sin(2.0 * kPi / 10);
   const double tube = 16 * 0.5 * std::sin(2.0 * kPi / 16) * (0.64 - 0.25);
-  EXPECT_NEAR(volume, 1.0 * 0.4 * 0.2 + 0.3 * star_area + tube, 1e-5);
+  EXPECT_NEAR(volume, 1.0 * 0.4 * 0.2 + 0.3 * star_area + tube + 1.5, 1e-5);
 }
 
 TEST(AutoCamera, ParsesAutoAndAutoK) {
