@@ -50,14 +50,7 @@ SweepData syntheticSweep() {
 }  // namespace
 
 std::vector<std::string> seeds() {
-  FitAnalysis a;
-  a.data = syntheticSweep();
-  a.fit = fitMultiBounce(a.data);
-  a.scene_weights = sceneWeights(a.data, a.fit.weights);
-  const BandRule rule{20, 8, {0.95, 200, 1}};
-  a.jackknife = sceneJackknife(a.data, a.fit, kPaperCoeffs, rule);
-  a.type_jackknife = typeJackknife(a.data, a.fit, kPaperCoeffs, rule);
-  a.floor = fitFloor(a.data);
+  const FitAnalysis a = analyzePoints(syntheticSweep(), {}, kPaperCoeffs, {20, 8, {0.95, 200, 1}});
   return {validateDataText(validateDataOf(a))};
 }
 

@@ -92,23 +92,31 @@ std::optional<ErrorTable> heldOutErrors(const SweepData& data, const SceneJackkn
 FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& settings,
                          const MultiBounceCoeffs& shipped, Progress* progress,
                          const AoInput& input) {
-  const auto step = [&] {
-    if (progress != nullptr) progress->add(1);
-  };
-  FitAnalysis a;
-  a.data = loadSweep(sweep);
-  a.input = input;
-  useScreenEstimate(&a.data, input);
-  step();
+  SweepData data = loadSweep(sweep);
+  useScreenEstimate(&data, input);
+  if (progress != nullptr) progress->add(1);
   // Â is a deterministic function of the G-buffer: no noise in the regressor, nothing for the
   // errors-in-variables correction to remove (its estimate would be G's noise alone).
   FitSettings used = settings;
   used.eiv_correction = settings.eiv_correction && input.rayTraced();
-  a.fit = fitMultiBounce(a.data, used);
+  FitAnalysis a = analyzePoints(std::move(data), used, shipped, {}, progress);
+  a.input = input;
+  return a;
+}
+
+FitAnalysis analyzePoints(SweepData data, const FitSettings& settings,
+                          const MultiBounceCoeffs& shipped, const BandRule& rule,
+                          Progress* progress) {
+  const auto step = [&] {
+    if (progress != nullptr) progress->add(1);
+  };
+  FitAnalysis a;
+  a.data = std::move(data);
+  a.fit = fitMultiBounce(a.data, settings);
   a.scene_weights = sceneWeights(a.data, a.fit.weights);
   step();
-  a.jackknife = sceneJackknife(a.data, a.fit, shipped);
-  a.type_jackknife = typeJackknife(a.data, a.fit, shipped);
+  a.jackknife = sceneJackknife(a.data, a.fit, shipped, rule);
+  a.type_jackknife = typeJackknife(a.data, a.fit, shipped, rule);
   step();
   a.refit_errors = errorTable(a.data, a.fit.linear.coeffs);
   a.held_out_errors = heldOutErrors(a.data, a.jackknife);

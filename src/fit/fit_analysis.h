@@ -69,6 +69,12 @@ FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& 
                          const MultiBounceCoeffs& shipped, Progress* progress,
                          const AoInput& input = {});
 
+// Everything after the load, on points already in memory (analyzeSweep's steps 2..7, with the
+// band's grid and simultaneous rule `rule`); the tests and fuzz targets build their analyses here.
+FitAnalysis analyzePoints(SweepData data, const FitSettings& settings,
+                          const MultiBounceCoeffs& shipped, const BandRule& rule = {},
+                          Progress* progress = nullptr);
+
 // The steps, each testable alone.
 std::vector<SceneWeight> sceneWeights(const SweepData& data, const std::vector<double>& weights);
 std::vector<Alternative> weightingAlternatives(const SweepData& data, const MultiBounceFit& fit);

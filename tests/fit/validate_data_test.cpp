@@ -38,17 +38,9 @@ SweepData sceneMix(std::size_t scenes, double tau, std::size_t points, std::uint
   return data;
 }
 
-// The analysis validate reads, built from in-memory points (analyzeSweep reads a directory).
+// The analysis validate reads, from in-memory points (a coarse band grid keeps it fast).
 FitAnalysis analysis(SweepData data) {
-  FitAnalysis a;
-  a.data = std::move(data);
-  a.fit = fitMultiBounce(a.data);
-  a.scene_weights = sceneWeights(a.data, a.fit.weights);
-  const BandRule rule{50, 16, {0.95, 2000, 3}};
-  a.jackknife = sceneJackknife(a.data, a.fit, kPaperCoeffs, rule);
-  a.type_jackknife = typeJackknife(a.data, a.fit, kPaperCoeffs, rule);
-  a.floor = fitFloor(a.data);
-  return a;
+  return analyzePoints(std::move(data), {}, kPaperCoeffs, {50, 16, {0.95, 2000, 3}});
 }
 
 // The refit plus an error k·A(1 − A) at every ρ (b0 and c0 up by k): 0 at A = 0 and A = 1, the
