@@ -301,8 +301,13 @@ Subcommand addEncodeCommand(CLI::App& app) {
   parser->add_option("--gtso", options->gtso, "Directory from gtbake gtso")->required();
   parser->add_option("--out", options->out, "Output directory")->required();
   addThreadsOption(parser, options->threads);
-  return {parser, [options](const RunContext& context) {
+  auto layout4D = std::make_shared<std::string>("atlas");
+  parser->add_option("--4d-layout", *layout4D,
+                     "4D table: atlas (theta_o slices tiled, every extent <= 256) or fold "
+                     "(32x32x1024 for 32^4; D3D, Metal, OpenGL 4 only)");
+  return {parser, [options, layout4D](const RunContext& context) {
             options->progress = context.progress;
+            options->layout_4d = parseLayout4D(*layout4D);
             runEncode(*options);
             return 0;
           }};
@@ -397,12 +402,17 @@ Subcommand addAllCommand(CLI::App& app) {
   addThreadsOption(parser, options->threads);
   parser->add_option("--scenes", options->scenes,
                      "glTF files or directories of them (default: the built-in seven)");
+  parser->add_option("--4d-layout", options->layout_4d,
+                     "4D table: atlas (default, every extent <= 256) or fold (encode)");
   return {parser, [options](const RunContext& context) {
             // The output directory and thread count do not change a byte of the results, so the
             // provenance records the canonical command and luts/ reproduces from any --out.
             options->command_line = "gtbake all";
             for (const auto& scene : options->scenes) {
               options->command_line += " --scenes " + scene.string();
+            }
+            if (parseLayout4D(options->layout_4d) == Layout4D::kFold) {
+              options->command_line += " --4d-layout fold";
             }
             options->progress = context.progress;
             runAll(*options);

@@ -11,6 +11,7 @@
 #include "common/progress.h"
 #include "gtso/gtso_integrator.h"
 #include "gtso/gtso_tables.h"
+#include "texture/bc4_block.h"
 
 namespace gtbake {
 
@@ -53,33 +54,107 @@ std::vector<GtsoLayout> layoutCandidates(const GtsoTable& t) {
 }
 
 std::array<int, 3> layoutVolume(const GtsoTable& t, const GtsoLayout& l) {
-  const int w = t.dims.size() == 4 ? t.dims[3] : 1;
-  return {t.dims[l.axis[0]], t.dims[l.axis[1]], t.dims[l.axis[2]] * w};
+  const int nw = t.dims.size() == 4 ? t.dims[3] : 1;
+  const int down = (nw + l.tilesX - 1) / l.tilesX;
+  return {t.dims[l.axis[0]] * l.tilesX, t.dims[l.axis[1]], t.dims[l.axis[2]] * down};
+}
+
+std::array<int, 3> tiledTexel(const GtsoLayout& l, const int* n, const std::array<int, 4>& i) {
+  return {i[0] + n[0] * (i[3] % l.tilesX), i[1], i[2] + n[2] * (i[3] / l.tilesX)};
+}
+
+std::array<int, 4> tableTexel(const GtsoLayout& l, const int* n, const std::array<int, 3>& v) {
+  return {v[0] % n[0], v[1], v[2] % n[2], v[2] / n[2] * l.tilesX + v[0] / n[0]};
 }
 
 std::vector<float> permuteToLayout(const GtsoTable& t, const GtsoLayout& l) {
   const std::array<int, 3> v = layoutVolume(t, l);
-  const int nx = t.dims[l.axis[0]], ny = t.dims[l.axis[1]], nz = t.dims[l.axis[2]];
+  const int n[3] = {t.dims[l.axis[0]], t.dims[l.axis[1]], t.dims[l.axis[2]]};
   const int nw = t.dims.size() == 4 ? t.dims[3] : 1;
-  std::vector<float> out(static_cast<std::size_t>(v[0]) * v[1] * v[2]);
+  std::vector<float> out(static_cast<std::size_t>(v[0]) * v[1] * v[2], 0.0f);
   std::size_t at = 0;
-  for (int w = 0; w < nw; ++w) {
-    for (int z = 0; z < nz; ++z) {
-      for (int y = 0; y < ny; ++y) {
-        for (int x = 0; x < nx; ++x) {
-          int i[3];
-          i[l.axis[0]] = x;
-          i[l.axis[1]] = y;
-          i[l.axis[2]] = z;
-          const std::size_t src =
-              ((static_cast<std::size_t>(w) * t.dims[2] + i[2]) * t.dims[1] + i[1]) * t.dims[0] +
-              i[0];
-          out[at++] = t.values[src];
-        }
+  for (int z = 0; z < v[2]; ++z) {
+    for (int y = 0; y < v[1]; ++y) {
+      for (int x = 0; x < v[0]; ++x, ++at) {
+        const std::array<int, 4> i = tableTexel(l, n, {x, y, z});
+        if (i[3] >= nw) continue;  // a tile past the last slice
+        int a[3];
+        for (int k = 0; k < 3; ++k) a[l.axis[k]] = i[k];
+        const std::size_t src =
+            ((static_cast<std::size_t>(i[3]) * t.dims[2] + a[2]) * t.dims[1] + a[1]) * t.dims[0] +
+            a[0];
+        out[at] = t.values[src];
       }
     }
   }
   return out;
+}
+
+const char* layout4DName(Layout4D packing) {
+  return packing == Layout4D::kAtlas ? "atlas" : "fold";
+}
+
+Layout4D parseLayout4D(const std::string& name) {
+  if (name == "atlas") return Layout4D::kAtlas;
+  if (name == "fold") return Layout4D::kFold;
+  throw Error("encode: --4d-layout takes atlas or fold, not '" + name + "'");
+}
+
+int tilesAcrossX(const GtsoTable& t, const GtsoLayout& l, Layout4D packing, int max_extent) {
+  if (t.dims.size() != 4 || packing == Layout4D::kFold) return 1;
+  const int nx = t.dims[l.axis[0]], ny = t.dims[l.axis[1]], nz = t.dims[l.axis[2]];
+  const int nw = t.dims[3];
+  const int down = std::min(nw, max_extent / nz);
+  const int across = down > 0 ? (nw + down - 1) / down : 0;
+  if (down == 0 || nx * across > max_extent || ny > max_extent) {
+    throw Error("encode: the 4D table " + t.file + " (" + std::to_string(nx) + "x" +
+                std::to_string(ny) + "x" + std::to_string(nz) + " tiles x " + std::to_string(nw) +
+                " theta_o slices) does not fit an atlas of at most " + std::to_string(max_extent) +
+                " texels per dimension; use --4d-layout fold");
+  }
+  return across;
+}
+
+void packLayoutChoice(const GtsoTable& t, Layout4D packing, int max_extent, LayoutChoice* c) {
+  GtsoLayout l = c->layout;
+  l.tilesX = tilesAcrossX(t, l, packing, max_extent);
+  const int n[3] = {t.dims[l.axis[0]], t.dims[l.axis[1]], t.dims[l.axis[2]]};
+  const int nw = t.dims[3];
+  const std::array<int, 3> v = layoutVolume(t, l);
+  // Block (bx, by) of slice z of the tiled volume is the fold's block holding its first texel.
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(v[0] / 4) * (v[1] / 4) * v[2] *
+                                  kBc4BlockBytes);
+  std::size_t at = 0;
+  for (int z = 0; z < v[2]; ++z) {
+    for (int by = 0; by < v[1] / 4; ++by) {
+      for (int bx = 0; bx < v[0] / 4; ++bx, at += kBc4BlockBytes) {
+        const std::array<int, 4> i = tableTexel(l, n, {4 * bx, 4 * by, z});
+        if (i[3] >= nw) continue;  // zero texels: key 0, codes 0
+        const std::size_t src =
+            ((static_cast<std::size_t>(i[3]) * n[2] + i[2]) * (n[1] / 4) + by) * (n[0] / 4) +
+            i[0] / 4;
+        std::copy_n(c->bc4.bytes.begin() + static_cast<std::ptrdiff_t>(src * kBc4BlockBytes),
+                    kBc4BlockBytes, bytes.begin() + static_cast<std::ptrdiff_t>(at));
+      }
+    }
+  }
+  const int down = v[2] / n[2];
+  c->layout = l;
+  c->volume = v;
+  c->texels = permuteToLayout(t, l);
+  c->bc4.bytes = std::move(bytes);
+  c->json["volume"] = {v[0], v[1], v[2]};
+  c->json["packing"] = {
+      {"name", layout4DName(packing)},
+      {"tiles_x", l.tilesX},
+      {"tiles_z", down},
+      {"tile", {n[0], n[1], n[2]}},
+      {"empty_tiles", l.tilesX * down - nw},
+      {"max_extent", packing == Layout4D::kAtlas ? nlohmann::json(max_extent) : nlohmann::json()},
+      {"rule",
+       "theta_o slice w is the tile at texel (N_x (w mod tiles_x), 0, N_z floor(w / tiles_x)); "
+       "atlas: at most floor(max_extent / N_z) tiles down z, the fewest columns across x; fold: "
+       "one column (tiles_x = 1)"}};
 }
 
 gtso::ErrorStats layoutLookupError(const GtsoTable& t, const GtsoVolume& v,

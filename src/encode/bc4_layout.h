@@ -75,9 +75,35 @@ gtso::ErrorStats layoutLookupError(const GtsoTable& t, const GtsoVolume& v,
 // encoder gives the same decoded texels up to its summation order; measured identical on 3D).
 // Only layouts whose x and y extents are multiples of 4 (BC4 blocks).
 std::vector<GtsoLayout> layoutCandidates(const GtsoTable& t);
-// Texture extent and texel order of a table in a layout.
+// Texture extent and texel order of a table in a layout (4D: its theta_o tiles, GtsoLayout;
+// texels of tiles past the last slice are 0).
 std::array<int, 3> layoutVolume(const GtsoTable& t, const GtsoLayout& layout);
 std::vector<float> permuteToLayout(const GtsoTable& t, const GtsoLayout& layout);
+
+// How the 4D table's theta_o slices are packed (docs/export.md §2c): `atlas` tiles them across
+// texture x and down z within kAtlasMaxExtent texels per dimension (the guaranteed 3D limit of
+// Vulkan and OpenGL ES 3); `fold` stacks them down z (one column of tiles, depth N_z N_w).
+enum class Layout4D { kAtlas, kFold };
+inline constexpr int kAtlasMaxExtent = 256;
+// "atlas" / "fold" and back (throws gtbake::Error on another name).
+const char* layout4DName(Layout4D packing);
+Layout4D parseLayout4D(const std::string& name);
+// The tiles across x of table `t` in `layout` packed as `packing`: fold 1; atlas the fewest
+// columns that keep the depth within max_extent (at most floor(max_extent / N_z) tiles down z),
+// with every extent within max_extent, else a one-line gtbake::Error naming the table.
+int tilesAcrossX(const GtsoTable& t, const GtsoLayout& layout, Layout4D packing, int max_extent);
+
+// Texel (x, y, z) of slice w of a 4D table in layout order <-> texel of the tiled volume
+// (GtsoLayout::tilesX; n = the tile's extents). tiledTexel is one to one; tableTexel of a texel
+// in a tile past the last slice gives w >= nw.
+std::array<int, 3> tiledTexel(const GtsoLayout& layout, const int* n, const std::array<int, 4>& i);
+std::array<int, 4> tableTexel(const GtsoLayout& layout, const int* n, const std::array<int, 3>& v);
+
+// Packs a 4D choice (made on the fold, tilesX = 1) as `packing` (tilesAcrossX): its texels and
+// its BC4 blocks reordered (every block lies in one tile; blocks of tiles past the last slice are
+// zero, the encoding of zero texels), errors unchanged; layouts/4d of encode.json gains
+// `packing` and the new `volume`.
+void packLayoutChoice(const GtsoTable& t, Layout4D packing, int max_extent, LayoutChoice* choice);
 // "xyz"[axis[0]] "xyz"[axis[1]] "xyz"[axis[2]]: the shader swizzle of a layout, e.g. "yzx".
 std::string layoutSwizzle(const GtsoLayout& layout);
 

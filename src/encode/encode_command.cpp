@@ -54,15 +54,23 @@ nlohmann::ordered_json encodeJson(const EncodeOptions& options, const GtsoInput&
                  {"gtso4d.f32", gtsoTableHash(options.gtso, gtso.table4d.file)}};
   j["layouts"] = {{"3d", layouts.t3.json}, {"4d", layouts.t4.json}};
   j["layout_note"] =
-      "texture x, y, z hold the named table axes (4D: theta_o folds into the depth, z' = w*N_z + "
-      "z); BC4 blocks are 4x4 over (x, y); gtso3d*/gtso4d* files of every format use this layout "
-      "and the generated header/includes read it (kGtso3DLayout, GTSO_3D_LAYOUT)";
+      "texture x, y, z hold the named table axes (4D: theta_o slice w is the tile at texel "
+      "(N_x (w mod tiles_x), 0, N_z floor(w / tiles_x)), layouts/4d/packing); BC4 blocks are 4x4 "
+      "over (x, y); gtso3d*/gtso4d* files of every format use this layout and the generated "
+      "header/includes read it (kGtso3DLayout, kGtso4DLayout, GTSO_3D_LAYOUT, kGtso4DTilesX)";
   for (const auto& [key, c] : {std::pair{"3d", &layouts.t3}, std::pair{"4d", &layouts.t4}}) {
     j["bc4"][key] = {
         {"rmse", c->bc4.rmse}, {"max_abs", c->bc4.max_abs}, {"seconds", c->bc4.seconds}};
   }
   j["end_to_end"] = end_to_end;
   return j;
+}
+
+// ", atlas 4x8 tiles" for the 4D choice's packing.
+std::string packingText(const nlohmann::json& choice) {
+  const nlohmann::json& p = choice["packing"];
+  return ", " + p["name"].get<std::string>() + " " + std::to_string(p["tiles_x"].get<int>()) + "x" +
+         std::to_string(p["tiles_z"].get<int>()) + " tiles";
 }
 
 void printSummary(const EncodeOptions& options, const GtsoInput& gtso, const GtsoLayouts& l,
@@ -74,9 +82,9 @@ void printSummary(const EncodeOptions& options, const GtsoInput& gtso, const Gts
   for (const auto& [table, c] : rows) {
     const std::string extent = std::to_string(c->volume[0]) + "x" + std::to_string(c->volume[1]) +
                                "x" + std::to_string(c->volume[2]);
-    std::printf("  %-5s  %-13s  %-6s  %.4e  %.4e  %.2f s\n", table == &gtso.table3d ? "3D" : "4D",
+    std::printf("  %-5s  %-13s  %-6s  %.4e  %.4e  %.2f s%s\n", table == &gtso.table3d ? "3D" : "4D",
                 extent.c_str(), layoutSwizzle(c->layout).c_str(), c->bc4.rmse, c->bc4.max_abs,
-                c->bc4.seconds);
+                c->bc4.seconds, table == &gtso.table3d ? "" : packingText(c->json).c_str());
     for (const LayoutCandidate& k : c->candidates) {
       std::printf("         candidate %s: end-to-end uniform RMS %.5f max %.4f, stress max %.4f\n",
                   layoutSwizzle(k.layout).c_str(), k.uniform_rms, k.uniform_max, k.stress_max);
@@ -107,8 +115,15 @@ EncodeResult runEncode(const EncodeOptions& options) {
   // format of a table is written in it.
   const auto f3 = forcedLayout(options.force_layout_3d);
   const auto f4 = forcedLayout(options.force_layout_4d);
-  const GtsoLayouts layouts = chooseLayouts(gtso, options.layout_lobes, f3 ? &*f3 : nullptr,
-                                            f4 ? &*f4 : nullptr, options.progress);
+  // Every 4D candidate must fit the packing (before the encoder runs).
+  for (const GtsoLayout& l : layoutCandidates(gtso.table4d)) {
+    tilesAcrossX(gtso.table4d, l, options.layout_4d, options.atlas_max_extent);
+  }
+  GtsoLayouts layouts = chooseLayouts(gtso, options.layout_lobes, f3 ? &*f3 : nullptr,
+                                      f4 ? &*f4 : nullptr, options.progress);
+  // The choice is made on the fold; the lookup reads the same blocks packed either way to the
+  // last bit (gtso4DLookup), so the packing only reorders them.
+  packLayoutChoice(gtso.table4d, options.layout_4d, options.atlas_max_extent, &layouts.t4);
   const nlohmann::json end_to_end = endToEndJson(gtso, layouts, options.progress);
   const std::string writer = std::string("gtbake ") + GTBAKE_VERSION;
   OutputSet output(options.out, "encode");  // 12 volumes + encode.json, committed as one set

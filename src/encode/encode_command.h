@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "encode/bc4_layout.h"
+
 namespace gtbake {
 
 struct EncodeOptions {
@@ -19,6 +21,10 @@ struct EncodeOptions {
   // tests, layouts forced instead of chosen ({x, y, z} table axes; empty: choose).
   int layout_lobes = 512;
   std::vector<int> force_layout_3d, force_layout_4d;
+  // How the 4D table's theta_o slices are packed (--4d-layout; docs/export.md §2c) and the
+  // atlas's largest extent (tests pack small tables with a smaller one).
+  Layout4D layout_4d = Layout4D::kAtlas;
+  int atlas_max_extent = kAtlasMaxExtent;
 };
 
 struct EncodeResult {

@@ -31,6 +31,20 @@ GtsoLayout readLayout(const nlohmann::json& j, const char* table, const std::str
   }
 }
 
+// The theta_o tiles across x of the 4D volume: layouts/4d/packing/tiles_x, an integer in
+// [1, N_w] (docs/export.md §2c).
+int readTilesX(const nlohmann::json& j, const GtsoTable& t, const std::string& where) {
+  try {
+    const auto& n = j.at("layouts").at("4d").at("packing").at("tiles_x");
+    if (!n.is_number_integer() || n.get<std::int64_t>() < 1 || n.get<std::int64_t>() > t.dims[3]) {
+      throw Error("not an integer in [1, " + std::to_string(t.dims[3]) + "]");
+    }
+    return n.get<int>();
+  } catch (const std::exception& e) {
+    throw Error(where + ": no valid layouts/4d/packing/tiles_x (" + e.what() + ")");
+  }
+}
+
 double bc4Number(const nlohmann::json& j, const char* table, const char* key,
                  const std::string& where) {
   try {
@@ -45,6 +59,7 @@ ShippedVolume readTable(const OutputManifest& set, const nlohmann::json& j, cons
                         const char* key, const std::string& base, const std::string& where) {
   ShippedVolume v;
   v.layout = readLayout(j, key, where);
+  if (t.dims.size() == 4) v.layout.tilesX = readTilesX(j, t, where);
   v.layout_json = j["layouts"][key];
   v.volume = layoutVolume(t, v.layout);
   v.bc4_rmse = bc4Number(j, key, "rmse", where);

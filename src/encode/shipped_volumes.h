@@ -15,7 +15,7 @@
 namespace gtbake {
 
 struct ShippedVolume {
-  GtsoLayout layout = kGtsoIdentityLayout;  // table axes on texture x, y, z (bc4_layout.h)
+  GtsoLayout layout = kGtsoIdentityLayout;  // table axes on texture x, y, z; 4D tiles
   std::array<int, 3> volume{};              // texture extent in that layout
   VolumeData bc4, r16, r8;                  // gtso3d{,_r16,_r8}.dds (or gtso4d*)
   double bc4_rmse = 0.0, bc4_max = 0.0;     // decoded BC4 texels vs the float table

@@ -18,7 +18,7 @@ struct Dialect {
   const char* float3;
   const char* float4;
   const char* constant;  // storage qualifier of a file-scope constant
-  const char* macros;    // GTSO_VEC3, GTSO_ATAN2, GTSO_TEXTURE, GTSO_SAMPLE
+  const char* macros;    // GTSO_VEC3, GTSO_VEC4, GTSO_ATAN2, GTSO_TEXTURE, GTSO_SAMPLE
 };
 
 constexpr Dialect kHlsl = {"hlsl",
@@ -27,6 +27,7 @@ constexpr Dialect kHlsl = {"hlsl",
                            "float4",
                            "static const",
                            "#define GTSO_VEC3 float3\n"
+                           "#define GTSO_VEC4 float4\n"
                            "#define GTSO_ATAN2(y, x) atan2(y, x)\n"
                            "#define GTSO_TEXTURE Texture3D<float> tex, SamplerState linearClamp\n"
                            "#define GTSO_SAMPLE(c) tex.SampleLevel(linearClamp, c, 0.0)\n"};
@@ -36,6 +37,7 @@ constexpr Dialect kGlsl = {"glsl",
                            "vec4",
                            "const",
                            "#define GTSO_VEC3 vec3\n"
+                           "#define GTSO_VEC4 vec4\n"
                            "#define GTSO_ATAN2(y, x) atan(y, x)\n"
                            "#define GTSO_TEXTURE sampler3D tex\n"
                            "#define GTSO_SAMPLE(c) textureLod(tex, c, 0.0).r\n"};
@@ -136,11 +138,17 @@ std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage langu
     << lit(c[5]) << ");\n"
     << "// cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2 (paper Eq. 26).\n"
     << d.constant << " float kConeApertureU = " << lit(in.gtso->u) << ";\n"
-    << "// Texels per axis (3D x, y, z; 4D x, y, z, w; the 4D volume folds w into z).\n"
+    << "// Texels per axis (3D x, y, z; 4D x, y, z, w; the 4D volume tiles w, kGtso4DTilesX "
+       "across\n"
+    << "// texture x).\n"
     << d.constant << " " << d.float3 << " kGtso3DSize = " << d.float3 << "(" << lit(t3.dims[0])
     << ", " << lit(t3.dims[1]) << ", " << lit(t3.dims[2]) << ");\n"
     << d.constant << " " << d.float4 << " kGtso4DSize = " << d.float4 << "(" << lit(t4.dims[0])
     << ", " << lit(t4.dims[1]) << ", " << lit(t4.dims[2]) << ", " << lit(t4.dims[3]) << ");\n"
+    << d.constant << " float kGtso4DTilesX = " << lit(in.layout_4d.tilesX) << ";\n"
+    << d.constant << " " << d.float3 << " kGtso4DVolumeSize = " << d.float3 << "("
+    << lit(in.volume_4d[0]) << ", " << lit(in.volume_4d[1]) << ", " << lit(in.volume_4d[2])
+    << ");\n"
     << "// Axis constants (gtso_runtime.h).\n"
     << "#define kGtsoPiF " << lit(kGtsoPi) << "\n";
   for (const GtsoAxisConstant& k : kGtsoAxisConstants)

@@ -94,6 +94,20 @@ std::string endToEnd(const nlohmann::json& e2e, const char* table, const char* f
   return "uniform max/RMS " + pair("uniform") + ", stress " + pair("stress");
 }
 
+// "atlas: 4 x 8 tiles of 32x32x32 texels (theta_o slice w at x = 32 (w mod 4), z = 32
+// floor(w / 4))" or "fold: ..." for the 4D volume.
+std::string tilingText(const GeneratedCodeInput& in) {
+  const GtsoLayout& l = in.layout_4d;
+  const int* n = in.gtso->table4d.dims.data();
+  const int nx = n[l.axis[0]], ny = n[l.axis[1]], nz = n[l.axis[2]];
+  const int down = in.volume_4d[2] / nz;
+  return std::string(l.tilesX == 1 ? "fold" : "atlas") + ": " + std::to_string(l.tilesX) + " x " +
+         std::to_string(down) + " tiles of " + std::to_string(nx) + "x" + std::to_string(ny) + "x" +
+         std::to_string(nz) + " texels (theta_o slice w at x = " + std::to_string(nx) + " (w mod " +
+         std::to_string(l.tilesX) + "), z = " + std::to_string(nz) + " floor(w / " +
+         std::to_string(l.tilesX) + "))";
+}
+
 // "texture x = theta_o, y = r_p, z = A" for a layout.
 std::string layoutText(int dims, const GtsoLayout& l) {
   const char* names[3] = {"A", dims == 3 ? "theta_o" : "beta", "r_p"};
@@ -123,16 +137,17 @@ void emitConstants(std::ostringstream& o, const GeneratedCodeInput& in) {
     << t3.dims[2] << "};\n"
     << "inline constexpr int kGtso4DSize[4] = {" << t4.dims[0] << ", " << t4.dims[1] << ", "
     << t4.dims[2] << ", " << t4.dims[3] << "};\n"
-    << "// Texture layouts (chosen by export with the BC4 encoder, docs/export.md): texture x, y, "
+    << "// Texture layouts (chosen by encode with the BC4 encoder, docs/export.md): texture x, y, "
        "z\n"
     << "// hold table axes axis[0..2] of (0 = A, 1 = theta_o / beta, 2 = r_p); the 4D theta_o\n"
-    << "// folds into the depth. 3D: " << layoutText(3, in.layout_3d)
-    << "; 4D: " << layoutText(4, in.layout_4d) << ".\n"
+    << "// slices are tiles, tilesX across x. 3D: " << layoutText(3, in.layout_3d)
+    << "; 4D: " << layoutText(4, in.layout_4d) << ";\n// 4D " << tilingText(in) << ".\n"
     << "inline constexpr GtsoLayout kGtso3DLayout = {{" << in.layout_3d.axis[0] << ", "
-    << in.layout_3d.axis[1] << ", " << in.layout_3d.axis[2] << "}};\n"
+    << in.layout_3d.axis[1] << ", " << in.layout_3d.axis[2] << "}, 1};\n"
     << "inline constexpr GtsoLayout kGtso4DLayout = {{" << in.layout_4d.axis[0] << ", "
-    << in.layout_4d.axis[1] << ", " << in.layout_4d.axis[2] << "}};\n"
-    << "// The volumes' texture extents in those layouts (4D depth = N_z * kGtso4DSize[3]).\n"
+    << in.layout_4d.axis[1] << ", " << in.layout_4d.axis[2] << "}, " << in.layout_4d.tilesX
+    << "};\n"
+    << "// The volumes' texture extents in those layouts.\n"
     << "inline constexpr int kGtso3DVolumeSize[3] = {" << in.volume_3d[0] << ", " << in.volume_3d[1]
     << ", " << in.volume_3d[2] << "};\n"
     << "inline constexpr int kGtso4DVolumeSize[3] = {" << in.volume_4d[0] << ", " << in.volume_4d[1]
@@ -224,7 +239,7 @@ inline float gtso3DLookup(float A, float cosBeta, float rp) {
                      kGtso3DVolumeSize[1], kGtso3DVolumeSize[2]};
   return gtso3DLookup(v, kGtso3DSize, A, cosBeta, rp, kGtso3DLayout);
 }
-// S4(A, beta, r_p, theta_o) from the folded BC4 table: two trilinear fetches and a lerp.
+// S4(A, beta, r_p, theta_o) from the tiled BC4 table: two trilinear fetches and a lerp.
 inline float gtso4DLookup(float A, float cosBeta, float rp, float cosThetaO) {
   const GtsoVolume v{GtsoTexelFormat::kBc4, kGtso4DBC4, kGtso4DVolumeSize[0],
                      kGtso4DVolumeSize[1], kGtso4DVolumeSize[2]};
@@ -254,7 +269,8 @@ inline float gtso3DLookupR8(const std::uint8_t* texels, float A, float cosBeta, 
   return gtso3DLookupAs(GtsoTexelFormat::kR8, texels, A, cosBeta, rp);
 }
 // float32: the tables of `gtbake gtso` (gtso3d.f32, gtso4d.f32), which stay in table order
-// (x = A, y = theta_o / beta, z = r_p, 4D w = theta_o folded), whatever the layout above.
+// (x = A, y = theta_o / beta, z = r_p, 4D w = theta_o folded: tilesX 1), whatever the layout
+// above.
 inline float gtso3DLookupFloat(const float* texels, float A, float cosBeta, float rp) {
   const GtsoVolume v{GtsoTexelFormat::kFloat32, texels, kGtso3DSize[0], kGtso3DSize[1],
                      kGtso3DSize[2]};
@@ -426,8 +442,9 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
     << g9(in.bc4_4d->rmse) << ", max " << g9(in.bc4_4d->max_abs) << "\n"
     << "// Roughness axes use perceptual roughness r_p, GGX alpha = r_p^2.\n"
     << "// Texel i of an axis holds the inverse axis map of i/(N-1); lookups remap by half a\n"
-    << "// texel: u = (t*(N-1) + 0.5)/N. The 4D table is folded into a volume of depth\n"
-    << "// N_z*N_w (z_texel = w_slice*N_z + z) and sampled as two trilinear fetches + a lerp.\n";
+    << "// texel: u = (t*(N-1) + 0.5)/N. The 4D table's theta_o slices are tiles of the volume,\n"
+    << "// " << tilingText(in) << ";\n"
+    << "// sampled as two trilinear fetches (one per neighbouring slice's tile) + a lerp.\n";
   return o.str();
 }
 

@@ -249,6 +249,7 @@ void runAll(const AllOptions& options) {
   encode.out = options.out;  // <out>/gtso{3d,4d}*.dds/.ktx2, encode.json
   encode.threads = limit.threads();
   encode.progress = options.progress;
+  encode.layout_4d = parseLayout4D(options.layout_4d);
   const EncodeResult encoded = runEncode(encode);
 
   banner("validate-gtso", options.progress);

@@ -16,6 +16,7 @@ struct AllOptions {
   int threads = 0;           // 0 = all cores
   std::string command_line;  // recorded in the provenance of every generated file
   bool progress = true;
+  std::string layout_4d = "atlas";  // --4d-layout: the 4D table's packing (encode_command.h)
 };
 
 // Layout of <out>: scenes/ (the built-in corpus, 12 types × 4 variants, generated only without

@@ -1,6 +1,6 @@
 // GTSO runtime lookup (docs/gtso.md §1, docs/export.md §2): the axis warps of the 3D and 4D
 // tables and the texture reads a shader performs (BC4 decode, half-texel remap, trilinear filter,
-// 4D fold), for float32, BC4_UNORM, R16_UNORM and R8_UNORM texels; the cone-to-cone model and the
+// 4D tiles), for float32, BC4_UNORM, R16_UNORM and R8_UNORM texels; the cone-to-cone model and the
 // multi-bounce fit.
 //
 // This file is the single C++ definition of the table axes: `gtbake gtso` bakes texel i of each
@@ -328,11 +328,14 @@ struct GtsoVolume {
 };
 
 // Which table axis each texture axis holds: texture x, y, z = table axes axis[0], axis[1],
-// axis[2] of (0 = A, 1 = theta_o (3D) / beta (4D), 2 = r_p). `gtbake export` chooses it per table
-// (the BC4 block plane is texture (x, y)); the 4D theta_o axis always folds into the depth
-// (texture z' = w * N_z + z, N_z the extent of the axis on z).
+// axis[2] of (0 = A, 1 = theta_o (3D) / beta (4D), 2 = r_p). `gtbake encode` chooses it per table
+// (the BC4 block plane is texture (x, y)). The 4D theta_o axis w is tiled (docs/export.md §2c):
+// slice w is the N_x x N_y x N_z tile at texel (N_x (w mod tilesX), 0, N_z floor(w / tilesX)),
+// tilesX slices across x and the rest down z. tilesX = 1 is the fold (texture z' = w N_z + z,
+// depth N_z N_w); the atlas tiles across x so that no extent exceeds 256 texels. 3D: tilesX = 1.
 struct GtsoLayout {
   int axis[3];
+  int tilesX = 1;
 };
 inline constexpr GtsoLayout kGtsoIdentityLayout = {{0, 1, 2}};
 
@@ -377,20 +380,18 @@ constexpr float gtsoTexelRemap(float t, int n) {
   return (t * static_cast<float>(n - 1) + 0.5f) / static_cast<float>(n);
 }
 
-// Trilinear filter with clamp-to-edge addressing at normalised coordinates, as a GPU samples a
-// volume (weights in float; hardware quantises them to >= 8 fractional bits).
-inline float gtsoSampleTrilinear(const GtsoVolume& v, float cu, float cv, float cw) {
-  const float coord[3] = {cu, cv, cw};
-  const int size[3] = {v.width, v.height, v.depth};
+// Trilinear filter at texel-space position p[3] (texel centres on integers) inside the box of
+// n[3] texels whose first texel is lo[3], with clamp-to-edge addressing at the box's faces: it
+// reads texels of the box only (a 4D tile, or the whole volume).
+inline float gtsoSampleTexels(const GtsoVolume& v, const float* p, const int* lo, const int* n) {
   int i0[3] = {0, 0, 0}, i1[3] = {0, 0, 0};
   float fr[3] = {0.0f, 0.0f, 0.0f};
   for (int a = 0; a < 3; ++a) {
-    const float p = coord[a] * static_cast<float>(size[a]) - 0.5f;
-    const float fl = std::floor(p);
-    fr[a] = p - fl;
+    const float fl = std::floor(p[a]);
+    fr[a] = p[a] - fl;
     const int i = static_cast<int>(fl);
-    i0[a] = i < 0 ? 0 : (i > size[a] - 1 ? size[a] - 1 : i);
-    i1[a] = i + 1 < 0 ? 0 : (i + 1 > size[a] - 1 ? size[a] - 1 : i + 1);
+    i0[a] = lo[a] + (i < 0 ? 0 : (i > n[a] - 1 ? n[a] - 1 : i));
+    i1[a] = lo[a] + (i + 1 < 0 ? 0 : (i + 1 > n[a] - 1 ? n[a] - 1 : i + 1));
   }
   float result = 0.0f;
   for (int corner = 0; corner < 8; ++corner) {
@@ -400,6 +401,15 @@ inline float gtsoSampleTrilinear(const GtsoVolume& v, float cu, float cv, float 
                                  corner & 4 ? i1[2] : i0[2]);
   }
   return result;
+}
+
+// Trilinear filter with clamp-to-edge addressing at normalised coordinates, as a GPU samples a
+// volume (weights in float; hardware quantises them to >= 8 fractional bits).
+inline float gtsoSampleTrilinear(const GtsoVolume& v, float cu, float cv, float cw) {
+  const int lo[3] = {0, 0, 0}, n[3] = {v.width, v.height, v.depth};
+  const float p[3] = {cu * static_cast<float>(n[0]) - 0.5f, cv * static_cast<float>(n[1]) - 0.5f,
+                      cw * static_cast<float>(n[2]) - 0.5f};
+  return gtsoSampleTexels(v, p, lo, n);
 }
 
 // S3 from a 3D table of size[3] texels per axis (A, theta_o, r_p), stored in `layout`
@@ -412,9 +422,20 @@ inline float gtso3DLookup(const GtsoVolume& table, const int* size, float A, flo
   return gtsoSampleTrilinear(table, c[layout.axis[0]], c[layout.axis[1]], c[layout.axis[2]]);
 }
 
+// The first texel of theta_o slice w's tile in a 4D volume whose tiles are n[3] texels
+// (GtsoLayout::tilesX).
+inline void gtso4DTileOrigin(const GtsoLayout& layout, const int* n, int w, int* lo) {
+  lo[0] = n[0] * (w % layout.tilesX);
+  lo[1] = 0;
+  lo[2] = n[2] * (w / layout.tilesX);
+}
+
 // S4 from a 4D table of size[4] texels per axis (A, beta, r_p, theta_o): the axes of `layout` on
-// texture x, y, z, theta_o folded into a volume of depth N_z*size[3] (texel z' = w*N_z + z,
-// N_z = size[layout.axis[2]]): two trilinear fetches in neighbouring w slices and a lerp.
+// texture x, y, z, theta_o tiled (GtsoLayout): two trilinear fetches in the tiles of the
+// neighbouring theta_o slices and a lerp. Each fetch filters at the half-texel-remapped position
+// t (N - 1) inside its tile and addresses only the tile's texels (clamp to the tile's edge
+// texels), so the result does not depend on tilesX: the fold and the atlas of the same texels
+// agree to the last bit (docs/export.md §2c).
 inline float gtso4DLookup(const GtsoVolume& table, const int* size, float A, float cosBeta,
                           float rp, float cosThetaO,
                           const GtsoLayout& layout = kGtsoIdentityLayout) {
@@ -422,14 +443,17 @@ inline float gtso4DLookup(const GtsoVolume& table, const int* size, float A, flo
   const float sw = a.t[3] * static_cast<float>(size[3] - 1);
   int s0 = static_cast<int>(sw);
   if (s0 > size[3] - 2) s0 = size[3] - 2;
-  const int x = layout.axis[0], y = layout.axis[1], z = layout.axis[2];
-  const float zin = a.t[z] * static_cast<float>(size[z] - 1) + 0.5f;
-  const float depth = static_cast<float>(size[z] * size[3]);
-  const float u = gtsoTexelRemap(a.t[x], size[x]), v = gtsoTexelRemap(a.t[y], size[y]);
-  const float f0 =
-      gtsoSampleTrilinear(table, u, v, (static_cast<float>(s0 * size[z]) + zin) / depth);
-  const float f1 =
-      gtsoSampleTrilinear(table, u, v, (static_cast<float>((s0 + 1) * size[z]) + zin) / depth);
+  int n[3];
+  float p[3];
+  for (int k = 0; k < 3; ++k) {
+    n[k] = size[layout.axis[k]];
+    p[k] = a.t[layout.axis[k]] * static_cast<float>(n[k] - 1);
+  }
+  int lo0[3], lo1[3];
+  gtso4DTileOrigin(layout, n, s0, lo0);
+  gtso4DTileOrigin(layout, n, s0 + 1, lo1);
+  const float f0 = gtsoSampleTexels(table, p, lo0, n);
+  const float f1 = gtsoSampleTexels(table, p, lo1, n);
   return f0 + (f1 - f0) * (sw - static_cast<float>(s0));
 }
 

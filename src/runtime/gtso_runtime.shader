@@ -1,15 +1,17 @@
 // GTSO lookups, cone model and multi-bounce for HLSL and GLSL: the shader port of
-// gtso_runtime.h (same axis maps, same half-texel remap and 4D fold; the texture unit does the
+// gtso_runtime.h (same axis maps, same half-texel remap and 4D tiles; the texture unit does the
 // decode and the trilinear filter). `gtbake export` prepends the language macros and the
 // constants below and writes the result as gtbake_tables.hlsl / .glsl; tests/shader compiles both
 // to SPIR-V and executes them against the C++ header.
 //
-// Needs before it: GTSO_VEC3, GTSO_ATAN2(y, x), GTSO_TEXTURE (parameter declaration of
-// one volume texture), GTSO_SAMPLE(coord) (its filtered value at coord), and the constants
+// Needs before it: GTSO_VEC3, GTSO_VEC4, GTSO_ATAN2(y, x), GTSO_TEXTURE (parameter declaration
+// of one volume texture), GTSO_SAMPLE(coord) (its filtered value at coord), and the constants
 // kGtsoPiF, kGtsoSigmaScaleF, kGtsoSigmaFloorF, kGtsoSpanFloorF, kGtsoThetaLobeScaleF,
 // kGtsoThetaLobeFloorF, kGtsoThetaLinearF, kGtsoBetaLinearF (the axis constants of
 // gtso_runtime.h, written by export from the same C++ constants), kGtso3DSize (float3),
-// kGtso4DSize (float4 as x, y, z, w), kConeApertureU and kMultiBounceA/B/C ({slope, intercept}
+// kGtso4DSize (float4 as x, y, z, w), kGtso4DTilesX (theta_o slices across texture x,
+// GtsoLayout::tilesX), kGtso4DVolumeSize (float3, the 4D texture's extent), kConeApertureU and
+// kMultiBounceA/B/C ({slope, intercept}
 // as float2, .x = slope). GTSO_3D_LAYOUT(c) / GTSO_4D_LAYOUT(c): the swizzle taking the table
 // axes (A, theta_o or beta, r_p) to texture (x, y, z) in the layout export chose (gtso_runtime.h
 // GtsoLayout; e.g. (c).yzx puts theta_o and r_p in the BC4 block plane and A in depth).
@@ -95,27 +97,40 @@ float gtso3DSample(GTSO_TEXTURE, float A, float cosBeta, float rp) {
   return GTSO_SAMPLE(gtso3DTexCoord(A, cosBeta, rp));
 }
 
-// S4(A, beta, r_p, theta_o): the volume folds w into z (z' = w N_z + z); two trilinear fetches in
-// neighbouring w slices and a lerp.
-float gtso4DSample(GTSO_TEXTURE, float A, float cosBeta, float rp, float cosThetaO) {
+// 4D: the texel positions t (N - 1) of the table axes (A, beta, r_p) and of the theta_o slice
+// (.w), as gtso4DAxes of gtso_runtime.h maps them.
+GTSO_VEC4 gtso4DAxisTexels(float A, float cosBeta, float rp, float cosThetaO) {
   float beta = acos(clamp(cosBeta, -1.0, 1.0));
   float thetaO = acos(clamp(cosThetaO, 0.0, 1.0));
   float r = clamp(rp, 0.0, 1.0);
   float tS = floor((kGtso4DSize.x - 1.0) * 0.5) / (kGtso4DSize.x - 1.0);
   float tB = floor(kGtso4DSize.y / 3.0) / (kGtso4DSize.y - 1.0);
-  float u = gtsoTexelRemap(gtsoStepWarp(gtsoAlphaV(A), beta, gtsoSigma(r), tS), kGtso4DSize.x);
-  float v = gtsoTexelRemap(gtsoBetaWarp(beta, thetaO, r, tB), kGtso4DSize.y);
-  float sw = gtsoThetaWarp(thetaO, r) * (kGtso4DSize.w - 1.0);
-  float s0 = min(floor(sw), kGtso4DSize.w - 2.0);
-  // Texel-space positions and extents of (A, beta, r_p) in the layout export chose; the axis on
-  // texture z folds with theta_o (z' = w N_z + z).
-  GTSO_VEC3 p = GTSO_4D_LAYOUT(GTSO_VEC3(u * kGtso4DSize.x, v * kGtso4DSize.y,
-                                         sqrt(r) * (kGtso4DSize.z - 1.0) + 0.5));
-  GTSO_VEC3 n = GTSO_4D_LAYOUT(GTSO_VEC3(kGtso4DSize.x, kGtso4DSize.y, kGtso4DSize.z));
-  float depth = n.z * kGtso4DSize.w;
-  float f0 = GTSO_SAMPLE(GTSO_VEC3(p.x / n.x, p.y / n.y, (s0 * n.z + p.z) / depth));
-  float f1 = GTSO_SAMPLE(GTSO_VEC3(p.x / n.x, p.y / n.y, ((s0 + 1.0) * n.z + p.z) / depth));
-  return f0 + (f1 - f0) * (sw - s0);
+  return GTSO_VEC4(gtsoStepWarp(gtsoAlphaV(A), beta, gtsoSigma(r), tS) * (kGtso4DSize.x - 1.0),
+                   gtsoBetaWarp(beta, thetaO, r, tB) * (kGtso4DSize.y - 1.0),
+                   sqrt(r) * (kGtso4DSize.z - 1.0),
+                   gtsoThetaWarp(thetaO, r) * (kGtso4DSize.w - 1.0));
+}
+
+// The texture coordinate of texel position p (texture axes, in the layout) in the tile of theta_o
+// slice s: the tile's first texel is (N_x (s mod kGtso4DTilesX), 0, N_z floor(s / kGtso4DTilesX)).
+// Each component of p lies in [0, N - 1] (the axis maps give t in [0, 1]), i.e. between the
+// centres of the tile's first and last texels, so the filter reads the tile's texels only.
+GTSO_VEC3 gtso4DTileCoord(GTSO_VEC3 p, float s) {
+  GTSO_VEC3 n = GTSO_4D_LAYOUT(kGtso4DSize.xyz);
+  float down = floor((s + 0.5) / kGtso4DTilesX);  // + 0.5: exact under a rounded division
+  GTSO_VEC3 lo = GTSO_VEC3((s - down * kGtso4DTilesX) * n.x, 0.0, down * n.z);
+  return (lo + p + 0.5) / kGtso4DVolumeSize;
+}
+
+// S4(A, beta, r_p, theta_o): two trilinear fetches in the tiles of the neighbouring theta_o
+// slices and a lerp.
+float gtso4DSample(GTSO_TEXTURE, float A, float cosBeta, float rp, float cosThetaO) {
+  GTSO_VEC4 a = gtso4DAxisTexels(A, cosBeta, rp, cosThetaO);
+  float s0 = min(floor(a.w), kGtso4DSize.w - 2.0);
+  GTSO_VEC3 p = GTSO_4D_LAYOUT(a.xyz);
+  float f0 = GTSO_SAMPLE(gtso4DTileCoord(p, s0));
+  float f1 = GTSO_SAMPLE(gtso4DTileCoord(p, s0 + 1.0));
+  return f0 + (f1 - f0) * (a.w - s0);
 }
 
 // Multi-bounce G(A, rho) = a A^3 - b A^2 + c A (paper Eq. 10), clamped below by A, for

@@ -49,6 +49,8 @@ std::vector<BadInvocation> badInvocations() {
       {"validate_coeffs_count", "validate --sweep /nonexistent --coeffs 1,2,3"},
       {"validate_coeffs_text", "validate --sweep /nonexistent --coeffs 1,2,3,4,5,x"},
       {"gtso_bad_size", "gtso --out {out} --size 1"},
+      {"encode_bad_4d_layout", "encode --gtso /nonexistent --out {out} --4d-layout tiles"},
+      {"all_bad_4d_layout", "all --out {out} --4d-layout tiles"},
       {"export_missing_fit", "export --fit /nonexistent/fit.json --gtso /nonexistent --out {out}"},
       {"tune_missing_sweep", "tune --sweep /nonexistent --out {out}"},
       {"tune_unknown_estimator", "tune --sweep /nonexistent --out {out} --estimators hbao"},

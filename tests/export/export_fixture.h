@@ -43,6 +43,10 @@ std::vector<float> fixtureTable4D();
 // x = beta, y = r_p, z = A (the layout export chooses for the real 4D table).
 inline const std::vector<int> kFixtureLayout3D = {1, 0, 2};
 inline const std::vector<int> kFixtureLayout4D = {1, 2, 0};
+// The fixture's 4D table (4D layout: 8x4x8 tiles, 3 theta_o slices) fits a 256-texel fold, so
+// the atlas is exercised with this largest extent instead: 2 x 2 tiles, 16x4x16, one tile past
+// the last slice (EncodeOptions::atlas_max_extent).
+inline constexpr int kFixtureAtlasMaxExtent = 16;
 
 // Writes DIR/gtso/{gtso3d.f32, gtso4d.f32, gtso.json} and DIR/fit.json.
 void writeFixture(const std::filesystem::path& dir);

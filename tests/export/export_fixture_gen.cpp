@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   encode.force_layout_3d = gtbake::test::kFixtureLayout3D;
   encode.force_layout_4d = gtbake::test::kFixtureLayout4D;
   encode.layout_lobes = 16;
+  encode.atlas_max_extent = gtbake::test::kFixtureAtlasMaxExtent;  // a tiled 4D atlas
   gtbake::runEncode(encode);
   gtbake::ExportOptions options;
   options.fit = dir / "fit.json";

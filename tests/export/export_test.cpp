@@ -149,6 +149,7 @@ TEST_F(ExportTest, DdsFieldsAndPayload) {
 TEST_F(ExportTest, ChosenLayoutIsWrittenRecordedAndRead) {
   encode_.force_layout_3d.clear();
   encode_.force_layout_4d.clear();
+  encode_.atlas_max_extent = test::kFixtureAtlasMaxExtent;  // the 4D volume tiled in an atlas
   exportAll();
   const nlohmann::json j = nlohmann::json::parse(slurp(options_.out / "encode.json"));
   const GtsoInput in = readGtsoInput(options_.gtso);
@@ -172,9 +173,20 @@ TEST_F(ExportTest, ChosenLayoutIsWrittenRecordedAndRead) {
     }
     EXPECT_EQ(chosen, 1) << key;
     const auto& axis = c["chosen"]["axis"];
-    const GtsoLayout l{{axis[0].get<int>(), axis[1].get<int>(), axis[2].get<int>()}};
+    const int tiles = std::string(key) == "4d" ? c["packing"]["tiles_x"].get<int>() : 1;
+    const GtsoLayout l{{axis[0].get<int>(), axis[1].get<int>(), axis[2].get<int>()}, tiles};
     const std::vector<float> texels = permuteToLayout(*table, l);
     const std::array<int, 3> v = layoutVolume(*table, l);
+    EXPECT_EQ(c["volume"], nlohmann::json(v)) << key;
+    for (int e : v) EXPECT_LE(e, test::kFixtureAtlasMaxExtent) << key;
+    const std::string dds = slurp(options_.out / (std::string("gtso") + key + ".dds"));
+    const std::string ktx = slurp(options_.out / (std::string("gtso") + key + ".ktx2"));
+    EXPECT_EQ(le(dds, 16, 4), std::uint64_t(v[0])) << "DDS dwWidth";
+    EXPECT_EQ(le(dds, 12, 4), std::uint64_t(v[1])) << "DDS dwHeight";
+    EXPECT_EQ(le(dds, 24, 4), std::uint64_t(v[2])) << "DDS dwDepth";
+    EXPECT_EQ(le(ktx, 20, 4), std::uint64_t(v[0])) << "KTX2 pixelWidth";
+    EXPECT_EQ(le(ktx, 24, 4), std::uint64_t(v[1])) << "KTX2 pixelHeight";
+    EXPECT_EQ(le(ktx, 28, 4), std::uint64_t(v[2])) << "KTX2 pixelDepth";
     const std::string base = std::string("gtso") + key;
     const Bc4Volume bc4 = encodeBc4Volume(Bc4Encoder(), texels.data(), v[0], v[1], v[2], nullptr);
     EXPECT_EQ(slurp(options_.out / (base + ".dds")).substr(148),
@@ -185,7 +197,8 @@ TEST_F(ExportTest, ChosenLayoutIsWrittenRecordedAndRead) {
     const std::string name = std::string("kGtso") + (key[0] == '3' ? "3" : "4") + "DLayout";
     const std::string constant = "inline constexpr GtsoLayout " + name + " = {{" +
                                  std::to_string(l.axis[0]) + ", " + std::to_string(l.axis[1]) +
-                                 ", " + std::to_string(l.axis[2]) + "}};";
+                                 ", " + std::to_string(l.axis[2]) + "}, " +
+                                 std::to_string(l.tilesX) + "};";
     EXPECT_NE(header.find(constant), std::string::npos) << constant;
     const std::string macro = std::string("#define GTSO_") + (key[0] == '3' ? "3" : "4") +
                               "D_LAYOUT(c) (c)." + layoutSwizzle(l);

@@ -41,6 +41,10 @@ static_assert(gtbake::kGtso3DLayout.axis[0] == 1 && gtbake::kGtso3DLayout.axis[1
               "3D fixture layout: x = theta_o, y = A");
 static_assert(gtbake::kGtso4DLayout.axis[0] == 1 && gtbake::kGtso4DLayout.axis[2] == 0,
               "4D fixture layout: x = beta, z = A");
+// ... and its 4D volume is a 2 x 2 atlas of 8x4x8 tiles (export_fixture.h), one tile empty.
+static_assert(gtbake::kGtso4DLayout.tilesX == 2 && gtbake::kGtso4DVolumeSize[0] == 16 &&
+                  gtbake::kGtso4DVolumeSize[1] == 4 && gtbake::kGtso4DVolumeSize[2] == 16,
+              "4D fixture: atlas 2 x 2 tiles");
 
 // Texture position (x, y, z) of table texel i = (A, theta_o | beta, r_p[, theta_o]).
 struct Texel {
@@ -50,9 +54,12 @@ Texel texel3D(const int* i) {
   const auto& l = gtbake::kGtso3DLayout;
   return {i[l.axis[0]], i[l.axis[1]], i[l.axis[2]]};
 }
+// 4D: the tile of theta_o slice i[3] (tilesX across x, docs/export.md §2c).
 Texel texel4D(const int* i) {
   const auto& l = gtbake::kGtso4DLayout;
-  return {i[l.axis[0]], i[l.axis[1]], i[3] * gtbake::kGtso4DSize[l.axis[2]] + i[l.axis[2]]};
+  const int* n = gtbake::kGtso4DSize;
+  return {i[l.axis[0]] + n[l.axis[0]] * (i[3] % l.tilesX), i[l.axis[1]],
+          i[l.axis[2]] + n[l.axis[2]] * (i[3] / l.tilesX)};
 }
 float decoded3D(const int* i) {
   const Texel t = texel3D(i);
@@ -67,7 +74,7 @@ template <class T>
 std::vector<T> toTexture(const std::vector<T>& table, int dims) {
   const int* n = dims == 3 ? gtbake::kGtso3DSize : gtbake::kGtso4DSize;
   const int* v = dims == 3 ? gtbake::kGtso3DVolumeSize : gtbake::kGtso4DVolumeSize;
-  std::vector<T> out(table.size());
+  std::vector<T> out(static_cast<std::size_t>(v[0]) * v[1] * v[2]);  // 4D: tiles past w are 0
   std::size_t at = 0;
   for (int w = 0; w < (dims == 4 ? n[3] : 1); ++w)
     for (int z = 0; z < n[2]; ++z)
@@ -149,9 +156,8 @@ TEST(GeneratedHeader, Lookup3DAtTexelCentresReturnsTexels) {
   EXPECT_GT(checked, n[0] * n[1] * n[2] * 3 / 5);  // the rest: continuation texels
 }
 
-// The 4D fold: table texel (A, beta, r_p, theta_o) sits at depth theta_o * N_z + (the index on
-// texture z) of the layout.
-TEST(GeneratedHeader, Lookup4DAtTexelCentresReadsTheFoldedVolume) {
+// The 4D atlas: table texel (A, beta, r_p, theta_o) sits in the tile of its theta_o slice.
+TEST(GeneratedHeader, Lookup4DAtTexelCentresReadsTheTiledVolume) {
   const int* n = gtbake::kGtso4DSize;
   int checked = 0;
   for (int w = 0; w < n[3]; ++w)

@@ -190,6 +190,15 @@ TEST(ValueBounds, ExportRefusesConstantsThatAreNotFiniteFloats) {
   editJson(e.out, "encode.json", "encode",
            [](json& d) { d["layouts"]["3d"]["chosen"]["axis"][0] = 4294967296ll; });
   EXPECT_NE(e.exportWith(noEdit, noEdit).find("not three table axes"), std::string::npos);
+  // The 4D tiles across x (docs/export.md §2c): an integer in [1, N_w], not wrapped either.
+  for (const json& bad : {json(4294967296ll), json(0), json(1.5), json("4")}) {
+    spit(e.out / "encode.json", encode);
+    editJson(e.out, "encode.json", "encode",
+             [&](json& d) { d["layouts"]["4d"]["packing"]["tiles_x"] = bad; });
+    EXPECT_NE(e.exportWith(noEdit, noEdit).find("no valid layouts/4d/packing/tiles_x"),
+              std::string::npos)
+        << bad;
+  }
   spit(e.out / "encode.json", encode);
   resealOutputSet(e.out, "encode");
   // A table name that would end the comment it is quoted in and inject code.

@@ -3,8 +3,10 @@
 // evaluating the 3D and 4D lookups, the cone model, multi-bounce and the closed-form S3 at 4,096
 // random points; the results are compared with the C++ lookup code the header ships
 // (runtime/gtso_runtime.h) on the same texels. Tables: the export test fixture, exported by
-// this test into a temporary directory; textures uploaded as BC4_UNORM (when the device samples 3D
-// BC4) and R16_UNORM.
+// this test into a temporary directory twice, the 4D table packed as an atlas (2 x 2 tiles, one
+// empty: export_fixture.h) and as the fold (`--4d-layout fold`); textures uploaded as BC4_UNORM
+// (when the device samples 3D BC4) and R16_UNORM. A third check uploads an atlas whose tiles are
+// constants and reads each of the 4D lookup's two fetches: the device's filter stays in its tile.
 //
 // Tolerances (per point, float32 on both sides):
 // - lookups: |shader - C++| <= D (3 * 2^-9 + 1e-3) + 2e-6 (+ 1/255 for BC4), D = max - min of the
@@ -36,6 +38,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "common/atomic_file.h"
 #include "encode/encode_command.h"
 #include "export/export_command.h"
@@ -64,6 +68,8 @@ struct Input {
 // ---- the exported fixture ----
 struct Exported {
   fs::path dir;
+  gtbake::GtsoLayout l4{};       // the 4D layout with its tiles (encode.json)
+  std::array<int, 3> volume4{};  // the 4D texture's extent
   std::string glsl, hlsl;
   std::vector<std::uint8_t> bc4[2], r16[2];  // payloads of gtso3d / gtso4d
   float coeffs[6] = {};
@@ -77,9 +83,10 @@ std::vector<std::uint8_t> ddsPayload(const fs::path& path) {
   return std::vector<std::uint8_t>(bytes.begin() + kHeader, bytes.end());
 }
 
-Exported exportFixture() {
+Exported exportFixture(gtbake::Layout4D packing) {
   Exported e;
-  e.dir = fs::temp_directory_path() / ("gtbake_shader_test_" + std::to_string(::getpid()));
+  e.dir = fs::temp_directory_path() / ("gtbake_shader_test_" + std::to_string(::getpid()) + "_" +
+                                       gtbake::layout4DName(packing));
   fs::remove_all(e.dir);
   gtbake::test::writeFixture(e.dir);
   gtbake::EncodeOptions c;
@@ -89,7 +96,15 @@ Exported exportFixture() {
   c.force_layout_3d = gtbake::test::kFixtureLayout3D;  // permuted volumes (export_fixture.h)
   c.force_layout_4d = gtbake::test::kFixtureLayout4D;
   c.layout_lobes = 16;
+  c.layout_4d = packing;
+  c.atlas_max_extent = gtbake::test::kFixtureAtlasMaxExtent;
   gtbake::runEncode(c);
+  const nlohmann::json j =
+      nlohmann::json::parse(gtbake::readFile(e.dir / "out" / "encode.json"))["layouts"]["4d"];
+  const auto& axis = j["chosen"]["axis"];
+  e.l4 = {{axis[0].get<int>(), axis[1].get<int>(), axis[2].get<int>()},
+          j["packing"]["tiles_x"].get<int>()};
+  for (int k = 0; k < 3; ++k) e.volume4[k] = j["volume"][k].get<int>();
   gtbake::ExportOptions o;
   o.fit = e.dir / "fit.json";
   o.gtso = e.dir / "gtso";
@@ -149,28 +164,26 @@ struct Reference {
   float spread3, spread4;  // D of the tolerance: texel range of the trilinear footprint(s)
 };
 
-// max - min of the 8 texels the trilinear filter reads at normalised coordinates (u, v, w).
-float footprint(const gtbake::GtsoVolume& v, float cu, float cv, float cw) {
-  const float c[3] = {cu, cv, cw};
-  const int n[3] = {v.width, v.height, v.depth};
+// max - min of the 8 texels the trilinear filter reads at texel position p in the box of n
+// texels from lo (gtsoSampleTexels).
+float footprint(const gtbake::GtsoVolume& v, const float* p, const int* lo, const int* n) {
   int i0[3], i1[3];
   for (int a = 0; a < 3; ++a) {
-    const float p = c[a] * static_cast<float>(n[a]) - 0.5f;
-    const int i = static_cast<int>(std::floor(p));
-    i0[a] = std::clamp(i, 0, n[a] - 1);
-    i1[a] = std::clamp(i + 1, 0, n[a] - 1);
+    const int i = static_cast<int>(std::floor(p[a]));
+    i0[a] = lo[a] + std::clamp(i, 0, n[a] - 1);
+    i1[a] = lo[a] + std::clamp(i + 1, 0, n[a] - 1);
   }
-  float lo = 1e30f, hi = -1e30f;
+  float mn = 1e30f, mx = -1e30f;
   for (int k = 0; k < 8; ++k) {
     const float t = gtbake::gtsoFetchTexel(v, k & 1 ? i1[0] : i0[0], k & 2 ? i1[1] : i0[1],
                                            k & 4 ? i1[2] : i0[2]);
-    lo = std::min(lo, t);
-    hi = std::max(hi, t);
+    mn = std::min(mn, t);
+    mx = std::max(mx, t);
   }
-  return hi - lo;
+  return mx - mn;
 }
 
-// The fixture's layouts (export_fixture.h) and its volumes' texture extents in them.
+// The fixture's 3D layout (export_fixture.h) and its volume's texture extent in it.
 gtbake::GtsoLayout fixtureLayout(const std::vector<int>& axes) {
   return {{axes[0], axes[1], axes[2]}};
 }
@@ -179,10 +192,23 @@ std::array<int, 3> volume3D() {
   const int* n = gtbake::test::kFixture3D;
   return {n[l.axis[0]], n[l.axis[1]], n[l.axis[2]]};
 }
-std::array<int, 3> volume4D() {
-  const gtbake::GtsoLayout l = fixtureLayout(gtbake::test::kFixtureLayout4D);
-  const int* n = gtbake::test::kFixture4D;
-  return {n[l.axis[0]], n[l.axis[1]], n[l.axis[2]] * n[3]};
+
+// D of the 4D tolerance: the larger footprint of the lookup's two fetches (gtso4DLookup).
+float spread4D(const gtbake::GtsoVolume& v, const gtbake::GtsoLayout& l, const Input& p) {
+  using namespace gtbake;
+  const int* n4 = test::kFixture4D;
+  const GtsoAxisT<float> a = gtso4DAxes(p.A, p.cosBeta, p.rp, p.cosThetaO, n4);
+  const float sw = a.t[3] * static_cast<float>(n4[3] - 1);
+  const int s0 = std::min(static_cast<int>(sw), n4[3] - 2);
+  int n[3], lo0[3], lo1[3];
+  float pos[3];
+  for (int k = 0; k < 3; ++k) {
+    n[k] = n4[l.axis[k]];
+    pos[k] = a.t[l.axis[k]] * static_cast<float>(n[k] - 1);
+  }
+  gtso4DTileOrigin(l, n, s0, lo0);
+  gtso4DTileOrigin(l, n, s0 + 1, lo1);
+  return std::max(footprint(v, pos, lo0, n), footprint(v, pos, lo1, n));
 }
 
 Reference reference(const Exported& e, gtbake::GtsoTexelFormat format, const Input& p) {
@@ -190,10 +216,10 @@ Reference reference(const Exported& e, gtbake::GtsoTexelFormat format, const Inp
   const int* n3 = test::kFixture3D;
   const int* n4 = test::kFixture4D;
   const GtsoLayout l3 = fixtureLayout(test::kFixtureLayout3D);
-  const GtsoLayout l4 = fixtureLayout(test::kFixtureLayout4D);
+  const GtsoLayout& l4 = e.l4;
   const void* d3 = format == GtsoTexelFormat::kBc4 ? e.bc4[0].data() : e.r16[0].data();
   const void* d4 = format == GtsoTexelFormat::kBc4 ? e.bc4[1].data() : e.r16[1].data();
-  const std::array<int, 3> e3 = volume3D(), e4 = volume4D();
+  const std::array<int, 3> e3 = volume3D(), e4 = e.volume4;
   const GtsoVolume v3{format, d3, e3[0], e3[1], e3[2]};
   const GtsoVolume v4{format, d4, e4[0], e4[1], e4[2]};
   Reference r;
@@ -203,18 +229,14 @@ Reference reference(const Exported& e, gtbake::GtsoTexelFormat format, const Inp
   r.mb = gtsoMultiBounce(e.coeffs, e.coeffs + 2, e.coeffs + 4, p.A, p.cosThetaO);
   r.closedForm = gtsoS3ClosedForm(e.closedForm, p.A, p.cosBeta, p.rp);
   const GtsoAxisT<float> a3 = gtso3DAxes(p.A, p.cosBeta, p.rp, n3);
-  float c3[3];
-  for (int k = 0; k < 3; ++k) c3[k] = gtsoTexelRemap(a3.t[k], n3[k]);
-  r.spread3 = footprint(v3, c3[l3.axis[0]], c3[l3.axis[1]], c3[l3.axis[2]]);
-  const GtsoAxisT<float> a4 = gtso4DAxes(p.A, p.cosBeta, p.rp, p.cosThetaO, n4);
-  const float sw = a4.t[3] * static_cast<float>(n4[3] - 1);
-  const int s0 = std::min(static_cast<int>(sw), n4[3] - 2);
-  const int x = l4.axis[0], y = l4.axis[1], z = l4.axis[2];
-  const float zin = a4.t[z] * static_cast<float>(n4[z] - 1) + 0.5f;
-  const float depth = static_cast<float>(n4[z] * n4[3]);
-  const float u = gtsoTexelRemap(a4.t[x], n4[x]), v = gtsoTexelRemap(a4.t[y], n4[y]);
-  r.spread4 = std::max(footprint(v4, u, v, (static_cast<float>(s0 * n4[z]) + zin) / depth),
-                       footprint(v4, u, v, (static_cast<float>((s0 + 1) * n4[z]) + zin) / depth));
+  float p3[3];
+  int lo3[3] = {0, 0, 0}, ext3[3];
+  for (int k = 0; k < 3; ++k) {
+    ext3[k] = e3[k];
+    p3[k] = gtsoTexelRemap(a3.t[l3.axis[k]], n3[l3.axis[k]]) * static_cast<float>(e3[k]) - 0.5f;
+  }
+  r.spread3 = footprint(v3, p3, lo3, ext3);
+  r.spread4 = spread4D(v4, l4, p);
   return r;
 }
 
@@ -335,16 +357,24 @@ float closedFormTolerance(const Input& in, const float* kf) {
 
 class ShaderExec : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { exported_ = new Exported(exportFixture()); }
+  static void SetUpTestSuite() {
+    exported_[0] = new Exported(exportFixture(gtbake::Layout4D::kAtlas));
+    exported_[1] = new Exported(exportFixture(gtbake::Layout4D::kFold));
+  }
   static void TearDownTestSuite() {
-    fs::remove_all(exported_->dir);
-    delete exported_;
+    for (Exported*& e : exported_) {
+      fs::remove_all(e->dir);
+      delete e;
+      e = nullptr;
+    }
   }
 
-  // Runs one language with textures of one format and compares every output.
-  void check(bool hlsl, gtbake::GtsoTexelFormat format) {
+  // Runs one language with textures of one format, the 4D table packed as `packing`, and
+  // compares every output.
+  void check(bool hlsl, gtbake::GtsoTexelFormat format, gtbake::Layout4D packing) {
     Vulkan vk;
-    const Exported& e = *exported_;
+    const Exported& e = *exported_[packing == gtbake::Layout4D::kAtlas ? 0 : 1];
+    ASSERT_EQ(e.l4.tilesX, packing == gtbake::Layout4D::kAtlas ? 2 : 1);
     const VkFormat vkFormat =
         format == gtbake::GtsoTexelFormat::kBc4 ? VK_FORMAT_BC4_UNORM_BLOCK : VK_FORMAT_R16_UNORM;
     if (!vk.samples3D(vkFormat)) {
@@ -360,7 +390,7 @@ class ShaderExec : public ::testing::Test {
     const int inBuf =
         vk.buffer(in.size() * sizeof(Input), in.data(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     const int outBuf = vk.buffer(in.size() * 32, nullptr, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    const std::array<int, 3> n3 = volume3D(), n4 = volume4D();  // texture extents
+    const std::array<int, 3> n3 = volume3D(), n4 = e.volume4;  // texture extents
     const bool bc4 = format == gtbake::GtsoTexelFormat::kBc4;
     const int img3 = vk.image(vkFormat, n3[0], n3[1], n3[2], bc4 ? e.bc4[0] : e.r16[0]);
     const int img4 = vk.image(vkFormat, n4[0], n4[1], n4[2], bc4 ? e.bc4[1] : e.r16[1]);
@@ -391,28 +421,137 @@ class ShaderExec : public ::testing::Test {
       }
     }
     std::printf(
-        "%s on %s, %s textures, %d points: max |shader - C++| S3 %.2e S4 %.2e cone %.2e "
-        "multi-bounce %.2e closed-form S3 %.2e; worst error / tolerance %.3f\n",
-        hlsl ? "HLSL" : "GLSL", vk.deviceName.c_str(), bc4 ? "BC4" : "R16", kPoints, worst[0],
-        worst[1], worst[2], worst[3], worst[4], worstRatio);
+        "%s on %s, %s textures, 4D %s %dx%dx%d, %d points: max |shader - C++| S3 %.2e S4 %.2e "
+        "cone %.2e multi-bounce %.2e closed-form S3 %.2e; worst error / tolerance %.3f\n",
+        hlsl ? "HLSL" : "GLSL", vk.deviceName.c_str(), bc4 ? "BC4" : "R16",
+        gtbake::layout4DName(packing), n4[0], n4[1], n4[2], kPoints, worst[0], worst[1], worst[2],
+        worst[3], worst[4], worstRatio);
     EXPECT_EQ(failures, 0);
   }
 
-  static Exported* exported_;
+  void checkTiles(bool hlsl);
+
+  static Exported* exported_[2];  // the 4D table as an atlas, as the fold
 };
-Exported* ShaderExec::exported_ = nullptr;
+Exported* ShaderExec::exported_[2] = {nullptr, nullptr};
+
+// The 4D lookup's two fetches on their own (gtso4DAxisTexels, gtso4DTileCoord of the include):
+// the slice s0, the fetch in its tile and in the next slice's, and gtso4DSample.
+const char* kGlslTiles = R"(
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer Inputs { vec4 inputs[]; };
+layout(std430, binding = 1) writeonly buffer Outputs { vec4 outputs[]; };
+layout(binding = 2) uniform sampler3D table3D;
+layout(binding = 3) uniform sampler3D table4D;
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  vec4 p = inputs[i];
+  vec4 a = gtso4DAxisTexels(p.x, p.y, p.z, p.w);
+  float s0 = min(floor(a.w), kGtso4DSize.w - 2.0);
+  vec3 q = GTSO_4D_LAYOUT(a.xyz);
+  outputs[2 * i] = vec4(s0, textureLod(table4D, gtso4DTileCoord(q, s0), 0.0).r,
+                        textureLod(table4D, gtso4DTileCoord(q, s0 + 1.0), 0.0).r,
+                        gtso4DSample(table4D, p.x, p.y, p.z, p.w));
+  outputs[2 * i + 1] = vec4(0.0);
+}
+)";
+const char* kHlslTiles = R"(
+[[vk::binding(0)]] StructuredBuffer<float4> inputs;
+[[vk::binding(1)]] RWStructuredBuffer<float4> outputs;
+[[vk::binding(2)]] Texture3D<float> table3D;
+[[vk::binding(3)]] Texture3D<float> table4D;
+[[vk::binding(4)]] SamplerState linearClamp;
+[numthreads(64, 1, 1)] void main(uint3 id : SV_DispatchThreadID) {
+  float4 p = inputs[id.x];
+  float4 a = gtso4DAxisTexels(p.x, p.y, p.z, p.w);
+  float s0 = min(floor(a.w), kGtso4DSize.w - 2.0);
+  float3 q = GTSO_4D_LAYOUT(a.xyz);
+  outputs[2 * id.x] = float4(s0, table4D.SampleLevel(linearClamp, gtso4DTileCoord(q, s0), 0.0),
+                             table4D.SampleLevel(linearClamp, gtso4DTileCoord(q, s0 + 1.0), 0.0),
+                             gtso4DSample(table4D, linearClamp, p.x, p.y, p.z, p.w));
+  outputs[2 * id.x + 1] = float4(0.0, 0.0, 0.0, 0.0);
+}
+)";
+
+// The device's filter never reads another tile: the exported atlas's include samples an R16
+// atlas whose tile w holds the constant (w + 1) 4096 / 65535 (the empty tile 1), at the random
+// inputs and every combination of the axis ends (coordinates on the tiles' edge texel centres).
+// Each fetch must return its tile's constant; a weight of 2^-8 (the device's sub-texel step) on
+// a neighbouring tile would move it by >= 4096 / 65535 / 256 = 2.4e-4.
+void ShaderExec::checkTiles(bool hlsl) {
+  Vulkan vk;
+  const Exported& e = *exported_[0];
+  const int* n4 = gtbake::test::kFixture4D;
+  const int n[3] = {n4[e.l4.axis[0]], n4[e.l4.axis[1]], n4[e.l4.axis[2]]};
+  const std::array<int, 3>& v = e.volume4;
+  auto constant = [&](int w) { return w < n4[3] ? (w + 1) * 4096 : 65535; };
+  std::vector<std::uint8_t> texels;
+  for (int z = 0; z < v[2]; ++z)
+    for (int y = 0; y < v[1]; ++y)
+      for (int x = 0; x < v[0]; ++x) {
+        const int w = z / n[2] * e.l4.tilesX + x / n[0];
+        texels.push_back(static_cast<std::uint8_t>(constant(w) & 0xFF));
+        texels.push_back(static_cast<std::uint8_t>(constant(w) >> 8));
+      }
+  std::vector<Input> in = randomInputs();
+  int at = 3;
+  for (float A : {0.0f, 1.0f})
+    for (float cb : {-1.0f, 0.0f, 1.0f})
+      for (float rp : {0.0f, 1.0f})
+        for (float co : {0.0f, 1.0f}) in[at++] = {A, cb, rp, co};
+  const std::string source =
+      hlsl ? e.hlsl + kHlslTiles : std::string("#version 450\n") + e.glsl + kGlslTiles;
+  const std::vector<std::uint32_t> spirv =
+      gtbake::test::compileShader(GTBAKE_GLSLANG, e.dir, source, hlsl);
+  const int inBuf =
+      vk.buffer(in.size() * sizeof(Input), in.data(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  const int outBuf = vk.buffer(in.size() * 32, nullptr, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  const int img = vk.image(VK_FORMAT_R16_UNORM, v[0], v[1], v[2], texels);
+  vk.run(spirv, inBuf, outBuf, img, img, hlsl, kPoints / kLocalSize);
+  const std::vector<float> out = vk.read(outBuf);
+  float worst = 0.0f;
+  for (int i = 0; i < kPoints; ++i) {
+    const int s0 = static_cast<int>(out[8 * i]);
+    ASSERT_TRUE(s0 >= 0 && s0 <= n4[3] - 2 && out[8 * i] == static_cast<float>(s0)) << i;
+    const float c0 = constant(s0) / 65535.0f, c1 = constant(s0 + 1) / 65535.0f;
+    const float lerp = out[8 * i + 3];
+    worst = std::max({worst, std::fabs(out[8 * i + 1] - c0), std::fabs(out[8 * i + 2] - c1),
+                      std::max(0.0f, std::min(c0, c1) - lerp), std::max(0.0f, lerp - c1)});
+  }
+  std::printf("%s on %s, 4D atlas of constant tiles: max |fetch - its tile's constant| %.2e\n",
+              hlsl ? "HLSL" : "GLSL", vk.deviceName.c_str(), worst);
+  EXPECT_LE(worst, 2e-6f);
+}
 
 TEST_F(ShaderExec, GlslR16) {
-  check(false, gtbake::GtsoTexelFormat::kR16);
+  check(false, gtbake::GtsoTexelFormat::kR16, gtbake::Layout4D::kAtlas);
 }
 TEST_F(ShaderExec, HlslR16) {
-  check(true, gtbake::GtsoTexelFormat::kR16);
+  check(true, gtbake::GtsoTexelFormat::kR16, gtbake::Layout4D::kAtlas);
 }
 TEST_F(ShaderExec, GlslBc4) {
-  check(false, gtbake::GtsoTexelFormat::kBc4);
+  check(false, gtbake::GtsoTexelFormat::kBc4, gtbake::Layout4D::kAtlas);
 }
 TEST_F(ShaderExec, HlslBc4) {
-  check(true, gtbake::GtsoTexelFormat::kBc4);
+  check(true, gtbake::GtsoTexelFormat::kBc4, gtbake::Layout4D::kAtlas);
+}
+TEST_F(ShaderExec, GlslR16Fold) {
+  check(false, gtbake::GtsoTexelFormat::kR16, gtbake::Layout4D::kFold);
+}
+TEST_F(ShaderExec, HlslR16Fold) {
+  check(true, gtbake::GtsoTexelFormat::kR16, gtbake::Layout4D::kFold);
+}
+TEST_F(ShaderExec, GlslBc4Fold) {
+  check(false, gtbake::GtsoTexelFormat::kBc4, gtbake::Layout4D::kFold);
+}
+TEST_F(ShaderExec, HlslBc4Fold) {
+  check(true, gtbake::GtsoTexelFormat::kBc4, gtbake::Layout4D::kFold);
+}
+TEST_F(ShaderExec, GlslFetchesStayInTheirAtlasTiles) {
+  checkTiles(false);
+}
+TEST_F(ShaderExec, HlslFetchesStayInTheirAtlasTiles) {
+  checkTiles(true);
 }
 
 }  // namespace
