@@ -147,6 +147,21 @@ struct SweepInputs {
   std::vector<SweepView> views;
 };
 
+// A file whose cameras are all orthographic gets automatic views: say which were ignored, why.
+void noteIgnoredCameras(const fs::path& file, const std::vector<std::string>& orthographic) {
+  if (orthographic.empty()) return;
+  std::string names;
+  for (std::string name : orthographic) {
+    for (char& c : name) c = (c >= 0 && c < 0x20) || c == 0x7f ? '?' : c;  // one line on stderr
+    names += (names.empty() ? "'" : ", '") + name + "'";
+  }
+  std::fprintf(stderr,
+               "sweep: %s: ignoring orthographic camera%s %s (gtbake traces perspective views "
+               "only); using %d automatic views (--camera auto:K)\n",
+               file.string().c_str(), orthographic.size() > 1 ? "s" : "", names.c_str(),
+               kAutoViews);
+}
+
 // Loads every scene before anything is written: a bad scene fails the run with no output. A
 // file gets its own camera, or kAutoViews automatic views when it has none; --camera auto[:K]
 // gives every file K automatic views (auto_camera.h).
@@ -173,6 +188,7 @@ SweepInputs loadScenes(const std::vector<fs::path>& files, const SweepOptions& o
     const int k_views = auto_views > 0                  ? auto_views
                         : info.perspective_cameras == 0 ? kAutoViews
                                                         : 0;
+    if (auto_views == 0 && k_views > 0) noteIgnoredCameras(file, info.orthographic_cameras);
     std::vector<SweepView> views;
     if (k_views == 0) views.push_back({in.scenes.size() - 1, scene.camera, scene.name});
     const auto cameras = autoCameras(scene, k_views, static_cast<double>(o.width) / o.height);
