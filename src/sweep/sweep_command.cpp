@@ -23,6 +23,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/input_limits.h"
 #include "common/output_lock.h"
 #include "common/progress.h"
 #include "common/text_escape.h"
@@ -217,6 +218,20 @@ WalkSettings walkSettings(const SweepOptions& o) {
   settings.specular_spp = o.specular_roughness.empty() ? 0 : o.specular_spp;
   for (double r : o.gbuffer_radii) settings.gbuffer_radii.push_back(static_cast<float>(r));
   return settings;
+}
+
+// A whole view, assembled from its tiles, and its encoded EXR (sweep_output.cpp, one view at a
+// time): about 2 x channels x pixels floats, checked before any work (docs/limits.md "Bounded
+// work and memory"). Shards hold tiles only; merge assembles the views.
+void checkImageMemory(const SweepOptions& o) {
+  if (o.shards > 0) return;
+  const std::size_t channels = escapeChannels(makeEscapeImage(1, 1, walkSettings(o))).size();
+  const std::uint64_t pixels = static_cast<std::uint64_t>(o.width) * o.height;
+  checkMemoryEstimate(2 * channels * pixels * sizeof(float),
+                      "sweep --res " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                          " (" + std::to_string(channels) +
+                          " channels of a view from --bounces, --specular-roughness and "
+                          "--gbuffer-radius; a smaller --res needs less)");
 }
 
 // Everything that determines a pixel's values (the thread count and shard do not), as recorded in
@@ -467,6 +482,7 @@ std::string gbufferRadiusList(const std::vector<double>& radii) {
 SweepResult runSweep(const SweepOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   validateOptions(options);
+  checkImageMemory(options);
   const ThreadLimit threads(options.threads);
   const std::vector<fs::path> files = resolveSceneFiles(options.scenes);
   const SweepInputs inputs = loadScenes(files, options);

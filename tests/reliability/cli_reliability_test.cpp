@@ -2,6 +2,7 @@
 // exit, nothing written; and the library-level ones (.glb scene directories, holed ground).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -74,6 +75,47 @@ TEST(CliReliability, CostlyGtsoOptionsFailFast) {
                      "GTBAKE_MAX_GTSO_SECONDS");
   expectOneLineError("gtso --out " + out + " --error-lobes 1048576", "GTBAKE_MAX_GTSO_SECONDS");
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// `gtbake <arguments>` under a 4 GB address-space limit (ulimit -v): its exit status and stderr.
+test::RunResult runUnder4GB(const std::string& arguments, const fs::path& dir) {
+  const std::string command = "ulimit -v 4000000 && exec " + std::string(GTBAKE_BINARY) + " " +
+                              arguments + " </dev/null >/dev/null 2>" + (dir / "err").string();
+  const int status = std::system(("sh -c '" + command + "'").c_str());
+  test::RunResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.err = readBytes(dir / "err");
+  return r;
+}
+
+// Under a 4 GB address-space limit, what the options imply is refused before any work, naming
+// the option and the bound (docs/limits.md "Bounded work and memory"): a lobe grid of 1024 cells
+// that the time bound lets through (few error lobes) needs 4.8 GB on two threads (it ended in
+// std::bad_alloc half a minute in), and a 4096x4096 sweep's views 6.2 GB.
+TEST(CliReliability, MemoryTheOptionsImplyIsCheckedAgainstTheAddressSpaceLimit) {
+  TempDir dir("cli_memory");
+  writeGltfScene(dir.path() / "box.gltf", makeClosedBoxScene());
+  const fs::path out = dir.path() / "out";
+  const auto start = std::chrono::steady_clock::now();
+  const test::RunResult gtso = runUnder4GB(
+      "gtso --quiet --size 4 --lobe-cells 1024 --threads 2 --error-lobes 1 --error-seeds 1 "
+      "--closed-form-lobes 16 --out " +
+          out.string(),
+      dir.path());
+  const test::RunResult sweep =
+      runUnder4GB("sweep --quiet --res 4096x4096 --spp 2 --scenes " +
+                      (dir.path() / "box.gltf").string() + " --out " + out.string(),
+                  dir.path());
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
+  const std::string bound = "exceed the address-space limit (ulimit -v) of 4.1 GB";
+  for (const auto& [r, option] : {std::pair{&gtso, "gtso --lobe-cells 1024 on 2 threads"},
+                                  std::pair{&sweep, "sweep --res 4096x4096"}}) {
+    EXPECT_EQ(r->exit_code, 1) << option;
+    EXPECT_EQ(lines(r->err), 1u) << r->err;
+    EXPECT_NE(r->err.find(option), std::string::npos) << r->err;
+    EXPECT_NE(r->err.find(bound), std::string::npos) << r->err;
+  }
   EXPECT_FALSE(fs::exists(out));
 }
 

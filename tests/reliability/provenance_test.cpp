@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstring>
 #include <nlohmann/json.hpp>
 
@@ -277,6 +278,34 @@ TEST(GtsoBounds, SamplesAndSizeAreBoundedBeforeWork) {
   g.lobe_cells = 0;
   g.error_lobes = 1 << 20;
   EXPECT_ERROR(runGtso(g), "GTBAKE_MAX_GTSO_SECONDS");
+  EXPECT_FALSE(fs::exists(g.out));
+}
+
+// The memory the options imply is checked before any work (docs/limits.md "Bounded work and
+// memory"): lobe grids of 4096 cells (the texel check's 4x of --lobe-cells 1024) on two threads
+// need 4.8 GB, and 2^20 error lobes over 64 seeds 161 GB of points; each names its options.
+TEST(GtsoBounds, MemoryOfTheLobeGridsAndPointsIsBoundedBeforeWork) {
+  TempDir dir("gtso_memory");
+  const ScopedEnv seconds("GTBAKE_MAX_GTSO_SECONDS", "1000000000");
+  const ScopedEnv bytes("GTBAKE_MAX_GTSO_BYTES", "4000000000");
+  GtsoOptions g;
+  g.out = dir.path() / "g";
+  g.progress = false;
+  g.size = 4;
+  g.lobe_cells = 1024;
+  g.threads = 2;
+  g.error_lobes = 1;
+  g.error_seeds = 1;
+  g.closed_form_lobes = 16;
+  const auto start = std::chrono::steady_clock::now();
+  const std::string message = errorOf([&] { runGtso(g); });
+  EXPECT_NE(message.find("gtso --lobe-cells 1024 on 2 threads"), std::string::npos) << message;
+  EXPECT_NE(message.find("GTBAKE_MAX_GTSO_BYTES"), std::string::npos) << message;
+  g.lobe_cells = 0;
+  g.error_lobes = 1 << 20;
+  g.error_seeds = 64;
+  EXPECT_ERROR(runGtso(g), "gtso --error-lobes 1048576 --error-seeds 64 (the end-to-end points)");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
   EXPECT_FALSE(fs::exists(g.out));
 }
 
