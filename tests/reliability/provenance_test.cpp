@@ -23,8 +23,11 @@
 #include "scene/procedural_scenes.h"
 #include "scene/scene.h"
 #include "scene/scenes_command.h"
+#include "screen_ao/gbuffer.h"
 #include "support/test_scenes.h"
+#include "sweep/shard_manifest.h"
 #include "sweep/sweep_command.h"
+#include "validate_gtso/specular_sweep.h"
 
 namespace gtbake {
 namespace {
@@ -102,6 +105,37 @@ TEST(SweepSet, ReadersRefuseMixedSeedsDuplicatesAndForeignScenes) {
   // No manifest at all (an interrupted commit, or files from elsewhere).
   fs::remove(four / "sweep.manifest.json");
   EXPECT_ERROR(loadSweep(four), "rerun `gtbake sweep`");
+}
+
+// Two images of one name (or one file under two names), the manifest resealed: every reader of a
+// sweep set refuses it with one line before decoding an image, instead of an internal "written
+// twice" after all its work (fit, screen-ao and tune, validate-gtso, merge's shards).
+TEST(SweepSet, EveryReaderRefusesANameOrFileListedTwice) {
+  TempDir dir("sweep_twice");
+  SweepOptions o = fixture().options(dir.path() / "s", 1, 16);
+  o.specular_roughness = {0.4};
+  o.specular_spp = 2;
+  runSweep(o);
+  o.shards = 2;
+  o.out = dir.path() / "shard";
+  runSweep(o);
+  const std::string good = readBytes(o.out.parent_path() / "s" / "sweep.json");
+  for (const char* key : {"name", "file"}) {
+    json doc = json::parse(good);
+    doc["scenes"][1][key] = doc["scenes"][0][key];
+    spit(dir.path() / "s" / "sweep.json", doc.dump());
+    resealOutputSet(dir.path() / "s", "sweep");
+    const std::string twice = "scene '" + doc["scenes"][1]["name"].get<std::string>() + "' (" +
+                              doc["scenes"][1]["file"].get<std::string>() + ") is listed twice";
+    EXPECT_ERROR(loadSweep(dir.path() / "s"), twice);
+    EXPECT_ERROR(readSweepImages(dir.path() / "s"), twice);
+    EXPECT_ERROR(readSpecularSweep(dir.path() / "s"), twice);
+  }
+  json shard = json::parse(readBytes(o.out / "shard.json"));
+  shard["scenes"][1]["name"] = shard["scenes"][0]["name"];
+  spit(o.out / "shard.json", shard.dump());
+  resealOutputSet(o.out, kShardSet);
+  EXPECT_ERROR(readShardManifest(o.out), "scene 'box_a' is listed twice");
 }
 
 TEST(SweepSet, HostileSweepJsonEntries) {
