@@ -119,6 +119,60 @@ TEST(CliReliability, MemoryTheOptionsImplyIsCheckedAgainstTheAddressSpaceLimit) 
   EXPECT_FALSE(fs::exists(out));
 }
 
+// Two `gtbake export` processes started together into one directory, round after round, with
+// 300 files of the user's beside the set so each commit takes a while: whatever the
+// interleaving, each run succeeds or is refused with the one-line lock error, one of them
+// succeeds, and the directory holds one complete export set, verified against its manifest,
+// with the user's files and no leftovers (docs/limits.md "Output sets", "The lock").
+TEST(CliReliability, ConcurrentExportsLeaveOneCompleteSet) {
+  TempDir dir("cli_export_race");
+  const fs::path gtso = dir.path() / "gtso", out = dir.path() / "out";
+  ASSERT_EQ(test::runGtbake("gtso --quiet --size 4 --lobe-cells 8 --error-lobes 16 --error-seeds "
+                            "1 --closed-form-lobes 64 --threads 1 --out " +
+                            gtso.string())
+                .exit_code,
+            0);
+  ASSERT_EQ(test::runGtbake("encode --quiet --threads 1 --gtso " + gtso.string() + " --out " +
+                            out.string())
+                .exit_code,
+            0);
+  json fit;
+  for (const char* name : {"a1", "a0", "b1", "b0", "c1", "c0"}) {
+    fit["linear"][name] = 1.0;
+    fit["linear_se"][name] = 0.01;
+  }
+  fs::create_directories(dir.path() / "fit");
+  fs::create_directories(out / "user");
+  spit(dir.path() / "fit" / "fit.json", fit.dump());
+  sealOutputSet(dir.path() / "fit", "fit", {"fit.json"});
+  for (int i = 0; i < 300; ++i) spit(out / "user" / ("note" + std::to_string(i)), "mine");
+  const std::string run = std::string(GTBAKE_BINARY) + " export --fit " +
+                          (dir.path() / "fit" / "fit.json").string() + " --gtso " + gtso.string() +
+                          " --out " + out.string() + " >/dev/null 2>";
+  const fs::path err[2] = {dir.path() / "err0", dir.path() / "err1"};
+  for (int round = 0; round < 12; ++round) {
+    const std::string both = "(" + run + err[0].string() + "; echo $? >" + err[0].string() +
+                             ".rc) & (" + run + err[1].string() + "; echo $? >" + err[1].string() +
+                             ".rc) & wait";
+    ASSERT_EQ(std::system(("sh -c '" + both + "'").c_str()), 0);
+    int succeeded = 0;
+    for (const fs::path& e : err) {
+      const std::string rc = readBytes(e.string() + ".rc"), text = readBytes(e);
+      succeeded += rc == "0\n" ? 1 : 0;
+      if (rc != "0\n") {
+        EXPECT_EQ(rc, "1\n") << text;
+        EXPECT_EQ(lines(text), 1u) << text;
+        EXPECT_NE(text.find("is being written by another gtbake"), std::string::npos) << text;
+      }
+    }
+    EXPECT_GE(succeeded, 1) << "round " << round;
+    verifyOutputSet(readOutputSet(out, "export"));
+    verifyOutputSet(readOutputSet(out, "encode"));
+    EXPECT_EQ(readBytes(out / "user" / "note299"), "mine");
+    EXPECT_EQ(test::gtbakeLeftovers(out), std::vector<std::string>{});
+  }
+}
+
 TEST(CliReliability, JsonDepthCannotBeRaisedPastItsCeiling) {
   TempDir dir("cli_depth");
   const fs::path sweep = sweepDir();
