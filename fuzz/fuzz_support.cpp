@@ -1,8 +1,13 @@
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
+#include "common/sha256.h"
 #include "fuzz_target.h"
 
 namespace gtbake::fuzz {
@@ -23,6 +28,28 @@ const std::string& scratchDir() {
     std::atexit(removeScratch);
   }
   return g_dir;
+}
+
+void requireOneLine(const std::exception& e) {
+  if (std::strchr(e.what(), '\n') != nullptr) {
+    std::fprintf(stderr, "multi-line error: %s\n", e.what());
+    std::abort();
+  }
+}
+
+void writeSet(const std::string& dir, const std::string& command,
+              const std::vector<std::pair<std::string, std::string>>& files) {
+  std::filesystem::create_directories(dir);
+  nlohmann::json listed = nlohmann::json::array();
+  for (const auto& [name, bytes] : files) {
+    std::ofstream(dir + "/" + name, std::ios::binary | std::ios::trunc) << bytes;
+    listed.push_back({{"name", name}, {"size", bytes.size()}, {"sha256", sha256Hex(bytes)}});
+  }
+  const nlohmann::json manifest = {{"command", command},
+                                   {"gtbake_version", "fuzz"},
+                                   {"settings", nlohmann::json::object()},
+                                   {"files", listed}};
+  std::ofstream(dir + "/" + command + ".manifest.json", std::ios::trunc) << manifest.dump();
 }
 
 }  // namespace gtbake::fuzz

@@ -10,7 +10,8 @@ build="${1:-build-sanitize}"
 # -O1 -g1: ASan's recommended optimisation and line tables for its stack traces; half the compile
 # time of RelWithDebInfo's -O2 -g (docs/testing.md).
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
-  -DGTBAKE_SANITIZE=ON -DGTBAKE_BUILD_BENCH=OFF -DGTBAKE_FUZZ_ITERATIONS=400
+  -DGTBAKE_SANITIZE=ON -DGTBAKE_BUILD_BENCH=OFF -DGTBAKE_FUZZ_ITERATIONS=400 \
+  -DGTBAKE_FUZZ_READER_ITERATIONS=5000
 cmake --build "$build" -j"$(nproc)" --target gtbake_sanitize_tier
 # Leak checking is off: TBB and Embree keep process-lifetime allocations that LSan reports.
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:strict_string_checks=1"

@@ -13,7 +13,15 @@ namespace gtbake {
 
 class Error : public std::runtime_error {
  public:
-  explicit Error(const std::string& message) : std::runtime_error(message) {}
+  // Control characters (a line break from a quoted input above all) become '?', so the message
+  // is one line whatever file text or argument it quotes (docs/limits.md).
+  explicit Error(const std::string& message) : std::runtime_error(oneLine(message)) {}
+
+ private:
+  static std::string oneLine(std::string text) {
+    for (char& c : text) c = (c >= 0 && c < 0x20) || c == 0x7f ? '?' : c;
+    return text;
+  }
 };
 
 }  // namespace gtbake

@@ -1,6 +1,7 @@
 #include "common/input_limits.h"
 
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -38,6 +39,77 @@ void checkLimit(const Limit& limit, std::uint64_t value, const std::string& what
   if (value <= max) return;
   throw Error(what + ": " + std::to_string(value) + " " + limit.unit + " exceed the limit of " +
               std::to_string(max) + " (set " + limit.env + " to raise it)");
+}
+
+namespace {
+
+// The limit in bytes a memory cgroup file states ("max" or unreadable: none).
+std::uint64_t cgroupLimit(const fs::path& file) {
+  std::FILE* in = std::fopen(file.c_str(), "r");
+  if (in == nullptr) return UINT64_MAX;
+  unsigned long long value = UINT64_MAX;
+  if (std::fscanf(in, "%llu", &value) != 1) value = UINT64_MAX;
+  std::fclose(in);
+  return value;
+}
+
+// This process's memory cgroup limit, from /proc/self/cgroup (v2 "0::PATH", v1 "N:memory:PATH").
+std::uint64_t cgroupMemoryLimit() {
+  std::FILE* in = std::fopen("/proc/self/cgroup", "r");
+  if (in == nullptr) return UINT64_MAX;
+  std::uint64_t limit = UINT64_MAX;
+  char line[4096];
+  while (std::fgets(line, sizeof(line), in) != nullptr) {
+    std::string text(line);
+    if (!text.empty() && text.back() == '\n') text.pop_back();
+    if (text.rfind("0::", 0) == 0) {
+      limit = std::min(limit, cgroupLimit("/sys/fs/cgroup" + text.substr(3) + "/memory.max"));
+    } else if (const std::size_t at = text.find(":memory:"); at != std::string::npos) {
+      limit = std::min(limit, cgroupLimit("/sys/fs/cgroup/memory" + text.substr(at + 8) +
+                                          "/memory.limit_in_bytes"));
+    }
+  }
+  std::fclose(in);
+  return limit;
+}
+
+std::string gigabytes(std::uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.1f GB", static_cast<double>(bytes) / 1e9);
+  return text;
+}
+
+}  // namespace
+
+MemoryBound memoryBound() {
+  MemoryBound bound;
+  auto consider = [&](std::uint64_t bytes, const char* what) {
+    if (bytes < bound.bytes) bound = {bytes, what};
+  };
+  for (const auto& [resource, what] :
+       {std::pair{RLIMIT_AS, "the address-space limit (ulimit -v)"},
+        std::pair{RLIMIT_DATA, "the data-segment limit (ulimit -d)"}}) {
+    struct rlimit limit {};
+    if (::getrlimit(resource, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) {
+      consider(limit.rlim_cur, what);
+    }
+  }
+  consider(cgroupMemoryLimit(), "the memory cgroup's limit");
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+  if (pages > 0 && page > 0) {
+    consider(static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page),
+             "the physical memory");
+  }
+  return bound;
+}
+
+void checkMemoryEstimate(std::uint64_t bytes, const std::string& what, const Limit* limit) {
+  const MemoryBound bound = memoryBound();
+  if (bytes > bound.bytes) {
+    throw Error(what + ": an estimated " + gigabytes(bytes) + " of memory exceed " + bound.what +
+                " of " + gigabytes(bound.bytes));
+  }
+  if (limit != nullptr) checkLimit(*limit, bytes, what);
 }
 
 std::string readRegularFile(const fs::path& path) {

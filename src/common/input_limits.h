@@ -52,6 +52,21 @@ std::uint64_t limitValue(const Limit& limit);
 // when value > the limit.
 void checkLimit(const Limit& limit, std::uint64_t value, const std::string& what);
 
+// The most memory this process can have and what sets it: the smaller of the address-space and
+// data limits (`ulimit -v`, `ulimit -d`), the memory cgroup's limit (v2 memory.max, v1
+// memory.limit_in_bytes) and the physical memory. bytes is UINT64_MAX when none is known.
+struct MemoryBound {
+  std::uint64_t bytes = UINT64_MAX;
+  std::string what;  // "the address-space limit (ulimit -v)", ...
+};
+MemoryBound memoryBound();
+
+// Checks, before any work, the memory a command's options imply: throws gtbake::Error
+// "<what>: an estimated 4.8 GB of memory exceed <the bound> of 4.0 GB" when `bytes` exceed
+// memoryBound(), and checkLimit(limit, bytes, what) when `limit` is given.
+void checkMemoryEstimate(std::uint64_t bytes, const std::string& what,
+                         const Limit* limit = nullptr);
+
 // Reads a whole regular file (not a FIFO, device or directory: those are refused without being
 // opened for reading, so a FIFO cannot block), at most kMaxInputBytes. Throws gtbake::Error.
 std::string readRegularFile(const std::filesystem::path& path);

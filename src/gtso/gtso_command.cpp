@@ -237,15 +237,16 @@ void writeSlice(OutputSet& output, const std::string& name, const std::vector<fl
 // size^4 and the reference factor), the end-to-end error (0.012 s per lobe and seed at size 4,
 // the costliest size per lobe), the closed-form fit (0.0025 s per training lobe) and the texel
 // check (7 s at size 4).
-// The memory estimate is three float copies of the 4D table.
 constexpr double kDefaultBakeSeconds = 8.8;
 constexpr double kErrorLobeSeconds = 0.012;
 constexpr double kClosedFormLobeSeconds = 0.0025;
 constexpr double kFixedSeconds = 7.0;
 inline constexpr Limit kMaxGtsoSeconds{"GTBAKE_MAX_GTSO_SECONDS", 3600, "estimated seconds"};
 inline constexpr Limit kMaxGtsoBytes{"GTBAKE_MAX_GTSO_BYTES", 8'000'000'000, "estimated bytes"};
+// One 3D and four 4D bent normals per end-to-end lobe (gtso_tables.cpp).
+constexpr int kEndToEndNormals = 5;
 
-void checkGtsoCost(const GtsoOptions& o, int cells) {
+void checkGtsoSeconds(const GtsoOptions& o, int cells) {
   const int size = o.size;
   const double c2 = std::pow(cells / 96.0, 2);
   const int closed_form_lobes =
@@ -259,7 +260,39 @@ void checkGtsoCost(const GtsoOptions& o, int cells) {
                            std::to_string(o.error_lobes) + " x " + std::to_string(o.error_seeds) +
                            " error lobes";
   checkLimit(kMaxGtsoSeconds, static_cast<std::uint64_t>(seconds), what);
-  checkLimit(kMaxGtsoBytes, 12ull * size * size * size * size, what);
+}
+
+// Peak memory, checked before any work against GTBAKE_MAX_GTSO_BYTES and what the process may
+// have (memoryBound): the tables (three float copies of the 4D table), each worker's lobe grid at
+// the finest cells of the run (the texel check's 4x or the reference's factor) and the
+// end-to-end points every seed keeps (both tables' and the cone fit's copy of the 3D ones). The
+// error names the options of the largest term.
+void checkGtsoMemory(const GtsoOptions& o, int cells, int threads) {
+  const std::uint64_t size = static_cast<std::uint64_t>(o.size);
+  const std::uint64_t tables = 12 * size * size * size * size;
+  const int finest = cells * std::max(gtso::kTexelCheckFactor, o.reference_factor);
+  const std::uint64_t grid =
+      std::max(gtso::lobeGridBytes(finest, o.size), gtso::lobeGridBytes(cells, kEndToEndNormals));
+  const std::uint64_t grids = static_cast<std::uint64_t>(threads) * grid;
+  const std::uint64_t lobes = static_cast<std::uint64_t>(o.error_lobes) +
+                              std::max(1, o.error_lobes / gtso::kStressLobeDivisor);
+  const std::uint64_t points = 3 * (sizeof(gtso::GtsoPoint) + sizeof(double)) *
+                               gtso::kPointsPerLobe * lobes *
+                               static_cast<std::uint64_t>(o.error_seeds);
+  std::string what = "gtso --size " + std::to_string(o.size) + " (the tables)";
+  if (grids >= std::max(tables, points)) {
+    what = "gtso --lobe-cells " + std::to_string(cells) +
+           (o.reference_factor > gtso::kTexelCheckFactor
+                ? " --reference-factor " + std::to_string(o.reference_factor)
+                : "") +
+           " on " + std::to_string(threads) + " threads (each worker holds a " +
+           std::to_string(grid / 1000000) + " MB lobe grid at " + std::to_string(finest) +
+           " cells; fewer cells or --threads need less)";
+  } else if (points >= tables) {
+    what = "gtso --error-lobes " + std::to_string(o.error_lobes) + " --error-seeds " +
+           std::to_string(o.error_seeds) + " (the end-to-end points)";
+  }
+  checkMemoryEstimate(tables + grids + points, what, &kMaxGtsoBytes);
 }
 
 // Previews: S3 over (x, y) at a few z slices; S4 at a few (z, w).
@@ -297,9 +330,10 @@ Json tableJson(const Table& t, const std::string& file, int cells, int reference
 GtsoResult runGtso(const GtsoOptions& options) {
   validateOptions(options);
   const int cells = options.lobe_cells == 0 ? gtso::kDefaultLobeCells : options.lobe_cells;
-  checkGtsoCost(options, cells);
-  OutputSet output(options.out, "gtso");  // committed whole at the end (output_set.h)
+  checkGtsoSeconds(options, cells);
   const ThreadLimit limit(options.threads);
+  checkGtsoMemory(options, cells, limit.threads());
+  OutputSet output(options.out, "gtso");  // committed whole at the end (output_set.h)
   const auto start = std::chrono::steady_clock::now();
   const int n = options.size;
 

@@ -10,7 +10,6 @@ namespace {
 
 using Json = nlohmann::json;
 
-constexpr int kStressLobeDivisor = 4;  // the stress set has a quarter of the uniform lobes
 // Seeds 1-3 chose the axis constants (bench_gtso_axes, docs/gtso.md §3); the report uses fresh
 // seeds from 10.
 constexpr std::uint64_t kFirstReportSeed = 10;

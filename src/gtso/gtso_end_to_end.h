@@ -15,6 +15,8 @@
 
 namespace gtbake::gtso {
 
+inline constexpr int kStressLobeDivisor = 4;  // the stress set has a quarter of the uniform lobes
+
 struct EndToEnd {
   nlohmann::json json;                // gtso.json end_to_end
   S3Samples coneSamples;              // the first seed's uniform 3D points with their exact S

@@ -262,6 +262,12 @@ std::vector<std::vector<double>> lobeIntegral(double alpha, double cosThetaO,
 
 }  // namespace
 
+std::uint64_t lobeGridBytes(int cells, int normals) {
+  const std::uint64_t vertices = (static_cast<std::uint64_t>(cells) + 1) *
+                                 (static_cast<std::uint64_t>(kPsiCellsPerPhiCell) * cells + 1);
+  return vertices * (2 * sizeof(double) + sizeof(Vec3) + sizeof(double) * normals);
+}
+
 Vec3 viewDirection(double cosThetaO) {
   const double c = std::clamp(cosThetaO, 0.0, 1.0);
   return {std::sqrt(std::max(0.0, 1.0 - c * c)), 0.0, c};

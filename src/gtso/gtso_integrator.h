@@ -34,6 +34,7 @@
 // straddle a cone boundary are clipped. All cones of the A axis cost one pass over the triangles.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "gtso/ggx.h"
@@ -53,6 +54,11 @@ std::vector<double> specularOcclusion(double r_p, double cosThetaO, const std::v
 std::vector<std::vector<double>> specularOcclusion(
     double r_p, double cosThetaO, const std::vector<Vec3>& b,
     const std::vector<std::vector<double>>& cosAlphaV, int cells = kDefaultLobeCells);
+
+// Bytes one integration of a lobe holds at `cells` for `normals` bent normals: the grid's weight,
+// height and direction per vertex and each normal's t per vertex. Each worker holds one at a time
+// (docs/limits.md "Bounded work and memory").
+std::uint64_t lobeGridBytes(int cells, int normals);
 
 // The view direction of docs/gtso.md §1 and the 4D table's bent normal (beta from wr toward n).
 Vec3 viewDirection(double cosThetaO);

@@ -2,6 +2,8 @@
 #include "scene/gltf_loading.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cstring>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -42,22 +44,34 @@ struct FileAccess {
   std::string record;  // one line per file read, hashed into the scene's input_sha256
 };
 
-// tinygltf's own uri decoding (dlib::urldecode) also turns '+' into a space, which RFC 3986 does
-// not; expandFilePath maps what it produces back to the file percentDecode names.
-std::string tinygltfDecode(const std::string& uri) {
-  std::string plus_as_space = uri;
-  std::replace(plus_as_space.begin(), plus_as_space.end(), '+', ' ');
-  return percentDecode(plus_as_space);
+// The uri handed to tinygltf for an external buffer: what percentDecode makes of `uri`, every
+// byte but [A-Za-z0-9._~/-] percent-encoded again. tinygltf's own decoding (dlib::urldecode)
+// also turns '+' into a space and "%zz" into a NUL, which RFC 3986 does not; on this form it
+// yields exactly the file percentDecode names, so "a+b.bin" is read as "a+b.bin" and never as
+// "a b.bin" (docs/limits.md §Paths).
+std::string tinygltfUri(const std::string& uri) {
+  static const char kHex[] = "0123456789ABCDEF";
+  std::string out;
+  for (const char c : percentDecode(uri)) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (std::isalnum(byte) || c == '.' || c == '_' || c == '~' || c == '/' || c == '-') {
+      out.push_back(c);
+    } else {
+      out += {'%', kHex[byte >> 4], kHex[byte & 15]};
+    }
+  }
+  return out;
 }
 
+// tinygltf joins the glTF's directory and the decoded tinygltfUri, i.e. percentDecode(uri), as
+// "<base>/<file>"; the buffer's resolved path is base / file (the same but for an absolute file,
+// which allow_outside allows).
 std::string expandFilePath(const std::string& path, void* user) {
   const auto* access = static_cast<const FileAccess*>(user);
   std::string prefix = access->base.string();  // as tinygltf's JoinPath joins it
-  if (prefix.empty() || prefix.back() != '/') prefix += '/';
-  if (path.rfind(prefix, 0) != 0) return path;
-  const std::string tail = path.substr(prefix.size());
+  if (!prefix.empty() && prefix.back() != '/') prefix += '/';
   for (const auto& [resolved, buffer] : access->buffers) {
-    if (tinygltfDecode(buffer.uri) == tail) return resolved;
+    if (path == prefix + percentDecode(buffer.uri)) return resolved;
   }
   return path;
 }
@@ -161,9 +175,94 @@ std::string_view jsonText(const std::string& bytes, bool binary) {
   return std::string_view(bytes).substr(20, chunk_length);
 }
 
+// glTF 1.0 is not glTF 2.0: tinygltf reports it as a missing "asset" or a scene-less file. It is
+// told by its asset.version "1.x", by its dictionaries where 2.0 has arrays (1.0 keys every
+// object by id) or, for a .glb, by container version 1.
+void refuseGltf1(const nlohmann::json& doc, const std::string& bytes, bool binary) {
+  std::uint32_t container = 2;
+  if (binary && bytes.size() >= 8 && bytes.compare(0, 4, "glTF") == 0) {
+    std::memcpy(&container, bytes.data() + 4, 4);
+  }
+  bool v1 = container == 1;
+  if (doc.is_object()) {
+    const auto asset = doc.find("asset");
+    v1 = v1 || (asset != doc.end() && asset->is_object() && asset->contains("version") &&
+                (*asset)["version"].is_string() &&
+                (*asset)["version"].get<std::string>().rfind("1.", 0) == 0);
+    for (const char* key : {"accessors", "bufferViews", "buffers", "meshes", "nodes", "scenes"}) {
+      v1 = v1 || (doc.contains(key) && doc[key].is_object());
+    }
+  }
+  if (!v1) return;
+  if (container == 1) {
+    throw Error(
+        "binary glTF 1.0 (.glb version 1) is not supported, only glTF 2.0: convert it to "
+        "glTF 2.0 first (Debian's assimp 5.2 cannot read it)");
+  }
+  throw Error(
+      "glTF 1.0 is not supported, only glTF 2.0: convert it first, e.g. with `assimp "
+      "export in.gltf out.gltf -f gltf2` (Debian package assimp-utils)");
+}
+
+// The bytes handed to tinygltf: the file itself, or, when an external buffer's uri is not
+// already in tinygltfUri's form, the document with those uris rewritten (a .glb keeps its
+// header and every chunk after the JSON).
+std::string tinygltfInput(const std::string& bytes, bool binary, nlohmann::json doc) {
+  bool rewritten = false;
+  if (doc.is_object() && doc.contains("buffers") && doc["buffers"].is_array()) {
+    for (nlohmann::json& b : doc["buffers"]) {
+      if (!b.is_object() || !b.contains("uri") || !b["uri"].is_string()) continue;
+      const std::string uri = b["uri"].get<std::string>();
+      if (uri.rfind("data:", 0) == 0 || tinygltfUri(uri) == uri) continue;
+      b["uri"] = tinygltfUri(uri);
+      rewritten = true;
+    }
+  }
+  if (!rewritten) return bytes;
+  std::string text = doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  if (!binary) return text;
+  text.append((4 - text.size() % 4) % 4, ' ');
+  const std::string rest = bytes.substr(20 + jsonText(bytes, true).size());
+  const auto u32 = [](std::size_t v) {
+    const auto value = static_cast<std::uint32_t>(v);
+    return std::string(reinterpret_cast<const char*>(&value), 4);
+  };
+  return bytes.substr(0, 8) + u32(20 + text.size() + rest.size()) + u32(text.size()) + "JSON" +
+         text + rest;
+}
+
 bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
                const unsigned char*, int, void*) {
   return true;  // images never matter to occlusion (embedded ones are not decoded either)
+}
+
+}  // namespace
+
+namespace {
+
+// The glTF's JSON document, checked before tinygltf sees it: nesting depth, glTF 1.0, uris that
+// leave the directory, and required extensions (a Draco-compressed primitive has no accessors
+// of its own, which tinygltf would report as an invalid bufferView). Errors lack the path.
+nlohmann::json checkedDocument(const std::string& bytes, bool binary, bool allow_outside) {
+  const auto max_depth = static_cast<int>(limitValue(kMaxJsonDepth));
+  const std::string_view json_text = jsonText(bytes, binary);
+  if (jsonNestingDepth(json_text, max_depth) > max_depth) {
+    throw Error("JSON nested deeper than " + std::to_string(max_depth) + " levels (set " +
+                kMaxJsonDepth.env + " to raise the limit)");
+  }
+  nlohmann::json doc = nlohmann::json::parse(json_text, nullptr, /*allow_exceptions=*/false);
+  refuseGltf1(doc, bytes, binary);
+  checkUris(doc, allow_outside);
+  if (doc.is_object() && doc.contains("extensionsRequired") &&
+      doc["extensionsRequired"].is_array()) {
+    for (const auto& extension : doc["extensionsRequired"]) {
+      if (extension.is_string() && !ignorableExtension(extension.get<std::string>())) {
+        throw Error("unsupported extension " + extension.get<std::string>() +
+                    " (required by the file; decompress or convert it to plain glTF 2.0 first)");
+      }
+    }
+  }
+  return doc;
 }
 
 }  // namespace
@@ -178,30 +277,12 @@ tinygltf::Model loadGltfModel(const std::filesystem::path& path, bool allow_outs
   const std::string bytes = readRegularFile(path);
   const bool binary = path.extension() == ".glb";
   if (binary && bytes.size() > 0xFFFFFFFFu) throw Error(where + "a .glb is limited to 4 GB");
-  const auto max_depth = static_cast<int>(limitValue(kMaxJsonDepth));
-  const std::string_view json_text = jsonText(bytes, binary);
-  if (jsonNestingDepth(json_text, max_depth) > max_depth) {
-    throw Error(where + "JSON nested deeper than " + std::to_string(max_depth) + " levels (set " +
-                kMaxJsonDepth.env + " to raise the limit)");
-  }
-  const nlohmann::json doc = nlohmann::json::parse(json_text, nullptr, /*allow_exceptions=*/false);
+  nlohmann::json doc;
   try {
-    checkUris(doc, allow_outside);
+    doc = checkedDocument(bytes, binary, allow_outside);
   } catch (const Error& e) {
     throw Error(where + e.what());
   }
-  // Before tinygltf parses the accessors: a Draco-compressed primitive has none of its own, which
-  // tinygltf would report as an invalid bufferView.
-  if (doc.is_object() && doc.contains("extensionsRequired") &&
-      doc["extensionsRequired"].is_array()) {
-    for (const auto& extension : doc["extensionsRequired"]) {
-      if (extension.is_string() && !ignorableExtension(extension.get<std::string>())) {
-        throw Error(where + "unsupported extension " + extension.get<std::string>() +
-                    " (required by the file; decompress or convert it to plain glTF 2.0 first)");
-      }
-    }
-  }
-
   FileAccess access;
   access.base = fs::weakly_canonical(fs::absolute(path).parent_path(), ec);
   access.allow_outside = allow_outside;
@@ -220,12 +301,13 @@ tinygltf::Model loadGltfModel(const std::filesystem::path& path, bool allow_outs
   tinygltf::Model model;
   std::string err, warn;
   const std::string base_dir = access.base.string();
+  const std::string input = tinygltfInput(bytes, binary, std::move(doc));
   const bool ok =
       binary ? loader.LoadBinaryFromMemory(&model, &err, &warn,
-                                           reinterpret_cast<const unsigned char*>(bytes.data()),
-                                           static_cast<unsigned int>(bytes.size()), base_dir)
-             : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
-                                          static_cast<unsigned int>(bytes.size()), base_dir);
+                                           reinterpret_cast<const unsigned char*>(input.data()),
+                                           static_cast<unsigned int>(input.size()), base_dir)
+             : loader.LoadASCIIFromString(&model, &err, &warn, input.data(),
+                                          static_cast<unsigned int>(input.size()), base_dir);
   if (!ok) {
     throw Error(where +
                 "not a valid glTF 2.0 file: " + oneLine(err.empty() ? "unknown parse error" : err));

@@ -140,7 +140,7 @@ class Reader {
     }
   }
 
-  bool sawOrthographic() const { return saw_orthographic_; }
+  const std::vector<std::string>& orthographicCameras() const { return ignored_; }
   const std::vector<CameraInstance>& cameras() const { return cameras_; }
 
   // Places the chosen camera; throws for a degenerate, mirrored or absurdly placed one.
@@ -324,8 +324,12 @@ class Reader {
     if (camera_index >= static_cast<int>(model_.cameras.size())) {
       throw Error("camera index " + std::to_string(camera_index) + " is out of range");
     }
-    if (model_.cameras[static_cast<std::size_t>(camera_index)].type != "perspective") {
-      saw_orthographic_ = true;
+    const tinygltf::Camera& camera = model_.cameras[static_cast<std::size_t>(camera_index)];
+    if (camera.type != "perspective") {
+      const std::string& node = model_.nodes[static_cast<std::size_t>(node_index)].name;
+      ignored_.push_back(!camera.name.empty() ? camera.name
+                         : !node.empty()      ? node
+                                              : "camera " + std::to_string(camera_index));
       return;
     }
     cameras_.push_back({node_index, camera_index, world});
@@ -337,7 +341,7 @@ class Reader {
   std::uint64_t max_triangles_;
   std::uint64_t max_vertices_;
   std::vector<CameraInstance> cameras_;
-  bool saw_orthographic_ = false;
+  std::vector<std::string> ignored_;  // names of the orthographic camera instances
 };
 
 // Index of the camera instance `wanted` names (see GltfReadOptions::camera).
@@ -403,7 +407,7 @@ Scene readGltfScene(const std::filesystem::path& path, const GltfReadOptions& op
     if (reader.cameras().empty() && options.allow_no_camera) {
       if (info != nullptr) *info = GltfReadInfo{};
     } else if (reader.cameras().empty()) {
-      throw Error(reader.sawOrthographic()
+      throw Error(!reader.orthographicCameras().empty()
                       ? "has only orthographic cameras; a perspective camera is required"
                       : "has no camera in its scene; add a perspective camera node");
     } else {
@@ -413,7 +417,10 @@ Scene readGltfScene(const std::filesystem::path& path, const GltfReadOptions& op
     throw Error(where + e.what());
   }
   if (scene.triangles.empty()) throw Error(where + "has no triangles in its scene");
-  if (info != nullptr) info->input_sha256 = input_sha256;
+  if (info != nullptr) {
+    info->input_sha256 = input_sha256;
+    info->orthographic_cameras = reader.orthographicCameras();
+  }
   return scene;
 }
 Scene readGltfScene(const std::filesystem::path& path) {

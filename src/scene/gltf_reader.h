@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "scene/scene.h"
 
@@ -28,6 +29,9 @@ struct GltfReadInfo {
   int perspective_cameras = 0;  // perspective camera instances met in the walk
   int camera_instance = -1;     // index (walk order) of the one used
   std::string camera_name;      // its camera name, or its node name if the camera has none
+  // The orthographic camera instances met in the walk, never used (gtbake traces perspective
+  // views only): camera name, else node name, else "camera <index>".
+  std::vector<std::string> orthographic_cameras;
   // SHA-256 of the bytes the scene was read from: the glTF and every external buffer the loader
   // opened (gltf_loading.h); a sweep's identity key includes it (docs/limits.md §Paths).
   std::string input_sha256;

@@ -1,6 +1,7 @@
 #include "sweep/shard_manifest.h"
 
 #include <algorithm>
+#include <set>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
@@ -75,10 +76,15 @@ void readShardScenes(const nlohmann::ordered_json& ordered, const nlohmann::json
   if (ordered.size() > static_cast<std::size_t>(kMaxSweepViews)) {
     throw Error(at + ": more than " + std::to_string(kMaxSweepViews) + " scenes");
   }
+  std::set<std::string> names;
   for (std::size_t k = 0; k < ordered.size(); ++k) {
     const auto& s = ordered.at(k);
     const nlohmann::json& p = plain.at(k);
     id.scenes.push_back(s.at("name").get<std::string>());
+    // merge names each view's outputs by its name: each once.
+    if (!names.insert(id.scenes.back()).second) {
+      throw Error(at + ": scene '" + id.scenes.back() + "' is listed twice");
+    }
     id.view_scene.push_back(s.at("scene").get<std::string>());
     id.view_type.push_back(s.at("type").get<std::string>());
     id.scene_sha256.push_back(s.at("sha256").get<std::string>());

@@ -23,6 +23,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/input_limits.h"
 #include "common/output_lock.h"
 #include "common/progress.h"
 #include "common/text_escape.h"
@@ -147,6 +148,21 @@ struct SweepInputs {
   std::vector<SweepView> views;
 };
 
+// A file whose cameras are all orthographic gets automatic views: say which were ignored, why.
+void noteIgnoredCameras(const fs::path& file, const std::vector<std::string>& orthographic) {
+  if (orthographic.empty()) return;
+  std::string names;
+  for (std::string name : orthographic) {
+    for (char& c : name) c = (c >= 0 && c < 0x20) || c == 0x7f ? '?' : c;  // one line on stderr
+    names += (names.empty() ? "'" : ", '") + name + "'";
+  }
+  std::fprintf(stderr,
+               "sweep: %s: ignoring orthographic camera%s %s (gtbake traces perspective views "
+               "only); using %d automatic views (--camera auto:K)\n",
+               file.string().c_str(), orthographic.size() > 1 ? "s" : "", names.c_str(),
+               kAutoViews);
+}
+
 // Loads every scene before anything is written: a bad scene fails the run with no output. A
 // file gets its own camera, or kAutoViews automatic views when it has none; --camera auto[:K]
 // gives every file K automatic views (auto_camera.h).
@@ -173,6 +189,7 @@ SweepInputs loadScenes(const std::vector<fs::path>& files, const SweepOptions& o
     const int k_views = auto_views > 0                  ? auto_views
                         : info.perspective_cameras == 0 ? kAutoViews
                                                         : 0;
+    if (auto_views == 0 && k_views > 0) noteIgnoredCameras(file, info.orthographic_cameras);
     std::vector<SweepView> views;
     if (k_views == 0) views.push_back({in.scenes.size() - 1, scene.camera, scene.name});
     const auto cameras = autoCameras(scene, k_views, static_cast<double>(o.width) / o.height);
@@ -201,6 +218,20 @@ WalkSettings walkSettings(const SweepOptions& o) {
   settings.specular_spp = o.specular_roughness.empty() ? 0 : o.specular_spp;
   for (double r : o.gbuffer_radii) settings.gbuffer_radii.push_back(static_cast<float>(r));
   return settings;
+}
+
+// A whole view, assembled from its tiles, and its encoded EXR (sweep_output.cpp, one view at a
+// time): about 2 x channels x pixels floats, checked before any work (docs/limits.md "Bounded
+// work and memory"). Shards hold tiles only; merge assembles the views.
+void checkImageMemory(const SweepOptions& o) {
+  if (o.shards > 0) return;
+  const std::size_t channels = escapeChannels(makeEscapeImage(1, 1, walkSettings(o))).size();
+  const std::uint64_t pixels = static_cast<std::uint64_t>(o.width) * o.height;
+  checkMemoryEstimate(2 * channels * pixels * sizeof(float),
+                      "sweep --res " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                          " (" + std::to_string(channels) +
+                          " channels of a view from --bounces, --specular-roughness and "
+                          "--gbuffer-radius; a smaller --res needs less)");
 }
 
 // Everything that determines a pixel's values (the thread count and shard do not), as recorded in
@@ -451,6 +482,7 @@ std::string gbufferRadiusList(const std::vector<double>& radii) {
 SweepResult runSweep(const SweepOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   validateOptions(options);
+  checkImageMemory(options);
   const ThreadLimit threads(options.threads);
   const std::vector<fs::path> files = resolveSceneFiles(options.scenes);
   const SweepInputs inputs = loadScenes(files, options);

@@ -2,6 +2,7 @@
 // exit, nothing written; and the library-level ones (.glb scene directories, holed ground).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -75,6 +76,101 @@ TEST(CliReliability, CostlyGtsoOptionsFailFast) {
   expectOneLineError("gtso --out " + out + " --error-lobes 1048576", "GTBAKE_MAX_GTSO_SECONDS");
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
   EXPECT_FALSE(fs::exists(out));
+}
+
+// `gtbake <arguments>` under a 4 GB address-space limit (ulimit -v): its exit status and stderr.
+test::RunResult runUnder4GB(const std::string& arguments, const fs::path& dir) {
+  const std::string command = "ulimit -v 4000000 && exec " + std::string(GTBAKE_BINARY) + " " +
+                              arguments + " </dev/null >/dev/null 2>" + (dir / "err").string();
+  const int status = std::system(("sh -c '" + command + "'").c_str());
+  test::RunResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.err = readBytes(dir / "err");
+  return r;
+}
+
+// Under a 4 GB address-space limit, what the options imply is refused before any work, naming
+// the option and the bound (docs/limits.md "Bounded work and memory"): a lobe grid of 1024 cells
+// that the time bound lets through (few error lobes) needs 4.8 GB on two threads (it ended in
+// std::bad_alloc half a minute in), and a 4096x4096 sweep's views 6.2 GB.
+TEST(CliReliability, MemoryTheOptionsImplyIsCheckedAgainstTheAddressSpaceLimit) {
+  TempDir dir("cli_memory");
+  writeGltfScene(dir.path() / "box.gltf", makeClosedBoxScene());
+  const fs::path out = dir.path() / "out";
+  const auto start = std::chrono::steady_clock::now();
+  const test::RunResult gtso = runUnder4GB(
+      "gtso --quiet --size 4 --lobe-cells 1024 --threads 2 --error-lobes 1 --error-seeds 1 "
+      "--closed-form-lobes 16 --out " +
+          out.string(),
+      dir.path());
+  const test::RunResult sweep =
+      runUnder4GB("sweep --quiet --res 4096x4096 --spp 2 --scenes " +
+                      (dir.path() / "box.gltf").string() + " --out " + out.string(),
+                  dir.path());
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
+  const std::string bound = "exceed the address-space limit (ulimit -v) of 4.1 GB";
+  for (const auto& [r, option] : {std::pair{&gtso, "gtso --lobe-cells 1024 on 2 threads"},
+                                  std::pair{&sweep, "sweep --res 4096x4096"}}) {
+    EXPECT_EQ(r->exit_code, 1) << option;
+    EXPECT_EQ(lines(r->err), 1u) << r->err;
+    EXPECT_NE(r->err.find(option), std::string::npos) << r->err;
+    EXPECT_NE(r->err.find(bound), std::string::npos) << r->err;
+  }
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// Two `gtbake export` processes started together into one directory, round after round, with
+// 300 files of the user's beside the set so each commit takes a while: whatever the
+// interleaving, each run succeeds or is refused with the one-line lock error, one of them
+// succeeds, and the directory holds one complete export set, verified against its manifest,
+// with the user's files and no leftovers (docs/limits.md "Output sets", "The lock").
+TEST(CliReliability, ConcurrentExportsLeaveOneCompleteSet) {
+  TempDir dir("cli_export_race");
+  const fs::path gtso = dir.path() / "gtso", out = dir.path() / "out";
+  ASSERT_EQ(test::runGtbake("gtso --quiet --size 4 --lobe-cells 8 --error-lobes 16 --error-seeds "
+                            "1 --closed-form-lobes 64 --threads 1 --out " +
+                            gtso.string())
+                .exit_code,
+            0);
+  ASSERT_EQ(test::runGtbake("encode --quiet --threads 1 --gtso " + gtso.string() + " --out " +
+                            out.string())
+                .exit_code,
+            0);
+  json fit;
+  for (const char* name : {"a1", "a0", "b1", "b0", "c1", "c0"}) {
+    fit["linear"][name] = 1.0;
+    fit["linear_se"][name] = 0.01;
+  }
+  fs::create_directories(dir.path() / "fit");
+  fs::create_directories(out / "user");
+  spit(dir.path() / "fit" / "fit.json", fit.dump());
+  sealOutputSet(dir.path() / "fit", "fit", {"fit.json"});
+  for (int i = 0; i < 300; ++i) spit(out / "user" / ("note" + std::to_string(i)), "mine");
+  const std::string run = std::string(GTBAKE_BINARY) + " export --fit " +
+                          (dir.path() / "fit" / "fit.json").string() + " --gtso " + gtso.string() +
+                          " --out " + out.string() + " >/dev/null 2>";
+  const fs::path err[2] = {dir.path() / "err0", dir.path() / "err1"};
+  for (int round = 0; round < 12; ++round) {
+    const std::string both = "(" + run + err[0].string() + "; echo $? >" + err[0].string() +
+                             ".rc) & (" + run + err[1].string() + "; echo $? >" + err[1].string() +
+                             ".rc) & wait";
+    ASSERT_EQ(std::system(("sh -c '" + both + "'").c_str()), 0);
+    int succeeded = 0;
+    for (const fs::path& e : err) {
+      const std::string rc = readBytes(e.string() + ".rc"), text = readBytes(e);
+      succeeded += rc == "0\n" ? 1 : 0;
+      if (rc != "0\n") {
+        EXPECT_EQ(rc, "1\n") << text;
+        EXPECT_EQ(lines(text), 1u) << text;
+        EXPECT_NE(text.find("is being written by another gtbake"), std::string::npos) << text;
+      }
+    }
+    EXPECT_GE(succeeded, 1) << "round " << round;
+    verifyOutputSet(readOutputSet(out, "export"));
+    verifyOutputSet(readOutputSet(out, "encode"));
+    EXPECT_EQ(readBytes(out / "user" / "note299"), "mine");
+    EXPECT_EQ(test::gtbakeLeftovers(out), std::vector<std::string>{});
+  }
 }
 
 TEST(CliReliability, JsonDepthCannotBeRaisedPastItsCeiling) {

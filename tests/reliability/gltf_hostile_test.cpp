@@ -4,13 +4,16 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
 #include "reliability_util.h"
 #include "scene/gltf_reader.h"
 #include "scene/scene.h"
+#include "sweep/sweep_command.h"
 
 namespace gtbake {
 namespace {
@@ -254,6 +257,78 @@ TEST(GltfHostile, CameraChosenByNameOrIndex) {
   expectError(path, "numbered from 0", by_index);
   by_name.camera = "nope";
   expectError(path, "no perspective camera", by_name);
+}
+
+// '+' in a uri is a plus sign (docs/limits.md §Paths): with "a b.bin" beside "a+b.bin", each
+// uri reads its own file, also in a .glb, and a missing "a+b.bin" is named as such.
+TEST(GltfHostile, PlusInAUriIsAPlusNotASpace) {
+  TempDir dir("gltf_plus");
+  Gltf g;
+  std::string other = g.bin;  // the same triangle, x of its second vertex 1 -> 7
+  const float seven = 7.0f;
+  std::memcpy(other.data() + 12, &seven, 4);
+  spit(dir.path() / "a b.bin", g.bin);
+  spit(dir.path() / "a+b.bin", other);
+  g.doc["buffers"] = json::array({{{"uri", "a%20b.bin"}, {"byteLength", g.bin.size()}},
+                                  {{"uri", "a+b.bin"}, {"byteLength", other.size()}}});
+  g.doc["bufferViews"][0]["buffer"] = 1;
+  const fs::path path = g.write(dir.path());
+  EXPECT_FLOAT_EQ(readGltfScene(path).positions[1].x(), 7.0f);
+  std::string text = g.doc.dump();  // as a .glb without a BIN chunk: the buffers stay external
+  text.append((4 - text.size() % 4) % 4, ' ');
+  const auto u32 = [](std::size_t v) {
+    const auto value = static_cast<std::uint32_t>(v);
+    return std::string(reinterpret_cast<const char*>(&value), 4);
+  };
+  spit(dir.path() / "s.glb",
+       "glTF" + u32(2) + u32(20 + text.size()) + u32(text.size()) + "JSON" + text);
+  EXPECT_FLOAT_EQ(readGltfScene(dir.path() / "s.glb").positions[1].x(), 7.0f);
+  fs::remove(dir.path() / "a+b.bin");
+  const std::string message = errorOf(path);
+  EXPECT_NE(message.find("a+b.bin"), std::string::npos) << message;
+  EXPECT_EQ(message.find("a b.bin"), std::string::npos) << message;
+}
+
+// glTF 1.0 (asset.version 1.0, or no asset and dictionaries where 2.0 has arrays, or a .glb of
+// version 1) is named as such, with how to convert it.
+TEST(GltfHostile, Gltf1IsNamedWithItsConversion) {
+  TempDir dir("gltf_v1");
+  Gltf g;
+  g.doc["asset"]["version"] = "1.0";
+  expectError(g.write(dir.path()), "glTF 1.0 is not supported");
+  expectError(g.write(dir.path()), "assimp export in.gltf out.gltf -f gltf2");
+  Gltf keyed;
+  keyed.doc.erase("asset");
+  keyed.doc["meshes"] = {{"mesh_0", keyed.doc["meshes"][0]}};
+  expectError(keyed.write(dir.path()), "glTF 1.0 is not supported");
+  spit(dir.path() / "v1.glb", std::string("glTF\x01\0\0\0\x14\0\0\0\0\0\0\0\0\0\0\0", 20));
+  expectError(dir.path() / "v1.glb", "binary glTF 1.0 (.glb version 1) is not supported");
+}
+
+// A scene whose only camera is orthographic is swept from automatic views, and stderr says in
+// one line which camera was ignored and why.
+TEST(GltfHostile, IgnoredOrthographicCameraIsNamed) {
+  TempDir dir("gltf_ortho");
+  Gltf g;
+  g.doc["cameras"][0] = {{"name", "top\nview"},
+                         {"type", "orthographic"},
+                         {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 9}}}};
+  SweepOptions o;
+  o.scenes = {g.write(dir.path())};
+  o.out = dir.path() / "sweep";
+  o.spp = 2;
+  o.width = o.height = 8;
+  o.threads = 1;
+  o.progress = false;
+  testing::internal::CaptureStderr();
+  runSweep(o);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("ignoring orthographic camera 'top?view' (gtbake traces perspective views "
+                     "only); using 4 automatic views"),
+            std::string::npos)
+      << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_TRUE(fs::exists(o.out / "s_v0.exr"));
 }
 
 TEST(GltfHostile, TruncatedAndForgedGlbAreErrors) {

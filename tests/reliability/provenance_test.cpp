@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstring>
 #include <nlohmann/json.hpp>
 
@@ -22,8 +23,11 @@
 #include "scene/procedural_scenes.h"
 #include "scene/scene.h"
 #include "scene/scenes_command.h"
+#include "screen_ao/gbuffer.h"
 #include "support/test_scenes.h"
+#include "sweep/shard_manifest.h"
 #include "sweep/sweep_command.h"
+#include "validate_gtso/specular_sweep.h"
 
 namespace gtbake {
 namespace {
@@ -101,6 +105,37 @@ TEST(SweepSet, ReadersRefuseMixedSeedsDuplicatesAndForeignScenes) {
   // No manifest at all (an interrupted commit, or files from elsewhere).
   fs::remove(four / "sweep.manifest.json");
   EXPECT_ERROR(loadSweep(four), "rerun `gtbake sweep`");
+}
+
+// Two images of one name (or one file under two names), the manifest resealed: every reader of a
+// sweep set refuses it with one line before decoding an image, instead of an internal "written
+// twice" after all its work (fit, screen-ao and tune, validate-gtso, merge's shards).
+TEST(SweepSet, EveryReaderRefusesANameOrFileListedTwice) {
+  TempDir dir("sweep_twice");
+  SweepOptions o = fixture().options(dir.path() / "s", 1, 16);
+  o.specular_roughness = {0.4};
+  o.specular_spp = 2;
+  runSweep(o);
+  o.shards = 2;
+  o.out = dir.path() / "shard";
+  runSweep(o);
+  const std::string good = readBytes(o.out.parent_path() / "s" / "sweep.json");
+  for (const char* key : {"name", "file"}) {
+    json doc = json::parse(good);
+    doc["scenes"][1][key] = doc["scenes"][0][key];
+    spit(dir.path() / "s" / "sweep.json", doc.dump());
+    resealOutputSet(dir.path() / "s", "sweep");
+    const std::string twice = "scene '" + doc["scenes"][1]["name"].get<std::string>() + "' (" +
+                              doc["scenes"][1]["file"].get<std::string>() + ") is listed twice";
+    EXPECT_ERROR(loadSweep(dir.path() / "s"), twice);
+    EXPECT_ERROR(readSweepImages(dir.path() / "s"), twice);
+    EXPECT_ERROR(readSpecularSweep(dir.path() / "s"), twice);
+  }
+  json shard = json::parse(readBytes(o.out / "shard.json"));
+  shard["scenes"][1]["name"] = shard["scenes"][0]["name"];
+  spit(o.out / "shard.json", shard.dump());
+  resealOutputSet(o.out, kShardSet);
+  EXPECT_ERROR(readShardManifest(o.out), "scene 'box_a' is listed twice");
 }
 
 TEST(SweepSet, HostileSweepJsonEntries) {
@@ -277,6 +312,34 @@ TEST(GtsoBounds, SamplesAndSizeAreBoundedBeforeWork) {
   g.lobe_cells = 0;
   g.error_lobes = 1 << 20;
   EXPECT_ERROR(runGtso(g), "GTBAKE_MAX_GTSO_SECONDS");
+  EXPECT_FALSE(fs::exists(g.out));
+}
+
+// The memory the options imply is checked before any work (docs/limits.md "Bounded work and
+// memory"): lobe grids of 4096 cells (the texel check's 4x of --lobe-cells 1024) on two threads
+// need 4.8 GB, and 2^20 error lobes over 64 seeds 161 GB of points; each names its options.
+TEST(GtsoBounds, MemoryOfTheLobeGridsAndPointsIsBoundedBeforeWork) {
+  TempDir dir("gtso_memory");
+  const ScopedEnv seconds("GTBAKE_MAX_GTSO_SECONDS", "1000000000");
+  const ScopedEnv bytes("GTBAKE_MAX_GTSO_BYTES", "4000000000");
+  GtsoOptions g;
+  g.out = dir.path() / "g";
+  g.progress = false;
+  g.size = 4;
+  g.lobe_cells = 1024;
+  g.threads = 2;
+  g.error_lobes = 1;
+  g.error_seeds = 1;
+  g.closed_form_lobes = 16;
+  const auto start = std::chrono::steady_clock::now();
+  const std::string message = errorOf([&] { runGtso(g); });
+  EXPECT_NE(message.find("gtso --lobe-cells 1024 on 2 threads"), std::string::npos) << message;
+  EXPECT_NE(message.find("GTBAKE_MAX_GTSO_BYTES"), std::string::npos) << message;
+  g.lobe_cells = 0;
+  g.error_lobes = 1 << 20;
+  g.error_seeds = 64;
+  EXPECT_ERROR(runGtso(g), "gtso --error-lobes 1048576 --error-seeds 64 (the end-to-end points)");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
   EXPECT_FALSE(fs::exists(g.out));
 }
 
