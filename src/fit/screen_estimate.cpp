@@ -48,7 +48,10 @@ ScreenEstimateSet::ScreenEstimateSet(const AoInput& input) : input_(input) {
         !image.contains("file") || !image["file"].is_string()) {
       throw Error(where + ": every image needs a name and a file");
     }
-    files_[image["name"].get<std::string>()] = image["file"].get<std::string>();
+    const std::string name = image["name"].get<std::string>();
+    if (!files_.emplace(name, image["file"].get<std::string>()).second) {
+      throw Error(where + ": image '" + name + "' is listed twice");
+    }
   }
 }
 

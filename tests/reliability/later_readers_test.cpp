@@ -53,6 +53,10 @@ TEST(LaterReaders, ScreenAoSetValuesAndNamesAreChecked) {
   EXPECT_ERROR(ScreenEstimateSet({"e", set}).read("a", dir.path(), false), "outside [0, 1]");
   write({0, 0, 0, 0}, {1, 2, 1, 1}, good);
   EXPECT_ERROR(ScreenEstimateSet({"e", set}).read("a", dir.path(), true), "not a unit vector");
+  json twice = good;  // one name listed twice: refused, not the last one kept
+  twice["images"].push_back({{"name", "a"}, {"file", "a.exr"}});
+  write({0, 0.5f, 0, 1}, one, twice);
+  EXPECT_ERROR(ScreenEstimateSet({"e", set}), "image 'a' is listed twice");
   json outside = good;
   outside["images"][0]["file"] = "../a.exr";
   write({0, 0, 0, 0}, one, outside);
