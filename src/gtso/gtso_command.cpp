@@ -325,6 +325,117 @@ Json tableJson(const Table& t, const std::string& file, int cells, int reference
   return tj;
 }
 
+// Everything `gtso` computes (runGtso formats it: gtso.json, previews, the printed summary).
+struct GtsoRun {
+  int size = 0;
+  int cells = 0;
+  int threads = 0;
+  Table s3, s4;
+  std::optional<std::pair<ErrorStats, ErrorStats>> ref;  // against the reference bake, if asked
+  std::pair<gtso::TexelCheck, gtso::TexelCheck> texel_check;
+  gtso::EndToEnd e2e;
+  gtso::ConeFit fit;
+  Json cone;
+  gtso::ClosedFormStage closed_form;
+  double bake_s = 0.0, ref_s = 0.0, check_s = 0.0, error_s = 0.0, fit_s = 0.0;
+};
+
+// Bakes both tables and measures them: the reference and texel checks, the error end to end, the
+// cone fit and the closed-form S3 (tested on the 3D end-to-end points).
+GtsoRun computeGtso(const GtsoOptions& options, int cells, int threads) {
+  GtsoRun r;
+  r.size = options.size;
+  r.cells = cells;
+  r.threads = threads;
+  auto t0 = std::chrono::steady_clock::now();
+  {
+    Progress progress("gtso: baking S3 and S4", 2ull * r.size * r.size, options.progress);
+    r.s3 = gtso::bakeTable(3, r.size, cells, &progress);
+    r.s4 = gtso::bakeTable(4, r.size, cells, &progress);
+  }
+  r.bake_s = seconds(t0);
+  t0 = std::chrono::steady_clock::now();
+  r.ref = referenceErrors(r.s3, r.s4, options, cells);
+  r.ref_s = seconds(t0);
+  t0 = std::chrono::steady_clock::now();
+  r.texel_check = sampledTexelCheck(r.s3, r.s4, options, cells);
+  r.check_s = seconds(t0);
+  char exact[256];
+  std::snprintf(exact, sizeof(exact),
+                "the integrator at the bake's cells (texel error vs 16x reference, measured on "
+                "sampled lines: 3D max %.2g, 4D max %.2g; tables.*.texel_check)",
+                r.texel_check.first.max, r.texel_check.second.max);
+  t0 = std::chrono::steady_clock::now();
+  r.e2e = gtso::measureEndToEnd(r.s3, r.s4, options, cells, exact);
+  r.error_s = seconds(t0);
+  t0 = std::chrono::steady_clock::now();
+  r.cone = fitCone(r.e2e.coneSamples, r.fit);
+  r.fit_s = seconds(t0);
+  std::vector<const gtso::ErrorPoints*> closed_form_tests;
+  for (const gtso::ErrorPoints& p : r.e2e.s3Points) closed_form_tests.push_back(&p);
+  r.closed_form = gtso::runClosedFormStage(
+      closed_form_tests, r.e2e.seeds, cells,
+      options.closed_form_lobes != 0 ? options.closed_form_lobes : gtso::kClosedFormTrainLobes);
+  return r;
+}
+
+// gtso.json (docs/gtso.md lists its keys).
+Json gtsoJson(const GtsoRun& r, const GtsoOptions& options, double total_s) {
+  Json j;
+  j["version"] = 2;
+  j["size"] = r.size;
+  j["roughness_convention"] = "perceptual roughness r_p; GGX alpha = r_p^2";
+  j["texel_rule"] = "texel i holds the value at the inverse axis map of i/(N-1)";
+  for (const GtsoAxisConstant& c : kGtsoAxisConstants) j["axis_constants"][c.key] = c.value;
+  j["integrator"] = {{"method",
+                      "piecewise-linear quadrature over the stretched visible-normal "
+                      "hemisphere, cone step clipped exactly per triangle"},
+                     {"cells", r.cells},
+                     {"cells_psi_by_phi", {2 * r.cells, r.cells}}};
+  j["tables"] = {{"3d", tableJson(r.s3, "gtso3d.f32", r.cells, options.reference_factor,
+                                  r.ref ? std::optional(r.ref->first) : std::nullopt)},
+                 {"4d", tableJson(r.s4, "gtso4d.f32", r.cells, options.reference_factor,
+                                  r.ref ? std::optional(r.ref->second) : std::nullopt)}};
+  j["tables"]["3d"]["texel_check"] = texelCheckJson(r.texel_check.first, r.size, r.cells);
+  j["tables"]["4d"]["texel_check"] = texelCheckJson(r.texel_check.second, r.size, r.cells);
+  j["end_to_end"] = r.e2e.json;
+  j["cone"] = r.cone;
+  j["closed_form"] = r.closed_form.json;
+  j["timings"] = {
+      {"threads", r.threads},  {"bake_s", r.bake_s},     {"end_to_end_error_s", r.error_s},
+      {"cone_fit_s", r.fit_s}, {"reference_s", r.ref_s}, {"texel_check_s", r.check_s},
+      {"total_s", total_s}};
+  return j;
+}
+
+void printGtsoSummary(const GtsoRun& r, const GtsoOptions& options) {
+  std::printf("gtso: S3 and S4 (%d^3, %d^4) baked in %.1f s (%d threads, %d x %d cells per lobe)\n",
+              r.size, r.size, r.bake_s, r.threads, 2 * r.cells, r.cells);
+  for (const char* key : {"3d", "4d"}) {
+    const Json& u = r.e2e.json[key]["formats"]["float32"]["uniform"];
+    std::printf(
+        "gtso: %s float32 end to end (max over %d seeds / mean RMS): %.4f/%.5f (encoded "
+        "formats: gtbake encode)\n",
+        key, options.error_seeds, u["max"].get<double>(), u["rms"].get<double>());
+  }
+  for (const gtso::TexelCheck* c : {&r.texel_check.first, &r.texel_check.second}) {
+    std::printf(
+        "gtso: %s texel check vs %dx reference, %zu random lines (%zu texels): max %.3g "
+        "rms %.3g (%.1f s)\n",
+        c == &r.texel_check.first ? "3d" : "4d", c->factor * c->factor, c->lines.size(), c->texels,
+        c->max, c->rms, c->seconds);
+  }
+  std::printf("gtso: u = %.5g +- %.2g (alpha = r_p^2): rmse %.4f max %.4f\n", r.fit.u, r.fit.u_se,
+              r.fit.errors.rmse, r.fit.errors.max_abs);
+  const Json& cf = r.closed_form.json["test"]["errors"];
+  std::printf(
+      "gtso: closed-form S3 (test points): r_p >= 0.1 max %.4f rms %.5f; r_p < 0.1 max "
+      "%.4f rms %.5f (%.1f s)\n",
+      cf["r_p_ge_0.1"]["max"].get<double>(), cf["r_p_ge_0.1"]["rms"].get<double>(),
+      cf["r_p_lt_0.1"]["max"].get<double>(), cf["r_p_lt_0.1"]["rms"].get<double>(),
+      r.closed_form.json["fit_s"].get<double>());
+}
+
 }  // namespace
 
 GtsoResult runGtso(const GtsoOptions& options) {
@@ -335,112 +446,21 @@ GtsoResult runGtso(const GtsoOptions& options) {
   checkGtsoMemory(options, cells, limit.threads());
   OutputSet output(options.out, "gtso");  // committed whole at the end (output_set.h)
   const auto start = std::chrono::steady_clock::now();
-  const int n = options.size;
-
-  auto t0 = std::chrono::steady_clock::now();
-  Table s3, s4;
-  {
-    Progress progress("gtso: baking S3 and S4", 2ull * n * n, options.progress);
-    s3 = gtso::bakeTable(3, n, cells, &progress);
-    s4 = gtso::bakeTable(4, n, cells, &progress);
-  }
-  const double bakeSeconds = seconds(t0);
-
-  t0 = std::chrono::steady_clock::now();
-  const auto ref = referenceErrors(s3, s4, options, cells);
-  const double refSeconds = seconds(t0);
-
-  t0 = std::chrono::steady_clock::now();
-  const auto texelCheck = sampledTexelCheck(s3, s4, options, cells);
-  const double checkSeconds = seconds(t0);
-  char exact[256];
-  std::snprintf(exact, sizeof(exact),
-                "the integrator at the bake's cells (texel error vs 16x reference, measured on "
-                "sampled lines: 3D max %.2g, 4D max %.2g; tables.*.texel_check)",
-                texelCheck.first.max, texelCheck.second.max);
-
-  t0 = std::chrono::steady_clock::now();
-  const gtso::EndToEnd e2e = gtso::measureEndToEnd(s3, s4, options, cells, exact);
-  const double errorSeconds = seconds(t0);
-
-  t0 = std::chrono::steady_clock::now();
-  gtso::ConeFit fit;
-  const Json cone = fitCone(e2e.coneSamples, fit);
-  const double fitSeconds = seconds(t0);
-
-  // The closed-form S3 (s3_closed_form.h), tested on the 3D end-to-end points.
-  std::vector<const gtso::ErrorPoints*> closedFormTests;
-  for (const gtso::ErrorPoints& p : e2e.s3Points) closedFormTests.push_back(&p);
-  const gtso::ClosedFormStage closedForm = gtso::runClosedFormStage(
-      closedFormTests, e2e.seeds, cells,
-      options.closed_form_lobes != 0 ? options.closed_form_lobes : gtso::kClosedFormTrainLobes);
-
-  const std::vector<float> f3 = gtso::toFloats(s3), f4 = gtso::toFloats(s4);
-  writePreviews(output, f3, f4, n);
-
-  Json j;
-  j["version"] = 2;
-  j["size"] = n;
-  j["roughness_convention"] = "perceptual roughness r_p; GGX alpha = r_p^2";
-  j["texel_rule"] = "texel i holds the value at the inverse axis map of i/(N-1)";
-  for (const GtsoAxisConstant& c : kGtsoAxisConstants) j["axis_constants"][c.key] = c.value;
-  j["integrator"] = {{"method",
-                      "piecewise-linear quadrature over the stretched visible-normal "
-                      "hemisphere, cone step clipped exactly per triangle"},
-                     {"cells", cells},
-                     {"cells_psi_by_phi", {2 * cells, cells}}};
-  j["tables"] = {{"3d", tableJson(s3, "gtso3d.f32", cells, options.reference_factor,
-                                  ref ? std::optional(ref->first) : std::nullopt)},
-                 {"4d", tableJson(s4, "gtso4d.f32", cells, options.reference_factor,
-                                  ref ? std::optional(ref->second) : std::nullopt)}};
-  j["tables"]["3d"]["texel_check"] = texelCheckJson(texelCheck.first, n, cells);
-  j["tables"]["4d"]["texel_check"] = texelCheckJson(texelCheck.second, n, cells);
-  j["end_to_end"] = e2e.json;
-  j["cone"] = cone;
-  j["closed_form"] = closedForm.json;
-  j["timings"] = {{"threads", limit.threads()},         {"bake_s", bakeSeconds},
-                  {"end_to_end_error_s", errorSeconds}, {"cone_fit_s", fitSeconds},
-                  {"reference_s", refSeconds},          {"texel_check_s", checkSeconds},
-                  {"total_s", seconds(start)}};
-
+  const GtsoRun r = computeGtso(options, cells, limit.threads());
+  const std::vector<float> f3 = gtso::toFloats(r.s3), f4 = gtso::toFloats(r.s4);
+  writePreviews(output, f3, f4, r.size);
+  const Json j = gtsoJson(r, options, seconds(start));
   output.add("gtso3d.f32", floatBytes(f3));
   output.add("gtso4d.f32", floatBytes(f4));
   output.add("gtso.json", j.dump(2) + "\n");
-  output.setSettings({{"size", n},
+  output.setSettings({{"size", r.size},
                       {"lobe_cells", cells},
                       {"error_lobes", options.error_lobes},
                       {"error_seeds", options.error_seeds},
                       {"reference_factor", options.reference_factor}});
   output.commit();
-
-  std::printf("gtso: S3 and S4 (%d^3, %d^4) baked in %.1f s (%d threads, %d x %d cells per lobe)\n",
-              n, n, bakeSeconds, limit.threads(), 2 * cells, cells);
-  {
-    for (const char* key : {"3d", "4d"}) {
-      const Json& u = e2e.json[key]["formats"]["float32"]["uniform"];
-      std::printf(
-          "gtso: %s float32 end to end (max over %d seeds / mean RMS): %.4f/%.5f (encoded "
-          "formats: gtbake encode)\n",
-          key, options.error_seeds, u["max"].get<double>(), u["rms"].get<double>());
-    }
-    for (const gtso::TexelCheck* c : {&texelCheck.first, &texelCheck.second}) {
-      std::printf(
-          "gtso: %s texel check vs %dx reference, %zu random lines (%zu texels): max %.3g "
-          "rms %.3g (%.1f s)\n",
-          c == &texelCheck.first ? "3d" : "4d", c->factor * c->factor, c->lines.size(), c->texels,
-          c->max, c->rms, c->seconds);
-    }
-    std::printf("gtso: u = %.5g +- %.2g (alpha = r_p^2): rmse %.4f max %.4f\n", fit.u, fit.u_se,
-                fit.errors.rmse, fit.errors.max_abs);
-    const Json& cf = closedForm.json["test"]["errors"];
-    std::printf(
-        "gtso: closed-form S3 (test points): r_p >= 0.1 max %.4f rms %.5f; r_p < 0.1 max "
-        "%.4f rms %.5f (%.1f s)\n",
-        cf["r_p_ge_0.1"]["max"].get<double>(), cf["r_p_ge_0.1"]["rms"].get<double>(),
-        cf["r_p_lt_0.1"]["max"].get<double>(), cf["r_p_lt_0.1"]["rms"].get<double>(),
-        closedForm.json["fit_s"].get<double>());
-  }
-  return {fit.u, fit.u_se, seconds(start)};
+  printGtsoSummary(r, options);
+  return {r.fit.u, r.fit.u_se, seconds(start)};
 }
 
 }  // namespace gtbake
