@@ -157,11 +157,6 @@ Subcommand addSweepCommand(CLI::App& app) {
                    shard](const RunContext& context) {
             std::tie(options->width, options->height) = parseResolution(*resolution);
             options->seed = parseSeed(*seed, "--seed");
-            if (options->bounces == 0) {
-              throw Error(
-                  "--bounces 0 gives a sweep that fit and validate cannot use (they need "
-                  "P1); use 1 to 16");
-            }
             options->specular_roughness = parseSpecularRoughness(*specular_roughness);
             options->gbuffer_radii = parseGbufferRadii(*gbuffer_radii);
             if (!shard->empty()) std::tie(options->shard, options->shards) = parseShard(*shard);
@@ -401,7 +396,7 @@ Subcommand addAllCommand(CLI::App& app) {
   parser->add_option("--out", options->out, "Output directory")->capture_default_str();
   addThreadsOption(parser, options->threads);
   parser->add_option("--scenes", options->scenes,
-                     "glTF files or directories of them (default: the built-in seven)");
+                     "glTF files or directories of them (default: the built-in corpus)");
   parser->add_option("--4d-layout", options->layout_4d,
                      "4D table: atlas (default, every extent <= 256) or fold (encode)");
   return {parser, [options](const RunContext& context) {

@@ -19,7 +19,7 @@ struct AllOptions {
   std::string layout_4d = "atlas";  // --4d-layout: the 4D table's packing (encode_command.h)
 };
 
-// Layout of <out>: scenes/ (the built-in corpus, 12 types × 4 variants, generated only without
+// Layout of <out>: scenes/ (the built-in corpus, 12 types × 6 variants, generated only without
 // `scenes`), <scene>.exr
 // and sweep.json (the sweep), fit.json and report/ (the fit), screen_ao/ (the screen-space
 // estimators), profiles/<estimator>/ (Equation 10 on each estimator's Â), gtso/ (float tables,

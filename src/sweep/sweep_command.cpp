@@ -64,8 +64,13 @@ void validateOptions(const SweepOptions& o) {
     throw Error("--res must be WxH with each side in [1, " + std::to_string(kMaxSweepResolution) +
                 "], got " + std::to_string(o.width) + "x" + std::to_string(o.height));
   }
-  if (o.bounces < 0 || o.bounces > kMaxBounces) {
-    throw Error("--bounces must be in [0, " + std::to_string(kMaxBounces) + "], got " +
+  if (o.bounces == 0) {
+    throw Error(
+        "--bounces 0 gives a sweep that fit and validate cannot use (they need P1); use 1 to " +
+        std::to_string(kMaxBounces));
+  }
+  if (o.bounces < 1 || o.bounces > kMaxBounces) {
+    throw Error("--bounces must be in [1, " + std::to_string(kMaxBounces) + "], got " +
                 std::to_string(o.bounces));
   }
   if (!(o.radius > 0.0)) throw Error("--radius must be a positive distance in metres");
@@ -80,9 +85,6 @@ void validateOptions(const SweepOptions& o) {
           "(%g), got " +
           gbufferRadiusList(o.gbuffer_radii));
     }
-  }
-  if (!o.gbuffer_radii.empty() && o.bounces < 1) {
-    throw Error("--gbuffer-radius needs --bounces >= 1 (or --gbuffer-radius none)");
   }
   if (o.shards < 0 || o.shards > kMaxShards ||
       (o.shards > 0 && (o.shard < 0 || o.shard >= o.shards))) {
