@@ -242,7 +242,9 @@ constexpr double kErrorLobeSeconds = 0.012;
 constexpr double kClosedFormLobeSeconds = 0.0025;
 constexpr double kFixedSeconds = 7.0;
 inline constexpr Limit kMaxGtsoSeconds{"GTBAKE_MAX_GTSO_SECONDS", 3600, "estimated seconds"};
-inline constexpr Limit kMaxGtsoBytes{"GTBAKE_MAX_GTSO_BYTES", 8'000'000'000, "estimated bytes"};
+// 8 GB (written without digit separators: an odd count of them derails pmccabe's parser).
+inline constexpr Limit kMaxGtsoBytes{"GTBAKE_MAX_GTSO_BYTES", 8ull * 1000 * 1000 * 1000,
+                                     "estimated bytes"};
 // One 3D and four 4D bent normals per end-to-end lobe (gtso_tables.cpp).
 constexpr int kEndToEndNormals = 5;
 
