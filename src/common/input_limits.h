@@ -91,6 +91,11 @@ nlohmann::json parseJsonText(std::string_view text, const std::string& where);
 std::int64_t jsonInteger(const nlohmann::json& object, const char* key, std::int64_t lo,
                          std::int64_t hi, const std::string& where);
 
+// A sweep.json `scenes` array names each view's outputs by its name and reads its image from its
+// file: each name and each file (lexically normalised) once. Throws one line, "<where>: scene
+// 'NAME' (FILE) is listed twice", or for an entry without string name and file.
+void requireDistinctSweepEntries(const nlohmann::json& scenes, const std::string& where);
+
 // `name` as a file directly or below `dir`: refuses absolute names, ".." components (also
 // percent-encoded) and empty names, so a `file` entry of sweep.json or gtso.json cannot point
 // outside its directory. Returns dir / name.

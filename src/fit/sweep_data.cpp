@@ -115,15 +115,12 @@ SweepJson readSweepJson(const fs::path& dir) {
     throw Error(where + ": 'scenes' must be a non-empty array");
   }
   out.scenes = doc["scenes"];
-  std::set<std::string> names, files;
   for (const json& entry : out.scenes) {
     const std::string name = requireString(entry, "name", where + " scene");
     const std::string file_name = requireString(entry, "file", where + " scene " + name);
-    const fs::path exr_path = fileInsideDirectory(dir, file_name, where + " scene " + name);
-    if (!names.insert(name).second || !files.insert(exr_path.lexically_normal()).second) {
-      throw Error(where + ": scene '" + name + "' (" + file_name + ") is listed twice");
-    }
+    fileInsideDirectory(dir, file_name, where + " scene " + name);
   }
+  requireDistinctSweepEntries(out.scenes, where);
   return out;
 }
 

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <set>
 #include <string>
 
 #include "common/error.h"
@@ -41,24 +40,6 @@ void checkTruth(const SweepImage& image, const std::string& file) {
     if (!ok) {
       throw Error(file + ": A or A_R outside [0, 1], or a non-finite BN, at pixel (" +
                   std::to_string(p % g.width) + ", " + std::to_string(p / g.width) + ")");
-    }
-  }
-}
-
-// Images are named, and their outputs written, by name: each name and each file once in
-// sweep.json, checked before any image is decoded.
-void requireDistinctImages(const nlohmann::json& scenes, const std::string& where) {
-  std::set<std::string> names, paths;
-  for (const auto& entry : scenes) {
-    if (!entry.is_object() || !entry.contains("name") || !entry["name"].is_string() ||
-        !entry.contains("file") || !entry["file"].is_string()) {
-      throw Error(where + ": every scenes[] entry needs a string 'name' and 'file'");
-    }
-    const std::string name = entry["name"].get<std::string>();
-    const std::string file = entry["file"].get<std::string>();
-    if (!names.insert(name).second ||
-        !paths.insert(std::filesystem::path(file).lexically_normal().string()).second) {
-      throw Error(where + ": scene '" + name + "' (" + file + ") is listed twice");
     }
   }
 }
@@ -186,7 +167,7 @@ SweepImages readSweepImages(const std::filesystem::path& dir) {
   if (!json.contains("scenes") || !json["scenes"].is_array() || json["scenes"].empty()) {
     throw Error(where + " lists no scenes");
   }
-  requireDistinctImages(json["scenes"], where);
+  requireDistinctSweepEntries(json["scenes"], where);  // before any image is decoded
   for (const auto& entry : json["scenes"]) result.images.push_back(readImage(files, entry, where));
   return result;
 }

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <nlohmann/json.hpp>
-#include <set>
 #include <utility>
 
 #include "common/error.h"
@@ -138,17 +137,7 @@ SpecularSweep readSpecularSweep(const fs::path& dir) {
   sweep.dir = dir;
   try {
     readSettings(json.at("settings"), json_path.string(), &sweep);
-    // Scenes are named, and their outputs written, by name: each name and file once, checked
-    // before any image is decoded.
-    std::set<std::string> names, files;
-    for (const nlohmann::json& entry : json.at("scenes")) {
-      const std::string name = entry.at("name").get<std::string>();
-      const std::string file = entry.at("file").get<std::string>();
-      if (!names.insert(name).second ||
-          !files.insert(fs::path(file).lexically_normal().string()).second) {
-        throw Error(json_path.string() + ": scene '" + name + "' (" + file + ") is listed twice");
-      }
-    }
+    requireDistinctSweepEntries(json.at("scenes"), json_path.string());  // before any decode
     for (const nlohmann::json& entry : json.at("scenes")) {
       sweep.scenes.push_back(readScene(set, entry, sweep, json_path.string()));
     }
