@@ -13,10 +13,6 @@ std::string at(const GridPoint& p) {
   return "A = " + formatNumber(p.A, "%.3f") + ", rho = " + formatNumber(p.rho, "%.2f");
 }
 
-std::string rangeName(const RangeScore& r, bool last) {
-  return "[" + formatNumber(r.lo, "%.1f") + ", " + formatNumber(r.hi, "%.1f") + (last ? "]" : ")");
-}
-
 // The grid points of range `r` scored in one pass: max |ΔG|, max ratio, power, median band.
 void scanRange(const SceneJackknife& jk, const MultiBounceCoeffs& refit,
                const MultiBounceCoeffs& given, std::size_t r, RangeScore& out) {
@@ -94,7 +90,7 @@ std::string headline(const CurveVerdict& v) {
     const RangeScore& s = v.ranges[r];
     const bool counts = v.verdict == Verdict::kOutside ? s.fails : s.verdict == v.verdict;
     if (!counts) continue;
-    where += (where.empty() ? "" : ", ") + rangeName(s, r + 1 == v.ranges.size());
+    where += (where.empty() ? "" : ", ") + rangeLabel(v, r);
     only_open = only_open && s.near_open && s.max_ratio_away.value <= s.threshold;
     largest = std::max(largest, s.max_difference.value);
   }
@@ -116,6 +112,12 @@ std::string headline(const CurveVerdict& v) {
 }
 
 }  // namespace
+
+std::string rangeLabel(const CurveVerdict& v, std::size_t r) {
+  const RangeScore& s = v.ranges[r];
+  return "[" + formatNumber(s.lo, "%.1f") + ", " + formatNumber(s.hi, "%.1f") +
+         (r + 1 == v.ranges.size() ? "]" : ")");
+}
 
 const char* verdictName(Verdict verdict) {
   switch (verdict) {

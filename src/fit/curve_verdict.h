@@ -81,6 +81,9 @@ struct CurveVerdict {
   std::string headline;  // one line
 };
 
+// Range r of `v` as text: "[0.3, 0.7)", the last one closed ("[0.7, 1.0]").
+std::string rangeLabel(const CurveVerdict& v, std::size_t r);
+
 // Scores `given` against the band of `jk` around `refit`, range by range. Without a jackknife
 // every range and the whole are "too few scenes to judge".
 CurveVerdict judgeCurve(const SceneJackknife& jk, const MultiBounceCoeffs& refit,

@@ -227,10 +227,8 @@ std::string rangeVerdict(const CurveVerdict& v) {
   for (std::size_t r = 0; r < v.ranges.size(); ++r) {
     const RangeScore& s = v.ranges[r];
     rows.push_back(
-        {"[" + formatNumber(s.lo, "%.1f") + ", " + formatNumber(s.hi, "%.1f") +
-             (r + 1 == v.ranges.size() ? "]" : ")"),
-         formatNumber(100.0 * s.pixel_share, "%.1f") + " %", formatNumber(s.detectable.value),
-         formatNumber(s.max_difference.value),
+        {rangeLabel(v, r), formatNumber(100.0 * s.pixel_share, "%.1f") + " %",
+         formatNumber(s.detectable.value), formatNumber(s.max_difference.value),
          formatNumber(s.max_ratio.value, "%.2f") + " / " + formatNumber(s.threshold, "%.2f"),
          "<b>" + std::string(verdictName(s.verdict)) + "</b>", escapeHtml(s.text)});
   }

@@ -187,8 +187,8 @@ void printRanges(const ValidateReport& r) {
   const CurveVerdict& v = r.verdict;
   for (std::size_t i = 0; i < v.ranges.size(); ++i) {
     const RangeScore& s = v.ranges[i];
-    std::printf("  A in [%.1f, %.1f%c (%4.1f%% of pixels): %s\n", s.lo, s.hi,
-                i + 1 == v.ranges.size() ? ']' : ')', 100.0 * s.pixel_share, s.text.c_str());
+    std::printf("  A in %s (%4.1f%% of pixels): %s\n", rangeLabel(v, i).c_str(),
+                100.0 * s.pixel_share, s.text.c_str());
   }
   std::printf("  pixel-weighted RMS of G_shipped - G_refit: %.5f", r.rms_difference.rms);
   if (r.rms_difference.interval) {

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 
 #include "common/error.h"
 #include "common/input_limits.h"
@@ -79,6 +78,16 @@ std::size_t ValidateData::points() const {
   double n = 0.0;
   for (const ViewSums& v : views) n += pointCount(v, 0, kValidateBins);
   return static_cast<std::size_t>(n);
+}
+
+Grouping groupViews(const std::vector<ViewSums>& views, std::string ViewSums::*field) {
+  Grouping g;
+  for (const ViewSums& v : views) {
+    const auto found = std::find(g.names.begin(), g.names.end(), v.*field);
+    g.of.push_back(static_cast<std::size_t>(found - g.names.begin()));
+    if (found == g.names.end()) g.names.push_back(v.*field);
+  }
+  return g;
 }
 
 double pointCount(const ViewSums& v, std::size_t first, std::size_t last) {

@@ -80,6 +80,10 @@ ValidateData parseValidateData(const nlohmann::json& j, const std::string& where
 // Reads DIR/validate_data.json of a fit output set, verified against DIR/fit.manifest.json.
 ValidateData readValidateData(const std::filesystem::path& dir);
 
+// The views grouped by `field` (&ViewSums::scene or &ViewSums::type): the groups in order of
+// first appearance and each view's group, as the jackknives group them (groupByScene).
+Grouping groupViews(const std::vector<ViewSums>& views, std::string ViewSums::*field);
+
 // Σ over a view's points in bins [first, last) and albedo j of (p(A) − q(A))² for two cubics,
 // and of (G − p(A))²: the exact sums above.
 double sumSquaredDifference(const ViewSums& v, std::size_t first, std::size_t last, const Cubic& p,

@@ -1,6 +1,5 @@
 // validate_data.json (validate_data.h): written by `gtbake fit`, read back by `validate --luts`.
 // The header keys are indented; each view is one compact line (the file is data, ~1 MB).
-#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -187,16 +186,6 @@ ViewSums view(const json& j, std::size_t albedos, const std::string& where) {
   return v;
 }
 
-// Groups in order of first appearance.
-std::vector<std::string> groupNames(const std::vector<ViewSums>& views,
-                                    std::string ViewSums::*field) {
-  std::vector<std::string> out;
-  for (const ViewSums& v : views) {
-    if (std::find(out.begin(), out.end(), v.*field) == out.end()) out.push_back(v.*field);
-  }
-  return out;
-}
-
 void readSettings(const json& j, ValidateData& d, const std::string& where) {
   const json& s = member(j, "settings", where);
   d.settings.weighting = parseWeighting(name(s, "weighting", where));
@@ -291,10 +280,12 @@ ValidateData parseValidateData(const json& j, const std::string& where) {
   }
   if (points > kMaxPoints) throw Error(where + ": more points than any sweep holds");
   const BandRule rule = bandRule(member(j, "band_rule", where), where + " band_rule");
-  d.scene_jackknife = jackknife(member(j, "scene_jackknife", where), rule, d.refit,
-                                groupNames(d.views, &ViewSums::scene), where + " scene_jackknife");
-  d.type_jackknife = jackknife(member(j, "type_jackknife", where), rule, d.refit,
-                               groupNames(d.views, &ViewSums::type), where + " type_jackknife");
+  d.scene_jackknife =
+      jackknife(member(j, "scene_jackknife", where), rule, d.refit,
+                groupViews(d.views, &ViewSums::scene).names, where + " scene_jackknife");
+  d.type_jackknife =
+      jackknife(member(j, "type_jackknife", where), rule, d.refit,
+                groupViews(d.views, &ViewSums::type).names, where + " type_jackknife");
   return d;
 }
 

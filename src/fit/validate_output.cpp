@@ -11,12 +11,6 @@ namespace {
 
 using nlohmann::ordered_json;
 
-std::string rangeLabel(const RangeScore& r, bool last) {
-  char text[32];
-  std::snprintf(text, sizeof text, "[%.1f, %.1f%c", r.lo, r.hi, last ? ']' : ')');
-  return text;
-}
-
 void printHeader(const ValidateData& d) {
   std::printf("validate: %zu views of %zu scenes of %zu types, %zu points, spp %d, %d bounces\n",
               d.views.size(), d.scene_jackknife.scenes, d.type_jackknife.scenes, d.points(), d.spp,
@@ -48,14 +42,13 @@ void printRanges(const ValidateReport& r) {
               "points", "pixel RMS dG");
   for (std::size_t i = 0; i < v.ranges.size(); ++i) {
     const RangeScore& s = v.ranges[i];
-    std::printf("  %-11s %7.1f%% %11.4f %10.2f %8zu %13.5f\n",
-                rangeLabel(s, i + 1 == v.ranges.size()).c_str(), 100.0 * s.pixel_share,
-                s.detectable.value, s.threshold, s.scored_points, s.pixel_rms_difference);
+    std::printf("  %-11s %7.1f%% %11.4f %10.2f %8zu %13.5f\n", rangeLabel(v, i).c_str(),
+                100.0 * s.pixel_share, s.detectable.value, s.threshold, s.scored_points,
+                s.pixel_rms_difference);
   }
   std::printf("\nverdict by range of A (dG = G_given - G_refit over rho in [0.1, 0.9]):\n");
   for (std::size_t i = 0; i < v.ranges.size(); ++i) {
-    std::printf("  %-11s %s\n", rangeLabel(v.ranges[i], i + 1 == v.ranges.size()).c_str(),
-                v.ranges[i].text.c_str());
+    std::printf("  %-11s %s\n", rangeLabel(v, i).c_str(), v.ranges[i].text.c_str());
   }
   const PixelDifference& p = r.rms_difference;
   std::printf("\npixel-weighted RMS of dG over every point and albedo: %.5f", p.rms);

@@ -13,19 +13,6 @@ std::size_t binIndex(double edge) {
   return static_cast<std::size_t>(std::lround(edge * kValidateBins));
 }
 
-// Per view, the index of its scene among the scene jackknife's replicas.
-std::vector<std::size_t> sceneOf(const ValidateData& d) {
-  std::vector<std::string> names;
-  std::vector<std::size_t> out;
-  for (const ViewSums& v : d.views) {
-    std::size_t s = 0;
-    while (s < names.size() && names[s] != v.scene) ++s;
-    if (s == names.size()) names.push_back(v.scene);
-    out.push_back(s);
-  }
-  return out;
-}
-
 // Σ over views (those with include[v], all when empty) and albedos of the squared difference
 // between `given` and each view's refit, over bins [first, last), and the points counted.
 struct SquaredSum {
@@ -57,7 +44,7 @@ PixelDifference pixelDifference(const ValidateData& d, const MultiBounceCoeffs& 
   out.rms = rms(squaredDifference(d, given, refit, 0, kValidateBins, {}), d.albedos.size());
   const SceneJackknife& jk = d.scene_jackknife;
   if (!jk.available) return out;
-  const std::vector<std::size_t> scene = sceneOf(d);
+  const std::vector<std::size_t> scene = groupViews(d.views, &ViewSums::scene).of;
   std::vector<double> replicas;
   for (std::size_t s = 0; s < jk.leave_one_out.size(); ++s) {
     std::vector<char> include(d.views.size());
@@ -103,7 +90,7 @@ void fillErrors(const ValidateData& d, const MultiBounceCoeffs& given, ValidateR
   const SceneJackknife& jk = d.scene_jackknife;
   std::vector<MultiBounceCoeffs> held(V, d.refit);
   if (jk.available) {
-    const std::vector<std::size_t> scene = sceneOf(d);
+    const std::vector<std::size_t> scene = groupViews(d.views, &ViewSums::scene).of;
     for (std::size_t v = 0; v < V; ++v) held[v] = jk.leave_one_out[scene[v]].linear;
   }
   const std::vector<std::vector<double>> e[3] = {squaredErrors(d, std::vector(V, given)),
