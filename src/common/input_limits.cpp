@@ -291,4 +291,18 @@ fs::path fileInsideDirectory(const fs::path& dir, const std::string& name,
   return dir / name;
 }
 
+const nlohmann::json& jsonMember(const nlohmann::json& object, const std::string& key,
+                                 const std::string& where) {
+  if (!object.is_object() || !object.contains(key)) {
+    throw Error(where + ": missing key \"" + key + "\"");
+  }
+  return object.at(key);
+}
+
+double shippedNumber(const nlohmann::json& object, const std::string& key, const std::string& where,
+                     bool non_negative) {
+  return jsonNumber(object, key.c_str(), non_negative ? 0.0 : -kMaxShippedMagnitude,
+                    kMaxShippedMagnitude, where);
+}
+
 }  // namespace gtbake

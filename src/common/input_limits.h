@@ -107,6 +107,15 @@ std::filesystem::path fileInsideDirectory(const std::filesystem::path& dir, cons
 double jsonNumber(const nlohmann::json& object, const char* key, double lo, double hi,
                   const std::string& where);
 
+// The member `key` of a JSON object; one-line error "<where>: missing key "KEY"" otherwise.
+const nlohmann::json& jsonMember(const nlohmann::json& object, const std::string& key,
+                                 const std::string& where);
+
+// A constant the generated code ships, or a standard error of one (non_negative): jsonNumber
+// within ±kMaxShippedMagnitude, so it prints as a finite float literal (docs/limits.md §Values).
+double shippedNumber(const nlohmann::json& object, const std::string& key, const std::string& where,
+                     bool non_negative = false);
+
 // Percent-decodes a URI path ("%2e" -> "."); malformed escapes are kept as written.
 std::string percentDecode(const std::string& text);
 

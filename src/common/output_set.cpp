@@ -127,6 +127,17 @@ std::string OutputManifest::readVerified(const std::string& name) const {
   return bytes;
 }
 
+nlohmann::json OutputManifest::readVerifiedJson(const std::string& name) const {
+  const std::filesystem::path path = dir / name;
+  try {
+    return parseJsonText(readVerified(name), path.string());
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    if (what.find("malformed JSON") == std::string::npos) throw;
+    throw Error(path.string() + ": not valid JSON (" + what + ")");
+  }
+}
+
 OutputSet::OutputSet(fs::path dir, std::string command)
     : dir_(std::move(dir)), command_(std::move(command)) {
   lock_ = std::make_unique<OutputLock>(dir_);

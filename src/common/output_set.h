@@ -45,6 +45,8 @@ struct OutputManifest {
   void verify(const std::string& name, std::string_view bytes) const;
   // Reads dir/name (a regular file inside dir), verifies it and returns its bytes.
   std::string readVerified(const std::string& name) const;
+  // readVerified, parsed as JSON; "<dir/name>: not valid JSON (…)" when it does not parse.
+  nlohmann::json readVerifiedJson(const std::string& name) const;
 };
 
 // The manifest's file name for `command` ("sweep" -> "sweep.manifest.json").

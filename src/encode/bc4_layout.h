@@ -17,7 +17,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "export/export_inputs.h"
+#include "gtso/gtso_set.h"
 #include "gtso/gtso_tables.h"
 #include "runtime/gtso_runtime.h"
 #include "texture/bc4_encoder.h"

@@ -13,7 +13,7 @@
 #include "encode/bc4_layout.h"
 #include "encode/format_errors.h"
 #include "encode/shipped_volumes.h"
-#include "export/export_inputs.h"
+#include "gtso/gtso_set.h"
 #include "gtbake_version.h"
 #include "texture/texture_containers.h"
 

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "export/export_inputs.h"
+#include "gtso/gtso_set.h"
 #include "runtime/gtso_runtime.h"
 #include "texture/texture_containers.h"
 

@@ -1,6 +1,6 @@
-// The inputs of `gtbake export`: fit.json from `gtbake fit` and the directory of `gtbake gtso`
-// (docs/fit.md §1–§1.5), read and validated into plain structs. Every problem is one gtbake::Error
-// line.
+// The inputs of `gtbake export` besides the gtso set (gtso/gtso_set.h): fit.json from `gtbake
+// fit`, the engine profiles, tune.json and the u of validate_gtso.json, read and validated into
+// plain structs. Every problem is one gtbake::Error line.
 #pragma once
 
 #include <array>
@@ -9,39 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "gtso/gtso_set.h"
+
 namespace gtbake {
-
-// A table axis as gtso.json lists it. The quantities and their maps are fixed by the runtime
-// lookup code (runtime/gtso_runtime.h) that the generated files carry; export rejects a
-// gtso.json whose axes or axis constants differ from it.
-struct GtsoAxis {
-  std::string name;      // "x", "y", "z", "w"
-  std::string quantity;  // kGtso3DAxisInfo / kGtso4DAxisInfo
-};
-
-struct GtsoTable {
-  std::string file;             // e.g. "gtso3d.f32"
-  std::vector<int> dims;        // per axis, x fastest: 3 (3D) or 4 (4D) entries
-  std::vector<GtsoAxis> axes;   // same order as dims
-  std::array<int, 3> volume{};  // texture extent: 4D folds z and w into depth = dims[2]·dims[3]
-  std::vector<float> values;    // volume[0]·volume[1]·volume[2] floats, x fastest
-  nlohmann::json meta;          // the table's gtso.json object (samples, errors, …) verbatim
-};
-
-struct GtsoInput {
-  GtsoTable table3d;
-  GtsoTable table4d;
-  double u = 0.0;     // cone-aperture constant: cos αs = u^(α²/2)
-  double u_se = 0.0;  // its standard error
-  // Closed-form S3 (gtso.json closed_form.coefficients): kGtsoS3ClosedFormCoeffs values.
-  std::vector<double> s3_closed_form;
-  nlohmann::json json;             // gtso.json verbatim (provenance)
-  std::filesystem::path json_dir;  // the directory it was read from
-  // Set by applyValidateGtsoU: u fitted to path-traced S (validate_gtso.json) replaces the table
-  // fit; validate_gtso is that file verbatim (null: u is gtso.json's table fit).
-  double u_low = 0.0, u_high = 0.0;  // its scene-level 95% interval (validate_gtso.json)
-  nlohmann::json validate_gtso;
-};
 
 struct FitInput {
   std::array<double, 6> linear{};     // a1, a0, b1, b0, c1, c0 (G = a·A³ − b·A² + c·A)
@@ -76,7 +46,6 @@ struct TunedSettingInput {
   double rmse_held_out = 0.0;      // RMSE of G there, each scene held out
 };
 
-GtsoInput readGtsoInput(const std::filesystem::path& dir);
 FitInput readFitInput(const std::filesystem::path& file);
 // Every <dir>/<estimator>/fit.json with a fit manifest, in name order; each must be a profile
 // (fit.json /input/estimator equal to its directory's name). Throws gtbake::Error.

@@ -7,7 +7,7 @@
 
 #include "encode/bc4_layout.h"
 #include "encode/shipped_volumes.h"
-#include "export/export_inputs.h"
+#include "gtso/gtso_set.h"
 #include "runtime/gtso_runtime.h"
 #include "texture/bc4_block.h"
 #include "texture/texture_containers.h"

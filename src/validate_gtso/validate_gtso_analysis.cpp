@@ -4,7 +4,7 @@
 
 #include "common/error.h"
 #include "common/progress.h"
-#include "export/export_inputs.h"
+#include "validate_gtso/validate_gtso_set.h"
 
 namespace gtbake {
 
@@ -83,17 +83,14 @@ std::vector<std::vector<Method>> rank(const Tables& t, const std::vector<Method>
 }
 
 // The cone's u on the ray-traced inputs, fitted by the run without --estimator: the u export
-// ships (read with export's own reader of validate_gtso.json), which an engine would feed its
-// estimate.
+// ships, which an engine would feed its estimate.
 double shippedU(const ValidateGtsoOptions& options) {
   const fs::path file = options.luts / "validate_gtso.json";
   if (!fs::is_regular_file(file)) {
     throw Error("validate-gtso --estimator: no " + file.string() +
                 " (run `gtbake validate-gtso` on the ray-traced inputs first: its u is scored)");
   }
-  GtsoInput shipped;
-  applyValidateGtsoU(file, &shipped);
-  return shipped.u;
+  return readValidateGtsoU(file).u;
 }
 
 // The sweep and tables read, the samples gathered; on an estimator's inputs A and b replaced.
