@@ -8,7 +8,7 @@
 #include "common/atomic_file.h"
 #include "common/output_set.h"
 #include "common/text_escape.h"
-#include "fit/svg_plot.h"
+#include "plot/svg_plot.h"
 #include "gtbake_version.h"
 
 namespace gtbake {

@@ -28,14 +28,11 @@
 #include "fit/fit_errors.h"
 #include "fit/multibounce_coeffs.h"
 #include "fit/multibounce_fit.h"
-#include "fit/simultaneous_band.h"
 #include "fit/sweep_data.h"
+#include "stats/jackknife.h"
+#include "stats/simultaneous_band.h"
 
 namespace gtbake {
-
-// Fewer scenes than this make a scene-level uncertainty meaningless (scenes; with 2 the
-// "variance" has one degree of freedom and the t quantile is 12.7).
-inline constexpr std::size_t kMinJackknifeScenes = 3;
 
 struct LeaveOneOut {
   std::string left_out;        // the scene not pooled
@@ -128,14 +125,6 @@ struct SceneJackknife {
   // difference" (the simulated maxima above it): that rule's false-alarm rate on this band.
   double pointwise_false_alarm = 0.0;
 };
-
-// The delete-one jackknife SE of a scalar from its S replicates z_(s):
-// √((S − 1)/S · Σ (z_(s) − z̄)²) (docs/fit.md §5; S ≥ 1).
-double jackknifeSe(const std::vector<double>& replicates);
-
-// Two-sided 95 % quantile of Student's t with `dof` degrees of freedom (dof ≥ 1): a table to 30,
-// then the Cornish-Fisher expansion (2.0117 at the default corpus's 47; 1.96 only in the limit).
-double studentT975(std::size_t dof);
 
 // Leave-one-group-out refits (always, with ≥ 2 groups) and, with ≥ kMinJackknifeScenes groups,
 // the jackknife covariance and band of `fit`: one replicate per group, S = group count.

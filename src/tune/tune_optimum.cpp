@@ -5,7 +5,7 @@
 #include <string>
 
 #include "common/error.h"
-#include "fit/scene_jackknife.h"
+#include "stats/jackknife.h"
 
 namespace gtbake {
 

@@ -2,7 +2,7 @@
 
 #include "common/text_escape.h"
 #include "common/text_format.h"
-#include "fit/svg_plot.h"
+#include "plot/svg_plot.h"
 #include "tune/tune_outputs.h"
 
 namespace gtbake {

@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "common/text_escape.h"
-#include "fit/scene_jackknife.h"
+#include "stats/jackknife.h"
 #include "sweep/escape_image.h"
 
 namespace gtbake {

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "common/error.h"
-#include "fit/scene_jackknife.h"
+#include "stats/jackknife.h"
 #include "validate_gtso/cone_u_fit.h"
 
 namespace gtbake {

@@ -1,4 +1,4 @@
-#include "fit/svg_plot.h"
+#include "plot/svg_plot.h"
 
 #include <cmath>
 

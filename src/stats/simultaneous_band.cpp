@@ -1,4 +1,4 @@
-#include "fit/simultaneous_band.h"
+#include "stats/simultaneous_band.h"
 
 #include <tbb/parallel_for.h>
 
