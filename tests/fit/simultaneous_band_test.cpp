@@ -7,7 +7,7 @@
 #include "common/error.h"
 #include "common/threads.h"
 #include "fit/scene_jackknife.h"
-#include "fit/simultaneous_band.h"
+#include "stats/simultaneous_band.h"
 
 namespace gtbake {
 namespace {

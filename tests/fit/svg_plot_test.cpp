@@ -6,7 +6,7 @@
 #include <regex>
 #include <string>
 
-#include "fit/svg_plot.h"
+#include "plot/svg_plot.h"
 
 namespace gtbake {
 namespace {
