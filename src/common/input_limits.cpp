@@ -200,22 +200,6 @@ nlohmann::json readJsonFile(const fs::path& path) {
   return parseJsonText(readRegularFile(path), path.string());
 }
 
-void requireDistinctSweepEntries(const nlohmann::json& scenes, const std::string& where) {
-  std::set<std::string> names, files;
-  for (const nlohmann::json& entry : scenes) {
-    if (!entry.is_object() || !entry.contains("name") || !entry["name"].is_string() ||
-        !entry.contains("file") || !entry["file"].is_string()) {
-      throw Error(where + ": every scenes[] entry needs a string 'name' and 'file'");
-    }
-    const std::string name = entry["name"].get<std::string>();
-    const std::string file = entry["file"].get<std::string>();
-    if (!names.insert(name).second ||
-        !files.insert(std::filesystem::path(file).lexically_normal().string()).second) {
-      throw Error(where + ": scene '" + name + "' (" + file + ") is listed twice");
-    }
-  }
-}
-
 std::int64_t jsonInteger(const nlohmann::json& object, const char* key, std::int64_t lo,
                          std::int64_t hi, const std::string& where) {
   const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";

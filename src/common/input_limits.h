@@ -34,8 +34,9 @@ inline constexpr Limit kMaxJsonDepth   {"GTBAKE_MAX_JSON_DEPTH",         64, "le
 
 // Fixed bounds of a sweep: what `gtbake sweep` accepts on its command line and what every reader
 // of a sweep's files checks again (docs/limits.md "Bounded work and memory").
-inline constexpr int kMaxImageSide = 8192;       // pixels per side of a sweep image
-inline constexpr int kMaxSweepSpp = 1 << 20;     // keeps counts in uint32 and a pixel's walks < 1 s
+inline constexpr int kMaxImageSide = 8192;    // pixels per side of a sweep image
+inline constexpr int kMaxSweepSpp = 1 << 20;  // keeps counts in uint32 and a pixel's walks < 1 s
+inline constexpr int kMaxSweepSpecularSpp = 1 << 16;  // VNDF samples per roughness and pixel
 inline constexpr int kMaxSweepBounces = 16;      // rho^17 <= 0.9^17 ~ 0.17 of p_17: nobody asks
 inline constexpr int kMaxSweepShards = 1 << 16;  // far more than tiles a useful sweep has per shard
 inline constexpr int kMaxSweepViews = 1 << 16;   // images of one sweep
@@ -90,11 +91,6 @@ nlohmann::json parseJsonText(std::string_view text, const std::string& where);
 // naming `where` and the key otherwise.
 std::int64_t jsonInteger(const nlohmann::json& object, const char* key, std::int64_t lo,
                          std::int64_t hi, const std::string& where);
-
-// A sweep.json `scenes` array names each view's outputs by its name and reads its image from its
-// file: each name and each file (lexically normalised) once. Throws one line, "<where>: scene
-// 'NAME' (FILE) is listed twice", or for an entry without string name and file.
-void requireDistinctSweepEntries(const nlohmann::json& scenes, const std::string& where);
 
 // `name` as a file directly or below `dir`: refuses absolute names, ".." components (also
 // percent-encoded) and empty names, so a `file` entry of sweep.json or gtso.json cannot point

@@ -7,20 +7,16 @@
 #include <cstdio>
 #include <exception>
 #include <map>
-#include <nlohmann/json.hpp>
-#include <set>
 
-#include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/image_io.h"
-#include "common/input_limits.h"
 #include "common/output_set.h"
 #include "common/provenance.h"
+#include "sweep/sweep_set.h"
 
 namespace gtbake {
 
 namespace fs = std::filesystem;
-using nlohmann::json;
 
 namespace {
 
@@ -28,19 +24,6 @@ namespace {
 // rounding only (unitless; K+1 float32 roundings of values ≤ 1 stay below 1e-6, so 1e-4 flags a
 // wrong albedo without flagging rounding).
 constexpr double kAlbedoConsistencyTolerance = 1e-4;
-
-// An image side as sweep.json records it: at most what `gtbake sweep --res` accepts.
-int requireImageSide(const json& object, const char* key, const std::string& where) {
-  return static_cast<int>(jsonInteger(object, key, 1, kMaxImageSide, where));
-}
-
-std::string requireString(const json& object, const char* key, const std::string& where) {
-  const auto it = object.find(key);
-  if (it == object.end() || !it->is_string() || it->get<std::string>().empty()) {
-    throw Error(where + ": '" + key + "' must be a non-empty string");
-  }
-  return it->get<std::string>();
-}
 
 // G(ρ) = Σ_{k=0..K} ρ^k P_k with P_0 = A (docs/sweep.md §1), evaluated by Horner's rule in double.
 double multiBounceG(const std::vector<const std::vector<float>*>& p, std::size_t pixel,
@@ -60,68 +43,11 @@ std::string albedoChannel(double rho) {
 
 namespace {
 
-// sweep.json, validated: the settings a fit needs and the scene entries.
-struct SweepJson {
-  OutputManifest manifest;  // every file read must match it (output_set.h)
-  json settings;
-  int spp = 0;
-  int bounces = 0;
-  std::vector<double> albedos;
-  json scenes;
-};
-
-SweepJson readSweepJson(const fs::path& dir) {
-  if (fs::exists(dir) && !fs::is_directory(dir)) {
-    throw Error("--sweep " + dir.string() + " is a file; pass the directory `gtbake sweep` wrote");
+// What the fit needs of the sweep's settings: at least two albedos to fit across.
+void requireFitSettings(const SweepSet& set) {
+  if (set.settings.albedos.size() < 2) {
+    throw Error(set.where + ": settings 'albedos' must list at least two albedos");
   }
-  if (!fs::is_directory(dir)) throw Error("sweep directory " + dir.string() + " does not exist");
-  const fs::path json_path = dir / "sweep.json";
-  if (!fs::is_regular_file(json_path)) {
-    throw Error(dir.string() + " is not a sweep directory (no sweep.json); run `gtbake sweep`");
-  }
-  // The sweep is one output set: every file read below must match its manifest.
-  SweepJson out;
-  out.manifest = readOutputSet(dir, "sweep");
-  const json doc = parseJsonText(out.manifest.readVerified("sweep.json"), json_path.string());
-  const std::string where = json_path.string();
-  if (!doc.is_object() || !doc.contains("settings") || !doc["settings"].is_object()) {
-    throw Error(where + ": missing 'settings' object");
-  }
-  const json& settings = doc["settings"];
-  out.settings = settings;
-  out.spp = static_cast<int>(jsonInteger(settings, "spp", 2, kMaxSweepSpp, where + " settings"));
-  out.bounces =
-      static_cast<int>(jsonInteger(settings, "bounces", 1, kMaxSweepBounces, where + " settings"));
-  if (!settings.contains("albedos") || !settings["albedos"].is_array() ||
-      settings["albedos"].size() < 2) {
-    throw Error(where + ": settings 'albedos' must list at least two albedos");
-  }
-  std::set<std::string> channels;
-  for (const json& rho : settings["albedos"]) {
-    if (!rho.is_number() || !(rho.get<double>() > 0.0 && rho.get<double>() <= 1.0)) {
-      throw Error(where + ": every albedo must be a number in (0, 1]");
-    }
-    // Each albedo is the value its G### channel names, once (a nudged or repeated list would be
-    // fitted at albedos the sweep never traced; docs/limits.md §Values).
-    const double value = rho.get<double>();
-    if (std::round(value * 100.0) / 100.0 != value ||
-        !channels.insert(albedoChannel(value)).second) {
-      throw Error(where + ": albedos must be distinct hundredths (the G### channels), got " +
-                  settings["albedos"].dump());
-    }
-    out.albedos.push_back(value);
-  }
-  if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty()) {
-    throw Error(where + ": 'scenes' must be a non-empty array");
-  }
-  out.scenes = doc["scenes"];
-  for (const json& entry : out.scenes) {
-    const std::string name = requireString(entry, "name", where + " scene");
-    const std::string file_name = requireString(entry, "file", where + " scene " + name);
-    fileInsideDirectory(dir, file_name, where + " scene " + name);
-  }
-  requireDistinctSweepEntries(out.scenes, where);
-  return out;
 }
 
 // The channels of one scene's EXR: p[s][k] for s = full, H0, H1 (k = 0 is A), g[j] = G(ρ_j).
@@ -133,7 +59,8 @@ struct SceneChannels {
 
 // Looks every channel up (a missing one is an error naming it) and rejects G### channels whose
 // albedo sweep.json does not list.
-SceneChannels requireChannels(const ExrImage& image, const std::string& file, const SweepJson& sj) {
+SceneChannels requireChannels(const ExrImage& image, const std::string& file,
+                              const SweepSettings& sj) {
   SceneChannels c;
   c.mask = &image.channel("mask", file);
   const std::string prefix[3] = {"", "H0.", "H1."};
@@ -220,41 +147,30 @@ void appendUnmaskedPoints(const SceneChannels& c, const ExrImage& image, const s
   }
 }
 
-ScenePoints loadScene(const fs::path& dir, const json& entry, const SweepJson& sj) {
-  const std::string where = (dir / "sweep.json").string();
+ScenePoints loadScene(const SweepSet& set, const SweepView& view) {
   ScenePoints out;
-  out.name = requireString(entry, "name", where + " scene");
-  // The cluster and type (sweeps before views had neither: each image was its own scene).
-  out.cluster = entry.contains("scene")
-                    ? requireString(entry, "scene", where + " scene " + out.name)
-                    : out.name;
-  out.type = entry.contains("type") ? requireString(entry, "type", where + " scene " + out.name)
-                                    : out.cluster;
-  const std::string file_name = requireString(entry, "file", where + " scene " + out.name);
-  const fs::path exr_path = fileInsideDirectory(dir, file_name, where + " scene " + out.name);
+  out.name = view.name;
+  out.cluster = view.scene;
+  out.type = view.type;
+  const fs::path exr_path = set.dir / view.file;
   if (!fs::is_regular_file(exr_path)) {
-    throw Error("scene '" + out.name + "' is listed in " + where + " but " + exr_path.string() +
+    throw Error("scene '" + out.name + "' is listed in " + set.where + " but " + exr_path.string() +
                 " is missing");
   }
   const std::string file = exr_path.string();
-  const std::string scene_where = where + " scene " + out.name;
-  const json& size = entry.contains("width") ? entry : sj.settings;
-  const ExrExpect expect{requireImageSide(size, "width", scene_where),
-                         requireImageSide(size, "height", scene_where), "sweep.json"};
-  const ExrImage image = decodeExr(sj.manifest.readVerified(file_name), file, expect);
+  const ExrExpect expect{view.width, view.height, "sweep.json"};
+  const ExrImage image = decodeExr(set.manifest.readVerified(view.file), file, expect);
+  const SweepSettings& sj = set.settings;
   std::map<std::string, std::string> provenance = {{"gtbake.spp", std::to_string(sj.spp)},
                                                    {"gtbake.bounces", std::to_string(sj.bounces)}};
-  if (sj.settings.contains("seed")) provenance["gtbake.seed"] = sj.settings["seed"].dump();
-  if (entry.contains("gltf") && entry["gltf"].is_string()) {
-    provenance["gtbake.scene"] = entry["gltf"].get<std::string>();
-  }
+  if (sj.seed) provenance["gtbake.seed"] = std::to_string(*sj.seed);
+  if (!view.gltf.empty()) provenance["gtbake.scene"] = view.gltf;
   checkAttributes(image.attributes, provenance, file, "sweep.json");
   appendUnmaskedPoints(requireChannels(image, file, sj), image, file, sj.albedos, out);
   const std::size_t count = out.full.A.size();
-  if (entry.contains("unmasked_pixels") && entry["unmasked_pixels"].is_number_integer() &&
-      entry["unmasked_pixels"].get<long long>() != static_cast<long long>(count)) {
+  if (view.unmasked_pixels && *view.unmasked_pixels != static_cast<std::int64_t>(count)) {
     throw Error(file + ": mask has " + std::to_string(count) +
-                " unmasked pixels but sweep.json says " + entry["unmasked_pixels"].dump());
+                " unmasked pixels but sweep.json says " + std::to_string(*view.unmasked_pixels));
   }
   if (count < kMinScenePoints) {
     throw Error("scene '" + out.name + "' has " + std::to_string(count) +
@@ -274,15 +190,16 @@ void appendPoints(const PointSet& from, PointSet& to) {
 }  // namespace
 
 SweepData loadSweep(const fs::path& dir) {
-  const SweepJson sj = readSweepJson(dir);
+  const SweepSet sj = readSweepSet(dir);
+  requireFitSettings(sj);
   // Scenes load in parallel; the first failure in scene order is reported, so the error does not
   // depend on the thread count.
-  const std::size_t S = sj.scenes.size();
+  const std::size_t S = sj.views.size();
   std::vector<ScenePoints> scenes(S);
   std::vector<std::exception_ptr> errors(S);
   tbb::parallel_for(std::size_t{0}, S, [&](std::size_t s) {
     try {
-      scenes[s] = loadScene(dir, sj.scenes[s], sj);
+      scenes[s] = loadScene(sj, sj.views[s]);
     } catch (...) {
       errors[s] = std::current_exception();
     }
@@ -292,9 +209,9 @@ SweepData loadSweep(const fs::path& dir) {
   }
   SweepData data;
   data.dir = dir;
-  data.spp = sj.spp;
-  data.bounces = sj.bounces;
-  data.albedos = sj.albedos;
+  data.spp = sj.settings.spp;
+  data.bounces = sj.settings.bounces;
+  data.albedos = sj.settings.albedos;
   for (const ScenePoints& scene : scenes) {
     const std::size_t begin = data.full.A.size();
     appendPoints(scene.full, data.full);

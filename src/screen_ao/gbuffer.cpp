@@ -2,14 +2,12 @@
 
 #include <cmath>
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <string>
 
 #include "common/error.h"
 #include "common/image_io.h"
-#include "common/input_limits.h"
-#include "common/output_set.h"
 #include "sweep/camera_json.h"
+#include "sweep/sweep_set.h"
 
 namespace gtbake {
 
@@ -44,38 +42,31 @@ void checkTruth(const SweepImage& image, const std::string& file) {
   }
 }
 
-SweepImage readImage(const OutputManifest& files, const nlohmann::json& entry,
-                     const std::string& where) {
+SweepImage readImage(const SweepSet& set, const SweepView& view) {
   SweepImage image;
-  try {
-    image.name = entry.at("name").get<std::string>();
-    image.group = entry.contains("scene") ? entry.at("scene").get<std::string>() : image.name;
-    const std::string file = entry.at("file").get<std::string>();
-    const int width = static_cast<int>(jsonInteger(entry, "width", 1, kMaxImageSide, where));
-    const int height = static_cast<int>(jsonInteger(entry, "height", 1, kMaxImageSide, where));
-    if (!entry.contains("camera")) {
-      throw Error(where + " entry " + image.name +
-                  " has no camera (sweep it again with this gtbake)");
-    }
-    const PerspectiveCamera camera =
-        cameraFromJson(entry.at("camera"), where + " entry " + image.name);
-    const ExrImage exr = decodeExr(files.readVerified(file), file, {width, height, where});
-    image.gbuffer = gbufferFromChannels(width, height, camera, exr.channels, file);
-    const std::size_t pixels = image.gbuffer.pixels();
-    image.truth.a = need(exr.channels, "A", pixels, file);
-    for (const char* c : {"BNX", "BNY", "BNZ"}) need(exr.channels, c, pixels, file);
-    image.truth.bent.resize(3 * pixels);
-    for (int c = 0; c < 3; ++c) {
-      const std::vector<float>& v = exr.channels.at(std::string("BN") + "XYZ"[c]);
-      for (std::size_t p = 0; p < pixels; ++p) image.truth.bent[3 * p + c] = v[p];
-    }
-    for (const auto& [name, values] : exr.channels) {
-      if (name.rfind("A_R", 0) == 0) image.truth.a_at_radius[name] = values;
-    }
-    checkTruth(image, file);
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(where + ": malformed scenes[] entry (" + e.what() + ")");
+  image.name = view.name;
+  image.group = view.scene;
+  if (view.camera.is_null()) {
+    throw Error(set.where + " entry " + image.name +
+                " has no camera (sweep it again with this gtbake)");
   }
+  const PerspectiveCamera camera = cameraFromJson(view.camera, set.where + " entry " + image.name);
+  const std::string& file = view.file;
+  const ExrImage exr =
+      decodeExr(set.manifest.readVerified(file), file, {view.width, view.height, set.where});
+  image.gbuffer = gbufferFromChannels(view.width, view.height, camera, exr.channels, file);
+  const std::size_t pixels = image.gbuffer.pixels();
+  image.truth.a = need(exr.channels, "A", pixels, file);
+  for (const char* c : {"BNX", "BNY", "BNZ"}) need(exr.channels, c, pixels, file);
+  image.truth.bent.resize(3 * pixels);
+  for (int c = 0; c < 3; ++c) {
+    const std::vector<float>& v = exr.channels.at(std::string("BN") + "XYZ"[c]);
+    for (std::size_t p = 0; p < pixels; ++p) image.truth.bent[3 * p + c] = v[p];
+  }
+  for (const auto& [name, values] : exr.channels) {
+    if (name.rfind("A_R", 0) == 0) image.truth.a_at_radius[name] = values;
+  }
+  checkTruth(image, file);
   return image;
 }
 
@@ -159,16 +150,10 @@ GBuffer gbufferFromChannels(int width, int height, const PerspectiveCamera& came
 }
 
 SweepImages readSweepImages(const std::filesystem::path& dir) {
-  const OutputManifest files = readOutputSet(dir, "sweep");
-  const std::string where = (dir / "sweep.json").string();
-  const nlohmann::json json = parseJsonText(files.readVerified("sweep.json"), where);
+  const SweepSet set = readSweepSet(dir);
   SweepImages result;
-  result.sweep_version = json.value("gtbake_version", std::string());
-  if (!json.contains("scenes") || !json["scenes"].is_array() || json["scenes"].empty()) {
-    throw Error(where + " lists no scenes");
-  }
-  requireDistinctSweepEntries(json["scenes"], where);  // before any image is decoded
-  for (const auto& entry : json["scenes"]) result.images.push_back(readImage(files, entry, where));
+  result.sweep_version = set.version;
+  for (const SweepView& view : set.views) result.images.push_back(readImage(set, view));
   return result;
 }
 

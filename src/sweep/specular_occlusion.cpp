@@ -7,16 +7,13 @@
 #include <set>
 
 #include "common/error.h"
+#include "common/input_limits.h"
 #include "common/text_format.h"
 
 #include "sweep/philox_lanes.h"
 #include "sweep/strata.h"
 
 namespace gtbake {
-
-namespace {
-constexpr int kMaxSpecularSpp = 1 << 16;
-}  // namespace
 
 void validateSpecularOptions(const std::vector<double>& roughness, int spp) {
   std::set<long> names;
@@ -30,9 +27,9 @@ void validateSpecularOptions(const std::vector<double>& roughness, int spp) {
                   " give two channels of the same name (S + r_p x 100 on three digits)");
     }
   }
-  if (!roughness.empty() && (spp < 2 || spp > kMaxSpecularSpp || spp % 2 != 0)) {
-    throw Error("--specular-spp must be an even number in [2, " + std::to_string(kMaxSpecularSpp) +
-                "], got " + std::to_string(spp));
+  if (!roughness.empty() && (spp < 2 || spp > kMaxSweepSpecularSpp || spp % 2 != 0)) {
+    throw Error("--specular-spp must be an even number in [2, " +
+                std::to_string(kMaxSweepSpecularSpp) + "], got " + std::to_string(spp));
   }
 }
 

@@ -1,16 +1,14 @@
 #include "validate_gtso/specular_sweep.h"
 
 #include <cmath>
-#include <nlohmann/json.hpp>
 #include <utility>
 
 #include "common/error.h"
 #include "common/image_io.h"
-#include "common/input_limits.h"
-#include "common/output_set.h"
 #include "common/provenance.h"
 #include "sweep/escape_image.h"
 #include "sweep/specular_occlusion.h"
+#include "sweep/sweep_set.h"
 
 namespace gtbake {
 
@@ -53,23 +51,15 @@ void checkRanges(const SpecularScene& scene, const std::string& where) {
   }
 }
 
-SpecularScene readScene(const OutputManifest& set, const nlohmann::json& entry,
-                        const SpecularSweep& sweep, const std::string& json_where) {
+SpecularScene readScene(const SweepSet& set, const SweepView& view, const SpecularSweep& sweep) {
   SpecularScene scene;
-  scene.name = entry.at("name").get<std::string>();
-  for (const char* key : {"scene", "type"}) {
-    if (!entry.contains(key)) continue;
-    if (!entry[key].is_string()) throw Error(json_where + ": " + key + " must be a string");
-    (key[0] == 's' ? scene.cluster : scene.type) = entry[key].get<std::string>();
-  }
-  const std::string file = entry.at("file").get<std::string>();
-  fileInsideDirectory(sweep.dir, file, json_where);
-  ExrExpect expect;
-  expect.width = static_cast<int>(jsonInteger(entry, "width", 1, kMaxImageSide, json_where));
-  expect.height = static_cast<int>(jsonInteger(entry, "height", 1, kMaxImageSide, json_where));
-  expect.source = json_where;
+  scene.name = view.name;
+  scene.cluster = view.scene;
+  scene.type = view.type;
+  const std::string& file = view.file;
+  const ExrExpect expect{view.width, view.height, set.where};
   const std::string where = (sweep.dir / file).string();
-  const ExrImage image = decodeExr(set.readVerified(file), where, expect);
+  const ExrImage image = decodeExr(set.manifest.readVerified(file), where, expect);
   // The roughness list must be the one these channels were traced at, not a nudged copy.
   checkAttributes(image.attributes,
                   {{"gtbake.spp", std::to_string(sweep.spp)},
@@ -107,44 +97,31 @@ SpecularScene readScene(const OutputManifest& set, const nlohmann::json& entry,
   return scene;
 }
 
-// sweep.json's settings: spp, the roughness list (values in [0, 1] with distinct channel names,
-// as `gtbake sweep` checks its options) and the VNDF samples.
-void readSettings(const nlohmann::json& settings, const std::string& where, SpecularSweep* sweep) {
-  sweep->spp = static_cast<int>(jsonInteger(settings, "spp", 2, 1 << 20, where));
-  if (!settings.contains("specular_roughness") || !settings["specular_roughness"].is_array() ||
-      settings["specular_roughness"].empty()) {
+// The sweep's settings as specular occlusion needs them: the roughness list (checked as `gtbake
+// sweep` checks its options) and the VNDF samples.
+void readSettings(const SweepSet& set, SpecularSweep* sweep) {
+  sweep->spp = set.settings.spp;
+  if (set.settings.specular_roughness.empty()) {
     throw Error("sweep " + sweep->dir.string() + " " + kNoSpecular);
   }
-  sweep->roughness = settings["specular_roughness"].get<std::vector<double>>();
-  sweep->specular_spp = static_cast<int>(jsonInteger(settings, "specular_spp", 2, 1 << 20, where));
+  sweep->roughness = set.settings.specular_roughness;
+  sweep->specular_spp = set.settings.specular_spp;
   try {
     validateSpecularOptions(sweep->roughness, sweep->specular_spp);
   } catch (const Error& e) {
-    throw Error(where + ": settings do not describe a sweep gtbake could trace (" + e.what() + ")");
+    throw Error(set.where + ": settings do not describe a sweep gtbake could trace (" + e.what() +
+                ")");
   }
 }
 
 }  // namespace
 
 SpecularSweep readSpecularSweep(const fs::path& dir) {
-  const fs::path json_path = dir / "sweep.json";
-  if (!fs::is_regular_file(json_path))
-    throw Error(dir.string() + " is not a sweep directory (no sweep.json); run `gtbake sweep`");
-  // The sweep is one output set: every file read is verified against its manifest.
-  const OutputManifest set = readOutputSet(dir, "sweep");
-  const nlohmann::json json = parseJsonText(set.readVerified("sweep.json"), json_path.string());
+  const SweepSet set = readSweepSet(dir);
   SpecularSweep sweep;
   sweep.dir = dir;
-  try {
-    readSettings(json.at("settings"), json_path.string(), &sweep);
-    requireDistinctSweepEntries(json.at("scenes"), json_path.string());  // before any decode
-    for (const nlohmann::json& entry : json.at("scenes")) {
-      sweep.scenes.push_back(readScene(set, entry, sweep, json_path.string()));
-    }
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(json_path.string() + ": unexpected layout (" + std::string(e.what()) + ")");
-  }
-  if (sweep.scenes.empty()) throw Error(json_path.string() + " lists no scenes");
+  readSettings(set, &sweep);
+  for (const SweepView& view : set.views) sweep.scenes.push_back(readScene(set, view, sweep));
   return sweep;
 }
 

@@ -123,7 +123,7 @@ TEST(ValueBounds, ValidateGtsoRefusesRoughnessListsItWasNotTracedWith) {
   const std::string good = readBytes(sweep / "sweep.json");
   const std::string exr = readBytes(sweep / "box_b.exr");
   const std::vector<std::pair<json, std::string>> lists = {
-      {{0.1, 0.1}, "same name"},                        // duplicated
+      {{0.1, 0.1}, "distinct hundredths"},              // duplicated
       {{0.1000001, 0.4}, "gtbake.specular_roughness"},  // nudged: the same channel names
       {{0.1, 1.5}, "[0, 1]"},
       {json::array(), "no specular channels"}};

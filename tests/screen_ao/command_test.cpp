@@ -87,7 +87,7 @@ void expectOneLineError(const ScreenAoOptions& o, const std::string& needle) {
 
 TEST_F(ScreenAoCommand, RejectsBadInput) {
   const fs::path swept = sweep();
-  expectOneLineError(options(dir_.path() / "nowhere", "a"), "manifest");
+  expectOneLineError(options(dir_.path() / "nowhere", "a"), "does not exist");
   ScreenAoOptions bad = options(swept, "b");
   bad.settings.runtime.frames = 0;
   expectOneLineError(bad, "frames");
