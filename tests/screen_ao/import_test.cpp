@@ -228,6 +228,43 @@ TEST(ScreenAoImport, BuiltInEstimatorRoundTripsBitForBit) {
             fitJson(out, "hbao", r.root / "fit_hbao.json").dump());
 }
 
+// b̂ given in view space (VBNX VBNY VBNZ = the view matrix of gbuffer.json times the world b̂)
+// scores as the world-space b̂ up to float rounding; Â to the bit. No built-in estimator runs.
+TEST(ScreenAoImport, ViewSpaceBentNormalsMatchWorldSpace) {
+  const RoundTrip& r = roundTrip();
+  const fs::path view_dir = r.root / "user_view";
+  fs::create_directories(view_dir);
+  const json gbuffer = json::parse(test::readBytes(r.root / "gbuffer" / "gbuffer.json"));
+  for (const json& image : gbuffer["images"]) {
+    const std::string file = image["exr"];
+    const ExrImage exr = readExr(r.user / file);
+    const Eigen::Matrix3d rotation = matrixOf(image["view"]).topLeftCorner<3, 3>();
+    std::vector<ExrChannel> channels = {
+        {"A", exr.channels.at("A")}, {"VBNX", {}}, {"VBNY", {}}, {"VBNZ", {}}};
+    for (std::size_t p = 0; p < exr.channels.at("A").size(); ++p) {
+      const Eigen::Vector3d world(exr.channels.at("BNX")[p], exr.channels.at("BNY")[p],
+                                  exr.channels.at("BNZ")[p]);
+      const Eigen::Vector3d view = rotation * world;
+      for (int c = 0; c < 3; ++c) channels[1 + c].pixels.push_back(static_cast<float>(view[c]));
+    }
+    writeExr(view_dir / file, exr.width, exr.height, channels);
+  }
+  ScreenAoOptions o = importOptions(r.root / "view", r.user, 1.0);
+  o.estimators = {};
+  o.imports.push_back({"my-view", view_dir, 1.0});
+  runScreenAo(o);
+  const json doc = json::parse(test::readBytes(o.out / "screen_ao.json"));
+  ASSERT_EQ(doc["estimators"].size(), 2u);
+  const json& world = doc["estimators"]["my-pass"]["scenes"]["all"]["all"];
+  const json& view = doc["estimators"]["my-view"]["scenes"]["all"]["all"];
+  for (const char* key : {"pixels", "bias", "rmse", "bias_at_radius", "rmse_at_radius"}) {
+    EXPECT_EQ(world[key], view[key]) << key;
+  }
+  EXPECT_NEAR(world["bent_mean_deg"].get<double>(), view["bent_mean_deg"].get<double>(), 1e-4);
+  EXPECT_NEAR(world["bent_p95_deg"].get<double>(), view["bent_p95_deg"].get<double>(), 1e-4);
+  EXPECT_GT(world["bent_mean_deg"].get<double>(), 1.0);  // the comparison is not of zeros
+}
+
 // One line, non-zero exit (an Error), no output set.
 void expectImportError(const ScreenAoOptions& o, const std::string& needle) {
   try {
