@@ -138,6 +138,18 @@ std::vector<EstimatorRun> runEstimators(const ScreenAoOptions& o,
   return runs;
 }
 
+nlohmann::ordered_json imagesJson(const std::vector<SweepImage>& images) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const SweepImage& image : images) {
+    list.push_back({{"name", image.name},
+                    {"scene", image.group},
+                    {"file", fileSlug(image.name) + ".exr"},
+                    {"width", image.gbuffer.width},
+                    {"height", image.gbuffer.height}});
+  }
+  return list;
+}
+
 // An imported pass's settings in screen_ao.json: where it was read and its radius (null: none).
 nlohmann::ordered_json importSettingsJson(const ImportedEstimator& e, const fs::path& out) {
   nlohmann::ordered_json j;
@@ -164,6 +176,33 @@ std::vector<std::vector<AoEstimate>> readImports(const ScreenAoOptions& o,
   return out;
 }
 
+// The run's settings: the sweep, every estimator's name (built-in ones, then the imported ones)
+// and each one's settings.
+nlohmann::ordered_json runSettingsJson(const ScreenAoOptions& o) {
+  nlohmann::ordered_json settings;
+  settings["sweep"] = relativePath(o.sweep, o.out);
+  settings["estimators"] = o.estimators;
+  for (const std::string& name : o.estimators) settings[name] = settingsJson(o.settings, name);
+  for (const ImportedEstimator& e : o.imports) {
+    settings["estimators"].push_back(e.name);
+    settings[e.name] = importSettingsJson(e, o.out);
+  }
+  return settings;
+}
+
+// Appends the imported passes' estimates and runs (no time of their own: seconds 0).
+void addImports(const ScreenAoOptions& o, const std::vector<SweepImage>& images,
+                std::vector<std::vector<AoEstimate>>* imported, std::vector<EstimatorRun>* runs,
+                std::vector<std::vector<AoEstimate>>* estimates) {
+  for (std::size_t k = 0; k < o.imports.size(); ++k) {
+    const ImportedEstimator& e = o.imports[k];
+    estimates->push_back(std::move((*imported)[k]));
+    runs->push_back(describeRun(e.name, importSettingsJson(e, o.out), e.radius, images,
+                                estimates->back(), 0.0));
+    printRun(runs->back());
+  }
+}
+
 }  // namespace
 
 ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
@@ -180,28 +219,14 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
   std::vector<std::vector<AoEstimate>> imported = readImports(o, sweep.images);
   OutputSet output(o.out, "screen_ao");
 
-  nlohmann::ordered_json settings;
-  settings["sweep"] = relativePath(o.sweep, o.out);
-  settings["estimators"] = o.estimators;
-  for (const std::string& name : o.estimators) settings[name] = settingsJson(o.settings, name);
-  std::vector<std::string> names = o.estimators;
-  for (const ImportedEstimator& e : o.imports) {
-    names.push_back(e.name);
-    settings["estimators"].push_back(e.name);
-    settings[e.name] = importSettingsJson(e, o.out);
-  }
+  const nlohmann::ordered_json settings = runSettingsJson(o);
+  const std::vector<std::string> names = settings["estimators"].get<std::vector<std::string>>();
 
   std::printf("%-16s %8s %8s %8s %8s %8s %8s %8s\n", "estimator", "bias", "RMSE", "bias@R",
               "RMSE@R", "bn mean", "bn p95", "s/MP");
   std::vector<std::vector<AoEstimate>> estimates(o.estimators.size());
   std::vector<EstimatorRun> runs = runEstimators(o, sweep.images, &estimates);
-  for (std::size_t k = 0; k < o.imports.size(); ++k) {
-    const ImportedEstimator& e = o.imports[k];
-    estimates.push_back(std::move(imported[k]));
-    runs.push_back(describeRun(e.name, importSettingsJson(e, o.out), e.radius, sweep.images,
-                               estimates.back(), 0.0));
-    printRun(runs.back());
-  }
+  addImports(o, sweep.images, &imported, &runs, &estimates);
   nlohmann::ordered_json estimators_json = nlohmann::ordered_json::object();
   ScreenAoResult result;
   for (const EstimatorRun& run : runs) {
@@ -216,14 +241,7 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
   json["gtbake_version"] = GTBAKE_VERSION;
   json["sweep_gtbake_version"] = sweep.sweep_version;
   json["settings"] = settings;
-  json["images"] = nlohmann::ordered_json::array();
-  for (const SweepImage& image : sweep.images) {
-    json["images"].push_back({{"name", image.name},
-                              {"scene", image.group},
-                              {"file", fileSlug(image.name) + ".exr"},
-                              {"width", image.gbuffer.width},
-                              {"height", image.gbuffer.height}});
-  }
+  json["images"] = imagesJson(sweep.images);
   json["estimators"] = std::move(estimators_json);
   if (std::find(o.estimators.begin(), o.estimators.end(), "gtao-reference") != o.estimators.end()) {
     std::vector<const GBuffer*> gbuffers;
