@@ -107,7 +107,8 @@ void addImageFiles(OutputSet* output, const GBuffer& g, const std::string& slug)
 Eigen::Matrix4d exportViewMatrix(const PerspectiveCamera& camera) {
   Eigen::Matrix4d v = Eigen::Matrix4d::Identity();
   v.topLeftCorner<3, 3>() = camera.basis.transpose();
-  v.topRightCorner<3, 1>() = -(camera.basis.transpose() * camera.position);
+  // 0 − x rather than −x: a zero offset prints as 0.0, not −0.0.
+  v.topRightCorner<3, 1>() = Eigen::Vector3d::Zero() - camera.basis.transpose() * camera.position;
   return v;
 }
 
