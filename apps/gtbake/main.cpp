@@ -26,6 +26,7 @@
 #include "option_values.h"
 #include "pipeline/all_command.h"
 #include "scene/scenes_command.h"
+#include "screen_ao/gbuffer_export.h"
 #include "screen_ao/screen_ao_command.h"
 #include "sweep/merge_command.h"
 #include "sweep/specular_occlusion.h"
@@ -334,23 +335,43 @@ Subcommand addScreenAoCommand(CLI::App& app) {
   auto options = std::make_shared<ScreenAoOptions>();
   auto estimators = std::make_shared<std::string>("all");
   auto settings = std::make_shared<std::vector<std::string>>();
+  auto imports = std::make_shared<std::vector<std::string>>();
   auto* parser = app.add_subcommand(
       "screen-ao", "Screen-space A and bent normals from a sweep's G-buffer vs ray-traced truth");
   parser->add_option("--sweep", options->sweep, "Directory written by gtbake sweep")->required();
   parser->add_option("--out", options->out, "Output directory")->required();
   parser
       ->add_option("--estimators", *estimators,
-                   "gtao-reference,gtao-runtime,hbao,bitmask-uniform,bitmask-cosine or all")
+                   "gtao-reference,gtao-runtime,hbao,bitmask-uniform,bitmask-cosine, all or none")
       ->capture_default_str();
   parser->add_option("--setting", *settings,
                      "ESTIMATOR.KEY=VALUE, repeatable (e.g. gtao-runtime.directions=8, "
                      "all.radius=0.5; docs/screen_ao.md)");
+  parser->add_option("--import", *imports,
+                     "NAME=DIR[:radius=R], repeatable: your own pass's <image>.exr files (channel "
+                     "A, optional BNX BNY BNZ) computed on `gtbake gbuffer`'s output, scored as "
+                     "estimator NAME (docs/screen_ao.md §8)");
   addThreadsOption(parser, options->threads);
-  return {parser, [options, estimators, settings](const RunContext& context) {
+  return {parser, [options, estimators, settings, imports](const RunContext& context) {
             options->estimators = parseEstimatorList(*estimators);
             for (const std::string& s : *settings) applySetting(&options->settings, s);
+            for (const std::string& s : *imports) options->imports.push_back(parseImport(s));
             options->progress = context.progress;
             runScreenAo(*options);
+            return 0;
+          }};
+}
+
+Subcommand addGbufferCommand(CLI::App& app) {
+  auto options = std::make_shared<GbufferExportOptions>();
+  auto* parser = app.add_subcommand(
+      "gbuffer",
+      "Write a sweep's G-buffer (depth, normals, cameras) for your own screen-space pass");
+  parser->add_option("--sweep", options->sweep, "Directory written by gtbake sweep")->required();
+  parser->add_option("--out", options->out, "Output directory")->required();
+  addThreadsOption(parser, options->threads);
+  return {parser, [options](const RunContext&) {
+            runGbufferExport(*options);
             return 0;
           }};
 }
@@ -428,6 +449,7 @@ std::vector<Subcommand> registerSubcommands(CLI::App& app) {
   subcommands.push_back(addEncodeCommand(app));
   subcommands.push_back(addExportCommand(app));
   subcommands.push_back(addScreenAoCommand(app));
+  subcommands.push_back(addGbufferCommand(app));
   subcommands.push_back(addTuneCommand(app));
   subcommands.push_back(addAllCommand(app));
   return subcommands;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "screen_ao/screen_ao_import.h"
 #include "screen_ao/screen_ao_settings.h"
 #include "sweep/sweep_command.h"
 
@@ -106,11 +107,11 @@ AoInput parseAoInput(const std::string& estimator, const std::string& screen_ao,
     if (!screen_ao.empty()) throw Error("--screen-ao needs --estimator (which estimator's A)");
     return input;
   }
-  const std::vector<std::string>& names = screenAoEstimatorNames();
-  if (std::find(names.begin(), names.end(), estimator) == names.end()) {
+  if (!isEstimatorName(estimator)) {
     std::string list;
-    for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw Error("--estimator '" + estimator + "' is not a screen-ao estimator (" + list + ")");
+    for (const std::string& n : screenAoEstimatorNames()) list += (list.empty() ? "" : ", ") + n;
+    throw Error("--estimator '" + estimator + "' is not a screen-ao estimator (" + list +
+                ", or a name given to `gtbake screen-ao --import`)");
   }
   input.estimator = estimator;
   input.screen_ao = screen_ao.empty() ? sweep / "screen_ao" : std::filesystem::path(screen_ao);

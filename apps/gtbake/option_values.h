@@ -35,7 +35,8 @@ std::vector<double> parseSpecularRoughness(const std::string& text);
 
 // --estimator NAME [--screen-ao DIR] of fit and validate: the A a profile is fitted on
 // (docs/profiles.md). An empty name is the ray-traced A (then --screen-ao must be empty too); a
-// name must be a `gtbake screen-ao` estimator; DIR defaults to <sweep>/screen_ao, where `gtbake
+// name must be a `gtbake screen-ao` estimator, built-in or imported (isEstimatorName; the set
+// itself says whether it holds it); DIR defaults to <sweep>/screen_ao, where `gtbake
 // all` writes it. Throws gtbake::Error.
 AoInput parseAoInput(const std::string& estimator, const std::string& screen_ao,
                      const std::filesystem::path& sweep);

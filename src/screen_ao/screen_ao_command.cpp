@@ -70,20 +70,21 @@ std::vector<std::vector<AoEstimate>> runPass(const ScreenAoOptions& o,
   return out;
 }
 
-// One estimator's run from its estimates and seconds: settings, megapixels and errors.
-EstimatorRun describeRun(const ScreenAoOptions& o, const std::string& name,
+// One estimator's run from its estimates and seconds: settings, megapixels and errors (at
+// `radius`, when the sweep holds A_R of it in every image; radius 0 = none).
+EstimatorRun describeRun(const std::string& name, nlohmann::ordered_json settings, double radius,
                          const std::vector<SweepImage>& images,
                          const std::vector<AoEstimate>& estimates, double seconds) {
   EstimatorRun run;
   run.name = name;
-  run.settings = settingsJson(o.settings, name);
-  run.radius = estimatorRadius(o.settings, name);
+  run.settings = std::move(settings);
+  run.radius = radius;
   run.seconds = seconds;
   double pixels = 0.0;
   for (const SweepImage& image : images) pixels += static_cast<double>(image.gbuffer.pixels());
   run.megapixels = 1e-6 * pixels;
-  const std::string channel = gbufferRadiusChannelName(run.radius);
-  bool have = true;
+  const std::string channel = radius > 0.0 ? gbufferRadiusChannelName(run.radius) : "";
+  bool have = radius > 0.0;
   for (const SweepImage& image : images) have = have && image.truth.a_at_radius.count(channel) > 0;
   if (have) run.radius_channel = channel;
   run.errors = errorStatistics(images, estimates, have ? run.radius : -1.0);
@@ -128,10 +129,78 @@ std::vector<EstimatorRun> runEstimators(const ScreenAoOptions& o,
         done[at] = true;
       }
     }
-    runs.push_back(describeRun(o, o.estimators[e], images, (*estimates)[e], seconds[e]));
+    const std::string& name = o.estimators[e];
+    runs.push_back(describeRun(name, settingsJson(o.settings, name),
+                               estimatorRadius(o.settings, name), images, (*estimates)[e],
+                               seconds[e]));
     printRun(runs.back());
   }
   return runs;
+}
+
+nlohmann::ordered_json imagesJson(const std::vector<SweepImage>& images) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const SweepImage& image : images) {
+    list.push_back({{"name", image.name},
+                    {"scene", image.group},
+                    {"file", fileSlug(image.name) + ".exr"},
+                    {"width", image.gbuffer.width},
+                    {"height", image.gbuffer.height}});
+  }
+  return list;
+}
+
+// An imported pass's settings in screen_ao.json: where it was read and its radius (null: none).
+nlohmann::ordered_json importSettingsJson(const ImportedEstimator& e, const fs::path& out) {
+  nlohmann::ordered_json j;
+  j["import"] = relativePath(e.dir, out);
+  j["radius"] = e.radius > 0.0 ? nlohmann::ordered_json(e.radius) : nlohmann::ordered_json(nullptr);
+  return j;
+}
+
+// Every imported pass's estimates of every image ([import][image]), read and checked before
+// anything runs (docs/screen_ao.md §8).
+std::vector<std::vector<AoEstimate>> readImports(const ScreenAoOptions& o,
+                                                 const std::vector<SweepImage>& images) {
+  std::vector<std::vector<AoEstimate>> out;
+  for (std::size_t k = 0; k < o.imports.size(); ++k) {
+    const ImportedEstimator& e = o.imports[k];
+    for (std::size_t l = 0; l < k; ++l) {
+      if (o.imports[l].name == e.name) throw Error("--import: '" + e.name + "' is imported twice");
+    }
+    checkImportedName(e.name, "--import");
+    checkImportRadius(e, images);
+    out.emplace_back();
+    for (const SweepImage& image : images) out.back().push_back(readImportedEstimate(e, image));
+  }
+  return out;
+}
+
+// The run's settings: the sweep, every estimator's name (built-in ones, then the imported ones)
+// and each one's settings.
+nlohmann::ordered_json runSettingsJson(const ScreenAoOptions& o) {
+  nlohmann::ordered_json settings;
+  settings["sweep"] = relativePath(o.sweep, o.out);
+  settings["estimators"] = o.estimators;
+  for (const std::string& name : o.estimators) settings[name] = settingsJson(o.settings, name);
+  for (const ImportedEstimator& e : o.imports) {
+    settings["estimators"].push_back(e.name);
+    settings[e.name] = importSettingsJson(e, o.out);
+  }
+  return settings;
+}
+
+// Appends the imported passes' estimates and runs (no time of their own: seconds 0).
+void addImports(const ScreenAoOptions& o, const std::vector<SweepImage>& images,
+                std::vector<std::vector<AoEstimate>>* imported, std::vector<EstimatorRun>* runs,
+                std::vector<std::vector<AoEstimate>>* estimates) {
+  for (std::size_t k = 0; k < o.imports.size(); ++k) {
+    const ImportedEstimator& e = o.imports[k];
+    estimates->push_back(std::move((*imported)[k]));
+    runs->push_back(describeRun(e.name, importSettingsJson(e, o.out), e.radius, images,
+                                estimates->back(), 0.0));
+    printRun(runs->back());
+  }
 }
 
 }  // namespace
@@ -140,22 +209,24 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   if (o.sweep.empty()) throw Error("no sweep directory given: pass --sweep DIR");
   if (o.out.empty()) throw Error("no output directory given: pass --out DIR");
-  if (o.estimators.empty()) throw Error("--estimators lists no estimator");
+  if (o.estimators.empty() && o.imports.empty()) {
+    throw Error("--estimators lists no estimator and nothing is imported");
+  }
   validateSettings(o.settings);
   const OutputLock lock(o.out);  // for the whole run (output_lock.h)
   const ThreadLimit threads(o.threads);
   const SweepImages sweep = readSweepImages(o.sweep);
+  std::vector<std::vector<AoEstimate>> imported = readImports(o, sweep.images);
   OutputSet output(o.out, "screen_ao");
 
-  nlohmann::ordered_json settings;
-  settings["sweep"] = relativePath(o.sweep, o.out);
-  settings["estimators"] = o.estimators;
-  for (const std::string& name : o.estimators) settings[name] = settingsJson(o.settings, name);
+  const nlohmann::ordered_json settings = runSettingsJson(o);
+  const std::vector<std::string> names = settings["estimators"].get<std::vector<std::string>>();
 
   std::printf("%-16s %8s %8s %8s %8s %8s %8s %8s\n", "estimator", "bias", "RMSE", "bias@R",
               "RMSE@R", "bn mean", "bn p95", "s/MP");
   std::vector<std::vector<AoEstimate>> estimates(o.estimators.size());
-  const std::vector<EstimatorRun> runs = runEstimators(o, sweep.images, &estimates);
+  std::vector<EstimatorRun> runs = runEstimators(o, sweep.images, &estimates);
+  addImports(o, sweep.images, &imported, &runs, &estimates);
   nlohmann::ordered_json estimators_json = nlohmann::ordered_json::object();
   ScreenAoResult result;
   for (const EstimatorRun& run : runs) {
@@ -170,14 +241,7 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
   json["gtbake_version"] = GTBAKE_VERSION;
   json["sweep_gtbake_version"] = sweep.sweep_version;
   json["settings"] = settings;
-  json["images"] = nlohmann::ordered_json::array();
-  for (const SweepImage& image : sweep.images) {
-    json["images"].push_back({{"name", image.name},
-                              {"scene", image.group},
-                              {"file", fileSlug(image.name) + ".exr"},
-                              {"width", image.gbuffer.width},
-                              {"height", image.gbuffer.height}});
-  }
+  json["images"] = imagesJson(sweep.images);
   json["estimators"] = std::move(estimators_json);
   if (std::find(o.estimators.begin(), o.estimators.end(), "gtao-reference") != o.estimators.end()) {
     std::vector<const GBuffer*> gbuffers;
@@ -195,7 +259,7 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
   tbb::parallel_for(std::size_t(0), sweep.images.size(), [&](std::size_t k) {
     std::vector<AoEstimate> per_image;
     for (const auto& e : estimates) per_image.push_back(e[k]);
-    exrs[k] = screenAoExr(sweep.images[k], o.estimators, per_image);
+    exrs[k] = screenAoExr(sweep.images[k], names, per_image);
   });
   for (std::size_t k = 0; k < sweep.images.size(); ++k) {
     output.add(fileSlug(sweep.images[k].name) + ".exr", exrs[k]);

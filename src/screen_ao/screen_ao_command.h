@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "screen_ao/screen_ao_import.h"
 #include "screen_ao/screen_ao_settings.h"
 
 namespace gtbake {
@@ -13,7 +14,9 @@ namespace gtbake {
 struct ScreenAoOptions {
   std::filesystem::path sweep;  // a directory written by gtbake sweep (with G-buffer channels)
   std::filesystem::path out;
-  std::vector<std::string> estimators = screenAoEstimatorNames();
+  std::vector<std::string> estimators = screenAoEstimatorNames();  // built-in, may be empty
+  // Engines' own passes (docs/screen_ao.md §8), scored after the built-in ones, in this order.
+  std::vector<ImportedEstimator> imports;
   ScreenAoSettings settings;
   int threads = 0;
   bool progress = true;

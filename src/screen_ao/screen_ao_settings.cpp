@@ -83,6 +83,7 @@ const std::vector<std::string>& screenAoEstimatorNames() {
 
 std::vector<std::string> parseEstimatorList(const std::string& text) {
   if (text == "all") return screenAoEstimatorNames();
+  if (text == "none") return {};  // only imported passes (docs/screen_ao.md §8)
   std::vector<std::string> list;
   std::size_t begin = 0;
   while (true) {
@@ -92,7 +93,7 @@ std::vector<std::string> parseEstimatorList(const std::string& text) {
     if (std::find(known.begin(), known.end(), word) == known.end()) {
       throw Error("--estimators: unknown estimator '" + word +
                   "' (known: gtao-reference, gtao-runtime, hbao, bitmask-uniform, "
-                  "bitmask-cosine, or all)");
+                  "bitmask-cosine, all or none)");
     }
     if (std::find(list.begin(), list.end(), word) != list.end()) {
       throw Error("--estimators: '" + word + "' is listed twice");

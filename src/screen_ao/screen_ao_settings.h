@@ -24,7 +24,8 @@ struct ScreenAoSettings {
   BitmaskSettings bitmask_cosine{1.0, 8, 8, 0.5, SectorWeights::kCosine};
 };
 
-// "a,b,c" of known names, no repeats ("all" = every one). Throws gtbake::Error naming the word.
+// "a,b,c" of known names, no repeats ("all" = every one, "none" = no built-in one). Throws
+// gtbake::Error naming the word.
 std::vector<std::string> parseEstimatorList(const std::string& text);
 
 // Applies "ESTIMATOR.KEY=VALUE" (ESTIMATOR "all" with KEY radius sets every radius); throws a

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "common/error.h"
 #include "common/input_limits.h"
@@ -22,6 +23,9 @@ constexpr std::uint32_t kDdsCaps2Volume = 0x200000;
 constexpr std::uint32_t kDxgiFormatBc4Unorm = 80;
 constexpr std::uint32_t kDxgiFormatR16Unorm = 56;
 constexpr std::uint32_t kDxgiFormatR8Unorm = 61;
+constexpr std::uint32_t kDxgiFormatR32Float = 41;
+constexpr std::uint32_t kDxgiFormatR32G32B32A32Float = 2;
+constexpr std::uint32_t kD3d10ResourceDimensionTexture2d = 3;
 constexpr std::uint32_t kD3d10ResourceDimensionTexture3d = 4;
 
 // KTX2 constants (KTX 2.0 specification; Khronos Data Format Specification 1.3).
@@ -134,6 +138,43 @@ void expect(bool ok, const std::string& where, const char* field) {
   if (!ok) throw Error(where + ": unexpected " + field + " (not a volume gtbake writes)");
 }
 
+// The fields of a DDS_HEADER + DDS_HEADER_DXT10 that differ between the files gtbake writes.
+struct DdsFields {
+  std::uint32_t flags = 0;  // beyond DDSD_CAPS | HEIGHT | WIDTH | PIXELFORMAT
+  std::uint32_t width = 0, height = 0, depth = 0, pitch = 0;
+  std::uint32_t caps = 0, caps2 = 0;
+  std::uint32_t dxgi = 0, dimension = 0;
+};
+
+// "DDS " + DDS_HEADER (DDPF_FOURCC "DX10", one mip level) + DDS_HEADER_DXT10 (arraySize 1).
+std::string ddsHeader(const DdsFields& f) {
+  std::string s;
+  putLe<4>(s, kDdsMagic);
+  putLe<4>(s, 124);  // DDS_HEADER.dwSize
+  putLe<4>(s, kDdsdCaps | kDdsdHeight | kDdsdWidth | kDdsdPixelFormat | f.flags);
+  putLe<4>(s, f.height);
+  putLe<4>(s, f.width);
+  putLe<4>(s, f.pitch);
+  putLe<4>(s, f.depth);
+  putLe<4>(s, 1);                               // dwMipMapCount
+  for (int i = 0; i < 11; ++i) putLe<4>(s, 0);  // dwReserved1
+  putLe<4>(s, 32);                              // DDS_PIXELFORMAT.dwSize
+  putLe<4>(s, kDdpfFourCc);
+  putLe<4>(s, kFourCcDx10);
+  for (int i = 0; i < 5; ++i) putLe<4>(s, 0);  // RGB bit count and masks
+  putLe<4>(s, f.caps);
+  putLe<4>(s, f.caps2);
+  putLe<4>(s, 0);  // dwCaps3
+  putLe<4>(s, 0);  // dwCaps4
+  putLe<4>(s, 0);  // dwReserved2
+  putLe<4>(s, f.dxgi);
+  putLe<4>(s, f.dimension);
+  putLe<4>(s, 0);  // miscFlag
+  putLe<4>(s, 1);  // arraySize
+  putLe<4>(s, 0);  // miscFlags2: DDS_ALPHA_MODE_UNKNOWN
+  return s;
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> quantizeUnorm(const float* values, std::size_t count,
@@ -179,36 +220,44 @@ std::string makeDds(const VolumeImage& image) {
   const bool bc4 = image.format == TexelFormat::kBc4;
   // dwPitchOrLinearSize: BC4 the bytes of one slice of the top level (DirectXTex), else the
   // bytes of one row.
-  const std::uint32_t pitch =
-      bc4 ? static_cast<std::uint32_t>(image.width / 4) * (image.height / 4) * kBc4BlockBytes
-          : static_cast<std::uint32_t>(image.width) * texelBytes(image.format);
-  std::string s;
-  putLe<4>(s, kDdsMagic);
-  putLe<4>(s, 124);  // DDS_HEADER.dwSize
-  putLe<4>(s, kDdsdCaps | kDdsdHeight | kDdsdWidth | kDdsdPixelFormat | kDdsdDepth |
-                  (bc4 ? kDdsdLinearSize : kDdsdPitch));
-  putLe<4>(s, image.height);
-  putLe<4>(s, image.width);
-  putLe<4>(s, pitch);
-  putLe<4>(s, image.depth);
-  putLe<4>(s, 1);                               // dwMipMapCount
-  for (int i = 0; i < 11; ++i) putLe<4>(s, 0);  // dwReserved1
-  putLe<4>(s, 32);                              // DDS_PIXELFORMAT.dwSize
-  putLe<4>(s, kDdpfFourCc);
-  putLe<4>(s, kFourCcDx10);
-  for (int i = 0; i < 5; ++i) putLe<4>(s, 0);  // RGB bit count and masks
-  putLe<4>(s, kDdsCapsTexture | kDdsCapsComplex);
-  putLe<4>(s, kDdsCaps2Volume);
-  putLe<4>(s, 0);  // dwCaps3
-  putLe<4>(s, 0);  // dwCaps4
-  putLe<4>(s, 0);  // dwReserved2
-  putLe<4>(s, bc4 ? kDxgiFormatBc4Unorm
-                  : (image.format == TexelFormat::kR16 ? kDxgiFormatR16Unorm : kDxgiFormatR8Unorm));
-  putLe<4>(s, kD3d10ResourceDimensionTexture3d);
-  putLe<4>(s, 0);  // miscFlag
-  putLe<4>(s, 1);  // arraySize
-  putLe<4>(s, 0);  // miscFlags2: DDS_ALPHA_MODE_UNKNOWN
+  DdsFields f;
+  f.flags = kDdsdDepth | (bc4 ? kDdsdLinearSize : kDdsdPitch);
+  f.width = static_cast<std::uint32_t>(image.width);
+  f.height = static_cast<std::uint32_t>(image.height);
+  f.depth = static_cast<std::uint32_t>(image.depth);
+  f.pitch =
+      bc4 ? f.width / 4 * (f.height / 4) * kBc4BlockBytes : f.width * texelBytes(image.format);
+  f.caps = kDdsCapsTexture | kDdsCapsComplex;
+  f.caps2 = kDdsCaps2Volume;
+  f.dxgi = bc4 ? kDxgiFormatBc4Unorm
+               : (image.format == TexelFormat::kR16 ? kDxgiFormatR16Unorm : kDxgiFormatR8Unorm);
+  f.dimension = kD3d10ResourceDimensionTexture3d;
+  std::string s = ddsHeader(f);
   s.append(reinterpret_cast<const char*>(image.blocks->data()), bytes);
+  return s;
+}
+
+std::string makeDdsFloat2d(int width, int height, int channels, const std::vector<float>& texels) {
+  if (width <= 0 || height <= 0 || (channels != 1 && channels != 4) ||
+      texels.size() != static_cast<std::size_t>(width) * height * channels) {
+    throw Error("texture container: a float 2D texture needs 1 or 4 channels of width x height");
+  }
+  DdsFields f;
+  f.flags = kDdsdPitch;
+  f.width = static_cast<std::uint32_t>(width);
+  f.height = static_cast<std::uint32_t>(height);
+  f.depth = 0;
+  f.pitch = f.width * 4 * static_cast<std::uint32_t>(channels);
+  f.caps = kDdsCapsTexture;
+  f.caps2 = 0;
+  f.dxgi = channels == 1 ? kDxgiFormatR32Float : kDxgiFormatR32G32B32A32Float;
+  f.dimension = kD3d10ResourceDimensionTexture2d;
+  std::string s = ddsHeader(f);
+  for (const float v : texels) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &v, sizeof(bits));
+    putLe<4>(s, bits);
+  }
   return s;
 }
 

@@ -38,6 +38,12 @@ std::vector<float> dequantizeUnorm(const std::vector<std::uint8_t>& texels, Texe
 // D3D10_RESOURCE_DIMENSION_TEXTURE3D = 4, arraySize 1) + data.
 std::string makeDds(const VolumeImage& image);
 
+// A 2D texture of 32-bit float texels, one mip level, rows top to bottom, texels left to right,
+// channels interleaved, little-endian: "DDS " + DDS_HEADER (DDPF_FOURCC "DX10", DDSD_PITCH = row
+// bytes) + DDS_HEADER_DXT10 (DXGI_FORMAT_R32_FLOAT = 41 for 1 channel, R32G32B32A32_FLOAT = 2 for
+// 4; D3D10_RESOURCE_DIMENSION_TEXTURE2D = 3, arraySize 1) + data (docs/screen_ao.md §8).
+std::string makeDdsFloat2d(int width, int height, int channels, const std::vector<float>& texels);
+
 // KTX 2.0 with vkFormat VK_FORMAT_BC4_UNORM_BLOCK (139), VK_FORMAT_R16_UNORM (70) or
 // VK_FORMAT_R8_UNORM (9), a KHR_DF_MODEL_BC4 / KHR_DF_MODEL_RGBSDA data format descriptor,
 // key/value "KTXwriter" = `writer`, one level at an aligned offset.
