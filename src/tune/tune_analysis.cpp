@@ -183,77 +183,6 @@ bool bitmasksSharePass(const std::vector<SettingGrid>& grids, std::size_t k,
          sameBitmaskSamples(s.bitmask_uniform, s.bitmask_cosine);
 }
 
-void findOptima(SettingResult* r, const TuneAnalysis& a) {
-  std::vector<double> x;
-  for (double v : r->grid.values) x.push_back(axisValue(r->grid, v));
-  const ObjectiveCurves paper = objectiveCurves(*r, a.cluster_points, a.albedos.size(), true);
-  const ObjectiveCurves profile = objectiveCurves(*r, a.cluster_points, a.albedos.size(), false);
-  r->paper = sceneInterval(x, paper.pooled, paper.replicas);
-  r->profile = sceneInterval(x, profile.pooled, profile.replicas);
-}
-
-// Whether an optimum of either objective, pooled or a replica's, sits at the grid's lower
-// (upper = false) or upper end.
-bool endReached(const SettingResult& r, bool upper) {
-  const double end = axisValue(r.grid, upper ? r.grid.values.back() : r.grid.values.front());
-  for (const SceneInterval* o : {&r.paper, &r.profile}) {
-    if (o->z == end) return true;
-    for (double z : o->replicates) {
-      if (z == end) return true;
-    }
-  }
-  return false;
-}
-
-// The values the next widening step adds to r's grid (docs/tune.md §3): one beyond each end an
-// optimum reaches that is not its limit, within kMaxWidenings steps per end (counted in r).
-std::vector<double> nextWidening(SettingResult* r) {
-  std::vector<double> add;
-  for (const bool upper : {false, true}) {
-    int& steps = upper ? r->widened_upper : r->widened_lower;
-    const std::optional<double> v = widenedEnd(r->grid, upper);
-    if (v && steps < kMaxWidenings && endReached(*r, upper)) {
-      add.push_back(*v);
-      ++steps;
-    }
-  }
-  return add;
-}
-
-void mergeScores(SettingResult* r, std::vector<GridValueScore> added) {
-  for (GridValueScore& g : added) r->scores.push_back(std::move(g));
-  std::sort(r->scores.begin(), r->scores.end(),
-            [](const GridValueScore& x, const GridValueScore& y) { return x.value < y.value; });
-  r->grid.values.clear();
-  for (const GridValueScore& g : r->scores) r->grid.values.push_back(g.value);
-}
-
-// Widens the group's grids until every optimum is interior or at a limit (nextWidening), one
-// part per step; the two bitmasks keep sharing a pass while they widen alike.
-void widen(StageParts& parts, const Scoring& sc, TuneAnalysis* a, std::vector<SettingResult>* group,
-           DefaultScores* defaults) {
-  while (true) {
-    std::vector<std::vector<double>> adds;
-    for (SettingResult& r : *group) {
-      findOptima(&r, *a);
-      adds.push_back(nextWidening(&r));
-    }
-    const bool shared = group->size() == 2 && adds[0] == adds[1];
-    bool any = false;
-    for (std::size_t g = 0; g < group->size(); ++g) {
-      if (adds[g].empty() || (shared && g == 1)) continue;
-      any = true;
-      std::vector<SettingGrid> grids = {(*group)[g].grid};
-      if (shared) grids.push_back((*group)[1].grid);
-      const auto scores = runPart(parts, sc, grids, std::vector(grids.size(), adds[g]), adds[g],
-                                  " widened to " + formatNumberList(adds[g]), defaults);
-      for (std::size_t w = 0; w < scores.size(); ++w) mergeScores(&(*group)[g + w], scores[w]);
-      a->estimator_runs += grids.size() * adds[g].size();
-    }
-    if (!any) return;
-  }
-}
-
 // Runs, scores and widens every grid in order; the two bitmasks' thickness grids under one part
 // when they share a pass (bitmasksSharePass, docs/tune.md §7).
 void runGrids(StageParts& parts, const Scoring& sc, const std::vector<SettingGrid>& grids,
@@ -271,7 +200,12 @@ void runGrids(StageParts& parts, const Scoring& sc, const std::vector<SettingGri
       results[g].scores = scores[g];
     }
     a->estimator_runs += group.size() * to_run.size();
-    widen(parts, sc, a, &results, defaults);
+    widenGroup(&results, *a, [&](std::size_t first, std::size_t count, const auto& add) {
+      const std::vector<SettingGrid> grids(group.begin() + first, group.begin() + first + count);
+      a->estimator_runs += count * add.size();
+      return runPart(parts, sc, grids, std::vector(count, add), add,
+                     " widened to " + formatNumberList(add), defaults);
+    });
     for (SettingResult& r : results) a->settings.push_back(std::move(r));
   }
 }
@@ -368,6 +302,75 @@ ObjectiveCurves objectiveCurves(const SettingResult& r, const std::vector<std::s
     }
   }
   return c;
+}
+
+namespace {
+
+void findOptima(SettingResult* r, const TuneAnalysis& a) {
+  std::vector<double> x;
+  for (double v : r->grid.values) x.push_back(axisValue(r->grid, v));
+  const ObjectiveCurves paper = objectiveCurves(*r, a.cluster_points, a.albedos.size(), true);
+  const ObjectiveCurves profile = objectiveCurves(*r, a.cluster_points, a.albedos.size(), false);
+  r->paper = sceneInterval(x, paper.pooled, paper.replicas);
+  r->profile = sceneInterval(x, profile.pooled, profile.replicas);
+}
+
+// Whether an optimum of either objective, pooled or a replica's, sits at the grid's lower
+// (upper = false) or upper end.
+bool endReached(const SettingResult& r, bool upper) {
+  const double end = axisValue(r.grid, upper ? r.grid.values.back() : r.grid.values.front());
+  for (const SceneInterval* o : {&r.paper, &r.profile}) {
+    if (o->z == end) return true;
+    for (double z : o->replicates) {
+      if (z == end) return true;
+    }
+  }
+  return false;
+}
+
+// The values the next widening step adds to r's grid (docs/tune.md §3): one beyond each end an
+// optimum reaches that is not its limit, within kMaxWidenings steps per end (counted in r).
+std::vector<double> nextWidening(SettingResult* r) {
+  std::vector<double> add;
+  for (const bool upper : {false, true}) {
+    int& steps = upper ? r->widened_upper : r->widened_lower;
+    const std::optional<double> v = widenedEnd(r->grid, upper);
+    if (v && steps < kMaxWidenings && endReached(*r, upper)) {
+      add.push_back(*v);
+      ++steps;
+    }
+  }
+  return add;
+}
+
+void mergeScores(SettingResult* r, std::vector<GridValueScore> added) {
+  for (GridValueScore& g : added) r->scores.push_back(std::move(g));
+  std::sort(r->scores.begin(), r->scores.end(),
+            [](const GridValueScore& x, const GridValueScore& y) { return x.value < y.value; });
+  r->grid.values.clear();
+  for (const GridValueScore& g : r->scores) r->grid.values.push_back(g.value);
+}
+
+}  // namespace
+
+void widenGroup(std::vector<SettingResult>* group, const TuneAnalysis& a, const WidenRun& run) {
+  while (true) {
+    std::vector<std::vector<double>> adds;
+    for (SettingResult& r : *group) {
+      findOptima(&r, a);
+      adds.push_back(nextWidening(&r));
+    }
+    const bool shared = group->size() == 2 && adds[0] == adds[1];
+    bool any = false;
+    for (std::size_t g = 0; g < group->size(); ++g) {
+      if (adds[g].empty() || (shared && g == 1)) continue;
+      any = true;
+      const std::size_t count = shared ? 2 : 1;
+      const auto scores = run(g, count, adds[g]);
+      for (std::size_t w = 0; w < count; ++w) mergeScores(&(*group)[g + w], scores[w]);
+    }
+    if (!any) return;
+  }
 }
 
 OptimumPlace optimumPlace(const SettingResult& r, const SceneInterval& o) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -81,6 +82,16 @@ struct TuneAnalysis {
   std::size_t estimator_runs = 0;
   std::vector<std::pair<std::string, double>> part_seconds;
 };
+
+// Scores `values` of the grids group[first .. first + count) ([grid][value]), count 2 when the
+// two bitmasks widen alike and share a pass.
+using WidenRun = std::function<std::vector<std::vector<GridValueScore>>(
+    std::size_t first, std::size_t count, const std::vector<double>& values)>;
+// Finds the optima of the group's settings (one, or both bitmasks' thickness) and widens each grid
+// (docs/tune.md §3): while an optimum of either objective, pooled or a replica's, sits at an end
+// that is not the setting's limit and that end has widened fewer than kMaxWidenings times, the
+// value widenedEnd gives is scored by `run` and added, and the optima found again.
+void widenGroup(std::vector<SettingResult>* group, const TuneAnalysis& a, const WidenRun& run);
 
 // The sweep is valid but cannot be tuned: fewer than kMinJackknifeScenes scene clusters, or a
 // refit without one of them that the others do not determine (no scene-level interval). A
