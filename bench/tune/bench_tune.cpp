@@ -42,10 +42,10 @@ fs::path sweepScenes(const fs::path& out, int threads) {
   return o.out;
 }
 
-nlohmann::json readJson(const fs::path& path) {
+nlohmann::ordered_json readJson(const fs::path& path) {
   std::ifstream in(path);
-  if (!in) return nlohmann::json();
-  return nlohmann::json::parse(in, nullptr, false);
+  if (!in) return nlohmann::ordered_json();
+  return nlohmann::ordered_json::parse(in, nullptr, false);
 }
 
 void printRow(const std::string& name, double seconds, double sweep_seconds) {
@@ -64,7 +64,7 @@ void benchTune(const fs::path& sweep, const fs::path& work, const std::string& n
   o.progress = false;
   const gtbake::TuneResult r = gtbake::runTune(o);
   printRow("tune, " + name, r.seconds, sweep_seconds);
-  const nlohmann::json tuned = readJson(r.json);
+  const nlohmann::ordered_json tuned = readJson(r.json);
   for (const auto& [part, seconds] : tuned["provenance"]["seconds"].items()) {
     printRow("  " + part, seconds.get<double>(), sweep_seconds);
   }
@@ -91,8 +91,8 @@ int main(int argc, char** argv) {
     if (sweep.empty()) sweep = sweepScenes(work / "sweep", threads);
     const double swept =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const nlohmann::json sweep_json = readJson(sweep / "sweep.json");
-    const nlohmann::json::json_pointer at("/totals/seconds");
+    const nlohmann::ordered_json sweep_json = readJson(sweep / "sweep.json");
+    const nlohmann::ordered_json::json_pointer at("/totals/seconds");
     const double sweep_seconds = sweep_json.contains(at) ? sweep_json[at].get<double>() : swept;
     std::printf("%d threads; sweep %s: %.2f s\n", threads, sweep.c_str(), sweep_seconds);
     std::printf("%-40s %9s %9s\n", "stage", "wall s", "/ sweep");
