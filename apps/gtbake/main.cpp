@@ -400,6 +400,9 @@ Subcommand addTuneCommand(CLI::App& app) {
   parser->add_option("--grid", options->grids,
                      "ESTIMATOR.KEY=v1,v2,... replaces a default grid, repeatable; must hold the "
                      "default (e.g. gtao-runtime.radius=0.5,1,2,3)");
+  parser->add_option("--screen-ao", options->screen_ao,
+                     "A gtbake screen-ao set of the same sweep: the estimators it ran at their "
+                     "defaults are read from it, not run again (docs/tune.md §7)");
   addThreadsOption(parser, options->threads);
   return {parser, [options, estimators](const RunContext& context) {
             options->estimators = parseEstimatorList(*estimators);

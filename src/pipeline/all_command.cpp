@@ -227,6 +227,7 @@ void runAll(const AllOptions& options) {
   TuneOptions tune;
   tune.sweep = swept_dir;
   tune.out = options.out / "tune";
+  tune.screen_ao = options.out / "screen_ao";  // its defaults' Â, not run again (docs/tune.md §7)
   tune.threads = limit.threads();
   tune.progress = options.progress;
   TuneResult tuned;

@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "common/error.h"
+#include "common/output_set.h"
 #include "common/text_format.h"
 #include "fit/scene_jackknife.h"
 #include "fit/screen_estimate.h"
@@ -43,6 +46,27 @@ void requireSameViews(const SweepData& data, const SweepImages& images) {
   }
 }
 
+// What scoring a run needs: the sweep (its A replaced by each run's Â), its G-buffer images, the
+// scene clusters and each cluster's Σ G².
+struct Scoring {
+  SweepData* data;
+  const SweepImages* images;
+  const Grouping* clusters;
+  const std::vector<std::vector<long double>>* q;
+};
+
+// The score of the estimator's defaults, by estimator: run once and shared by its settings, or
+// read from a screen-ao set.
+using DefaultScores = std::map<std::string, GridValueScore>;
+
+// One run's Â ([image]) scored.
+GridValueScore scoreEstimates(const Scoring& sc, const std::string& estimator,
+                              const std::vector<std::vector<float>>& a) {
+  useEstimates(sc.data, sc.images->images, a, estimator);
+  return scoreRun(clusterStatistics(*sc.data, *sc.clusters, *sc.q), sc.clusters->names,
+                  sc.data->albedos, profileFitSettings());
+}
+
 // Every value's estimate of one image in one pass: the bitmasks' thickness values share the
 // samples (visibilityBitmasks), the runtime pass's values its slices, horizons and filter weights
 // (gtaoRuntimeRuns); Â alone (tune reads no b̂), with the bytes of a run at that value alone.
@@ -62,155 +86,159 @@ std::vector<AoEstimate> runImage(const GBuffer& g, const SettingGrid& grid,
   return gtaoRuntimeRuns(g, runs, EstimateParts::kAoOnly);
 }
 
-// Â of every image at each value ([value][image]).
-std::vector<std::vector<std::vector<float>>> runValues(const SweepImages& images,
-                                                       const SettingGrid& grid,
-                                                       const std::vector<double>& values,
-                                                       Progress& bar) {
-  std::vector<std::vector<std::vector<float>>> out(values.size());
+SectorWeights weightsOf(const std::string& estimator) {
+  return estimator == "bitmask-uniform" ? SectorWeights::kUniform : SectorWeights::kCosine;
+}
+
+// Â of every image at each value of to_run, [grid][value][image]: one grid's pass, or both
+// bitmasks' thickness grids (group of two, bitmasksSharePass) from one pass per image.
+std::vector<std::vector<std::vector<std::vector<float>>>> groupEstimates(
+    const SweepImages& images, const std::vector<SettingGrid>& group,
+    const std::vector<double>& to_run, Progress& bar) {
+  const ScreenAoSettings defaults;
+  std::vector<std::vector<std::vector<std::vector<float>>>> out(
+      group.size(), std::vector<std::vector<std::vector<float>>>(to_run.size()));
   for (const SweepImage& image : images.images) {
-    std::vector<AoEstimate> e = runImage(image.gbuffer, grid, values);
-    for (std::size_t k = 0; k < values.size(); ++k) out[k].push_back(std::move(e[k].a));
-    bar.add(values.size());
+    std::vector<std::vector<AoEstimate>> e;
+    if (group.size() == 2) {
+      e = visibilityBitmasks(image.gbuffer, defaults.bitmask_uniform,
+                             {weightsOf(group[0].estimator), weightsOf(group[1].estimator)}, to_run,
+                             EstimateParts::kAoOnly);
+    } else {
+      e = {runImage(image.gbuffer, group[0], to_run)};
+    }
+    for (std::size_t w = 0; w < group.size(); ++w) {
+      for (std::size_t k = 0; k < to_run.size(); ++k) out[w][k].push_back(std::move(e[w][k].a));
+    }
+    bar.add(group.size() * to_run.size());
   }
   return out;
 }
 
-// The values of a grid that need a run: all but the default when *at_default holds its score.
-std::vector<double> valuesToRun(const SettingGrid& grid,
-                                const std::optional<GridValueScore>& at_default) {
+// The values of a grid that need a run: all but the default when its score is known.
+std::vector<double> valuesToRun(const SettingGrid& grid, const DefaultScores& defaults) {
   std::vector<double> to_run;
   for (double value : grid.values) {
-    if (value != grid.default_value || !at_default.has_value()) to_run.push_back(value);
+    if (value != grid.default_value || defaults.count(grid.estimator) == 0) {
+      to_run.push_back(value);
+    }
   }
   return to_run;
 }
 
-// Scores every value of one setting's grid from the runs of to_run ([value][image]; the default
-// value's run shared by the estimator's settings through *at_default).
-std::vector<GridValueScore> scoreGrid(SweepData* data, const SweepImages& images,
-                                      const Grouping& clusters,
-                                      const std::vector<std::vector<long double>>& q,
-                                      const SettingGrid& grid, const std::vector<double>& to_run,
-                                      const std::vector<std::vector<std::vector<float>>>& estimates,
-                                      std::optional<GridValueScore>* at_default) {
+// Scores `values` of one grid from the runs of to_run ([value][image]); a value not run is the
+// default, whose score *defaults holds (and keeps once scored).
+std::vector<GridValueScore> scoreValues(const Scoring& sc, const SettingGrid& grid,
+                                        const std::vector<double>& values,
+                                        const std::vector<double>& to_run,
+                                        const std::vector<std::vector<std::vector<float>>>& est,
+                                        DefaultScores* defaults) {
   std::vector<GridValueScore> scores;
-  for (double value : grid.values) {
+  for (double value : values) {
     const auto run = std::find(to_run.begin(), to_run.end(), value);
     if (run == to_run.end()) {
-      scores.push_back(**at_default);
+      scores.push_back(defaults->at(grid.estimator));
     } else {
-      useEstimates(data, images.images, estimates[run - to_run.begin()], grid.estimator);
-      scores.push_back(scoreRun(clusterStatistics(*data, clusters, q), clusters.names,
-                                data->albedos, profileFitSettings()));
+      scores.push_back(scoreEstimates(sc, grid.estimator, est[run - to_run.begin()]));
     }
     scores.back().value = value;
-    if (value == grid.default_value) *at_default = scores.back();
+    if (value == grid.default_value) (*defaults)[grid.estimator] = scores.back();
   }
   return scores;
 }
 
+// One timed part: to_run's values of the group's grids (one, or both bitmasks in one pass), each
+// grid's `values[g]` scored ([grid][value]).
+std::vector<std::vector<GridValueScore>> runPart(StageParts& parts, const Scoring& sc,
+                                                 const std::vector<SettingGrid>& group,
+                                                 const std::vector<std::vector<double>>& values,
+                                                 const std::vector<double>& to_run,
+                                                 const std::string& suffix,
+                                                 DefaultScores* defaults) {
+  std::string name = group[0].estimator;
+  for (std::size_t g = 1; g < group.size(); ++g) name += "+" + group[g].estimator;
+  const std::size_t units = group.size() * to_run.size() * sc.images->images.size();
+  return parts.run(name + " " + group[0].key + suffix, units, [&](Progress& bar) {
+    const auto est = groupEstimates(*sc.images, group, to_run, bar);
+    std::vector<std::vector<GridValueScore>> scores;
+    for (std::size_t g = 0; g < group.size(); ++g) {
+      scores.push_back(scoreValues(sc, group[g], values[g], to_run, est[g], defaults));
+    }
+    return scores;
+  });
+}
+
 // Whether grids[k] and grids[k + 1] are the two bitmasks' thickness grids with the same values to
-// run (to_run, the first's) and the same other settings: then one pass per image serves both
-// (docs/tune.md §7). The second is another estimator, so its default is run too.
+// run and the same other settings: then one pass per image serves both (docs/tune.md §7).
 bool bitmasksSharePass(const std::vector<SettingGrid>& grids, std::size_t k,
-                       const std::vector<double>& to_run) {
+                       const DefaultScores& defaults) {
   if (k + 1 >= grids.size()) return false;
   const SettingGrid& a = grids[k];
   const SettingGrid& b = grids[k + 1];
   const ScreenAoSettings s;
   const bool both = (a.estimator == "bitmask-uniform" && b.estimator == "bitmask-cosine") ||
                     (a.estimator == "bitmask-cosine" && b.estimator == "bitmask-uniform");
-  return both && a.key == "thickness" && b.key == "thickness" && to_run == b.values &&
+  return both && a.key == "thickness" && b.key == "thickness" &&
+         valuesToRun(a, defaults) == valuesToRun(b, defaults) &&
          sameBitmaskSamples(s.bitmask_uniform, s.bitmask_cosine);
 }
 
-SectorWeights weightsOf(const std::string& estimator) {
-  return estimator == "bitmask-uniform" ? SectorWeights::kUniform : SectorWeights::kCosine;
-}
-
-// Both bitmasks' thickness grids (bitmasksSharePass) from one pass per image: each image's Â of
-// both weightings at every value of to_run, then each grid scored as runGrid would.
-std::vector<SettingResult> runBitmaskPair(SweepData* data, const SweepImages& images,
-                                          const Grouping& clusters,
-                                          const std::vector<std::vector<long double>>& q,
-                                          const SettingGrid& first, const SettingGrid& second,
-                                          const std::vector<double>& to_run,
-                                          std::optional<GridValueScore>* at_default,
-                                          Progress& bar) {
-  const ScreenAoSettings defaults;
-  const std::vector<SettingGrid> grids = {first, second};
-  std::vector<std::vector<std::vector<std::vector<float>>>> out(
-      2, std::vector<std::vector<std::vector<float>>>(to_run.size()));  // [grid][value][image]
-  for (const SweepImage& image : images.images) {
-    auto e = visibilityBitmasks(image.gbuffer, defaults.bitmask_uniform,
-                                {weightsOf(first.estimator), weightsOf(second.estimator)}, to_run,
-                                EstimateParts::kAoOnly);
-    for (std::size_t w = 0; w < 2; ++w) {
-      for (std::size_t k = 0; k < to_run.size(); ++k) out[w][k].push_back(std::move(e[w][k].a));
-    }
-    bar.add(2 * to_run.size());
-  }
-  std::vector<SettingResult> results(2);
-  for (std::size_t w = 0; w < 2; ++w) {
-    if (w == 1) at_default->reset();  // another estimator
-    results[w].grid = grids[w];
-    results[w].scores = scoreGrid(data, images, clusters, q, grids[w], to_run, out[w], at_default);
-  }
-  return results;
-}
-
-// Scores every value of one setting's grid (the default value's run shared by the estimator's
-// settings through *at_default).
-std::vector<GridValueScore> runGrid(SweepData* data, const SweepImages& images,
-                                    const Grouping& clusters,
-                                    const std::vector<std::vector<long double>>& q,
-                                    const SettingGrid& grid,
-                                    std::optional<GridValueScore>* at_default, Progress& bar) {
-  const std::vector<double> to_run = valuesToRun(grid, *at_default);
-  const auto estimates = runValues(images, grid, to_run, bar);
-  return scoreGrid(data, images, clusters, q, grid, to_run, estimates, at_default);
-}
-
-void findOptima(SettingResult* r, const TuneAnalysis& a) {
-  std::vector<double> x;
-  for (double v : r->grid.values) x.push_back(axisValue(r->grid, v));
-  const ObjectiveCurves paper = objectiveCurves(*r, a.cluster_points, a.albedos.size(), true);
-  const ObjectiveCurves profile = objectiveCurves(*r, a.cluster_points, a.albedos.size(), false);
-  r->paper = sceneInterval(x, paper.pooled, paper.replicas);
-  r->profile = sceneInterval(x, profile.pooled, profile.replicas);
-}
-
-// Runs and scores every grid in order, each under its own part of `parts`; the two bitmasks'
-// thickness grids under one part when they share a pass (bitmasksSharePass, docs/tune.md §7).
-void runGrids(StageParts& parts, SweepData* data, const SweepImages& images,
-              const Grouping& clusters, const std::vector<std::vector<long double>>& q,
-              const std::vector<SettingGrid>& grids, TuneAnalysis* a) {
-  std::optional<GridValueScore> at_default;
+// Runs, scores and widens every grid in order; the two bitmasks' thickness grids under one part
+// when they share a pass (bitmasksSharePass, docs/tune.md §7).
+void runGrids(StageParts& parts, const Scoring& sc, const std::vector<SettingGrid>& grids,
+              DefaultScores* defaults, TuneAnalysis* a) {
   for (std::size_t k = 0; k < grids.size(); ++k) {
-    if (k == 0 || grids[k].estimator != grids[k - 1].estimator) at_default.reset();
-    const std::vector<double> to_run = valuesToRun(grids[k], at_default);
-    const std::size_t units = to_run.size() * images.images.size();
-    std::vector<SettingResult> results(1);
-    if (bitmasksSharePass(grids, k, to_run)) {
-      results = parts.run(grids[k].estimator + "+" + grids[k + 1].estimator + " thickness",
-                          2 * units, [&](Progress& bar) {
-                            return runBitmaskPair(data, images, clusters, q, grids[k], grids[k + 1],
-                                                  to_run, &at_default, bar);
-                          });
-      ++k;
-    } else {
-      results[0].grid = grids[k];
-      results[0].scores =
-          parts.run(grids[k].estimator + " " + grids[k].key, units, [&](Progress& bar) {
-            return runGrid(data, images, clusters, q, grids[k], &at_default, bar);
-          });
+    const std::vector<double> to_run = valuesToRun(grids[k], *defaults);
+    std::vector<SettingGrid> group = {grids[k]};
+    if (bitmasksSharePass(grids, k, *defaults)) group.push_back(grids[++k]);
+    std::vector<std::vector<double>> values;
+    for (const SettingGrid& g : group) values.push_back(g.values);
+    const auto scores = runPart(parts, sc, group, values, to_run, "", defaults);
+    std::vector<SettingResult> results(group.size());
+    for (std::size_t g = 0; g < group.size(); ++g) {
+      results[g].grid = group[g];
+      results[g].scores = scores[g];
     }
-    for (SettingResult& r : results) {
-      a->estimator_runs += to_run.size();
-      findOptima(&r, *a);
-      a->settings.push_back(std::move(r));
+    a->estimator_runs += group.size() * to_run.size();
+    widenGroup(&results, *a, [&](std::size_t first, std::size_t count, const auto& add) {
+      const std::vector<SettingGrid> grids(group.begin() + first, group.begin() + first + count);
+      a->estimator_runs += count * add.size();
+      return runPart(parts, sc, grids, std::vector(count, add), add,
+                     " widened to " + formatNumberList(add), defaults);
+    });
+    for (SettingResult& r : results) a->settings.push_back(std::move(r));
+  }
+}
+
+// Whether the screen-ao set in `dir` ran `estimator` at tune's defaults (its screen_ao.json
+// settings), so its Â is the default run's, the same floats (docs/tune.md §7).
+bool screenAoHasDefaults(const std::filesystem::path& dir, const std::string& estimator) {
+  const nlohmann::json doc = readOutputSet(dir, "screen_ao").readVerifiedJson("screen_ao.json");
+  const nlohmann::json* settings = doc.contains("settings") ? &doc["settings"] : nullptr;
+  return settings != nullptr && settings->contains(estimator) && doc.contains("estimators") &&
+         doc["estimators"].contains(estimator) &&
+         (*settings)[estimator] == nlohmann::json(settingsJson(ScreenAoSettings{}, estimator));
+}
+
+// The defaults' scores of every tuned estimator that the screen-ao set in `dir` holds at tune's
+// defaults, from its Â (each image's mask must be the sweep's).
+void readDefaults(const Scoring& sc, const std::filesystem::path& dir,
+                  const std::filesystem::path& sweep, const std::vector<SettingGrid>& grids,
+                  DefaultScores* defaults) {
+  for (const SettingGrid& grid : grids) {
+    if (defaults->count(grid.estimator) != 0 || !screenAoHasDefaults(dir, grid.estimator)) {
+      continue;
     }
+    const ScreenEstimateSet set({grid.estimator, dir});
+    std::vector<std::vector<float>> a;
+    for (const SweepImage& image : sc.images->images) {
+      ImageEstimate e = set.read(image.name, sweep, false);
+      if (e.mask != image.gbuffer.mask) {
+        throw Error("tune: the mask of " + e.file + " is not the sweep's '" + image.name + "'");
+      }
+      a.push_back(std::move(e.A));
+    }
+    (*defaults)[grid.estimator] = scoreEstimates(sc, grid.estimator, a);
   }
 }
 
@@ -276,6 +304,101 @@ ObjectiveCurves objectiveCurves(const SettingResult& r, const std::vector<std::s
   return c;
 }
 
+namespace {
+
+void findOptima(SettingResult* r, const TuneAnalysis& a) {
+  std::vector<double> x;
+  for (double v : r->grid.values) x.push_back(axisValue(r->grid, v));
+  const ObjectiveCurves paper = objectiveCurves(*r, a.cluster_points, a.albedos.size(), true);
+  const ObjectiveCurves profile = objectiveCurves(*r, a.cluster_points, a.albedos.size(), false);
+  r->paper = sceneInterval(x, paper.pooled, paper.replicas);
+  r->profile = sceneInterval(x, profile.pooled, profile.replicas);
+}
+
+// Whether an optimum of either objective, pooled or a replica's, sits at the grid's lower
+// (upper = false) or upper end.
+bool endReached(const SettingResult& r, bool upper) {
+  const double end = axisValue(r.grid, upper ? r.grid.values.back() : r.grid.values.front());
+  for (const SceneInterval* o : {&r.paper, &r.profile}) {
+    if (o->z == end) return true;
+    for (double z : o->replicates) {
+      if (z == end) return true;
+    }
+  }
+  return false;
+}
+
+// The values the next widening step adds to r's grid (docs/tune.md §3): one beyond each end an
+// optimum reaches that is not its limit, within kMaxWidenings steps per end (counted in r).
+std::vector<double> nextWidening(SettingResult* r) {
+  std::vector<double> add;
+  for (const bool upper : {false, true}) {
+    int& steps = upper ? r->widened_upper : r->widened_lower;
+    const std::optional<double> v = widenedEnd(r->grid, upper);
+    if (v && steps < kMaxWidenings && endReached(*r, upper)) {
+      add.push_back(*v);
+      ++steps;
+    }
+  }
+  return add;
+}
+
+void mergeScores(SettingResult* r, std::vector<GridValueScore> added) {
+  for (GridValueScore& g : added) r->scores.push_back(std::move(g));
+  std::sort(r->scores.begin(), r->scores.end(),
+            [](const GridValueScore& x, const GridValueScore& y) { return x.value < y.value; });
+  r->grid.values.clear();
+  for (const GridValueScore& g : r->scores) r->grid.values.push_back(g.value);
+}
+
+}  // namespace
+
+void widenGroup(std::vector<SettingResult>* group, const TuneAnalysis& a, const WidenRun& run) {
+  while (true) {
+    std::vector<std::vector<double>> adds;
+    for (SettingResult& r : *group) {
+      findOptima(&r, a);
+      adds.push_back(nextWidening(&r));
+    }
+    const bool shared = group->size() == 2 && adds[0] == adds[1];
+    bool any = false;
+    for (std::size_t g = 0; g < group->size(); ++g) {
+      if (adds[g].empty() || (shared && g == 1)) continue;
+      any = true;
+      const std::size_t count = shared ? 2 : 1;
+      const auto scores = run(g, count, adds[g]);
+      for (std::size_t w = 0; w < count; ++w) mergeScores(&(*group)[g + w], scores[w]);
+    }
+    if (!any) return;
+  }
+}
+
+OptimumPlace optimumPlace(const SettingResult& r, const SceneInterval& o) {
+  OptimumPlace p;
+  if (!o.at_bound) return p;
+  const bool upper = o.z == axisValue(r.grid, r.grid.values.back());
+  p.status = upper ? OptimumStatus::kUpperBound : OptimumStatus::kLowerBound;
+  const SettingLimit& limit = upper ? r.grid.upper : r.grid.lower;
+  const double end = upper ? r.grid.values.back() : r.grid.values.front();
+  p.limit = end == limit.value ? limit
+                               : SettingLimit{end, "search end: " + std::to_string(kMaxWidenings) +
+                                                       " widening steps used, short of the limit " +
+                                                       formatNumber(limit.value, "%g")};
+  return p;
+}
+
+const char* statusName(OptimumStatus status) {
+  switch (status) {
+    case OptimumStatus::kInterior:
+      return "interior";
+    case OptimumStatus::kLowerBound:
+      return "lower_bound";
+    case OptimumStatus::kUpperBound:
+      return "upper_bound";
+  }
+  return "";
+}
+
 void useEstimates(SweepData* data, const std::vector<SweepImage>& images,
                   const std::vector<std::vector<float>>& estimates, const std::string& estimator) {
   for (std::size_t v = 0; v < images.size(); ++v) {
@@ -294,7 +417,7 @@ void useEstimates(SweepData* data, const std::vector<SweepImage>& images,
 }
 
 TuneAnalysis analyzeTune(const std::filesystem::path& sweep, const std::vector<SettingGrid>& grids,
-                         bool progress) {
+                         bool progress, const std::filesystem::path& screen_ao) {
   StageParts parts("tune", progress);
   SweepData data;
   SweepImages images;
@@ -322,7 +445,16 @@ TuneAnalysis analyzeTune(const std::filesystem::path& sweep, const std::vector<S
   a.albedos = data.albedos;
   a.sweep_version = images.sweep_version;
   const auto q = clusterTargetSquares(data, clusters);
-  runGrids(parts, &data, images, clusters, q, grids, &a);
+  const Scoring sc{&data, &images, &clusters, &q};
+  DefaultScores defaults;
+  if (!screen_ao.empty()) {
+    parts.run("read screen-ao's defaults", 1, [&](Progress& bar) {
+      readDefaults(sc, screen_ao, sweep, grids, &defaults);
+      bar.add(1);
+      return 0;
+    });
+  }
+  runGrids(parts, sc, grids, &defaults, &a);
   a.part_seconds = parts.seconds();
   return a;
 }

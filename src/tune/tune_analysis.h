@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -44,10 +45,22 @@ GridValueScore scoreRun(const std::vector<ClusterStatistics>& stats,
 
 struct SettingResult {
   SettingGrid grid;
-  std::vector<GridValueScore> scores;  // [grid value]
-  SceneInterval paper;                 // optimum of the paper-constants RMSE
-  SceneInterval profile;               // optimum of the profile's in-sample RMSE
+  std::vector<GridValueScore> scores;        // [grid value]
+  SceneInterval paper;                       // optimum of the paper-constants RMSE
+  SceneInterval profile;                     // optimum of the profile's in-sample RMSE
+  int widened_lower = 0, widened_upper = 0;  // widening steps taken at each end (§3)
 };
+
+// Where an optimum lies in the searched grid (docs/tune.md §3): inside it, or at its lower or
+// upper end, which after widening is the setting's limit (or where kMaxWidenings ran out).
+enum class OptimumStatus { kInterior, kLowerBound, kUpperBound };
+struct OptimumPlace {
+  OptimumStatus status = OptimumStatus::kInterior;
+  SettingLimit limit;  // at a bound: the end's value and why the search stopped there
+};
+OptimumPlace optimumPlace(const SettingResult& r, const SceneInterval& o);
+// "interior", "lower_bound", "upper_bound".
+const char* statusName(OptimumStatus status);
 
 // The objective curves of a setting: [grid value] pooled RMSE and [s][grid value] without s.
 struct ObjectiveCurves {
@@ -70,6 +83,16 @@ struct TuneAnalysis {
   std::vector<std::pair<std::string, double>> part_seconds;
 };
 
+// Scores `values` of the grids group[first .. first + count) ([grid][value]), count 2 when the
+// two bitmasks widen alike and share a pass.
+using WidenRun = std::function<std::vector<std::vector<GridValueScore>>(
+    std::size_t first, std::size_t count, const std::vector<double>& values)>;
+// Finds the optima of the group's settings (one, or both bitmasks' thickness) and widens each grid
+// (docs/tune.md §3): while an optimum of either objective, pooled or a replica's, sits at an end
+// that is not the setting's limit and that end has widened fewer than kMaxWidenings times, the
+// value widenedEnd gives is scored by `run` and added, and the optima found again.
+void widenGroup(std::vector<SettingResult>* group, const TuneAnalysis& a, const WidenRun& run);
+
 // The sweep is valid but cannot be tuned: fewer than kMinJackknifeScenes scene clusters, or a
 // refit without one of them that the others do not determine (no scene-level interval). A
 // gtbake::Error like any other; `gtbake all` skips the stage on it (a user's one or two scenes).
@@ -78,11 +101,13 @@ class TuneNotApplicable : public Error {
   using Error::Error;
 };
 
-// Reads the sweep (loadSweep for G, readSweepImages for the G-buffer) and scores every grid.
+// Reads the sweep (loadSweep for G, readSweepImages for the G-buffer), scores every grid and
+// widens it (docs/tune.md §3). With `screen_ao` (a screen-ao set of this sweep; empty = none),
+// each estimator it ran at tune's defaults has its default run read from it, not run again.
 // Throws a one-line gtbake::Error on a sweep without G-buffer channels, TuneNotApplicable with
 // fewer than kMinJackknifeScenes clusters (before any estimator runs).
 TuneAnalysis analyzeTune(const std::filesystem::path& sweep, const std::vector<SettingGrid>& grids,
-                         bool progress);
+                         bool progress, const std::filesystem::path& screen_ao = {});
 
 // Puts the estimate of every image in place of A in data.full (unmasked pixels in point order,
 // clamped within kEstimateRounding of [0, 1]; farther is a one-line error).

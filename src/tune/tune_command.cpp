@@ -26,7 +26,7 @@ TuneResult runTune(const TuneOptions& o) {
   const std::vector<SettingGrid> grids = tuneGrids(o);
   const OutputLock lock(o.out);  // for the whole run (output_lock.h)
   const ThreadLimit threads(o.threads);
-  const TuneAnalysis analysis = analyzeTune(o.sweep, grids, o.progress);
+  const TuneAnalysis analysis = analyzeTune(o.sweep, grids, o.progress, o.screen_ao);
   OutputSet output(o.out, "tune");
   TuneResult result;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -18,6 +18,9 @@ struct TuneOptions {
   std::filesystem::path out;
   std::vector<std::string> estimators = tunedEstimatorNames();
   std::vector<std::string> grids;  // "ESTIMATOR.KEY=v1,v2,..." replacing a default grid
+  // A screen-ao set of the same sweep (empty = none): each estimator it ran at tune's defaults
+  // has its default run read from it instead of run again (docs/tune.md §7).
+  std::filesystem::path screen_ao;
   int threads = 0;
   bool progress = true;
 };

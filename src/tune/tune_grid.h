@@ -3,6 +3,7 @@
 // holds the default value.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,13 +11,29 @@
 
 namespace gtbake {
 
+// How far a setting's grid may widen at one end (docs/tune.md §1, the limits table): the value
+// and why the search stops there.
+struct SettingLimit {
+  double value = 0.0;
+  std::string reason;
+};
+
 struct SettingGrid {
   std::string estimator;  // a screen-ao estimator name ("gtao-runtime")
   std::string key;        // its setting ("radius")
   bool log_axis = false;  // searched and plotted on log10 of the value (lengths in metres)
   double default_value = 0.0;
-  std::vector<double> values;  // ascending, distinct, holding default_value
+  std::vector<double> values;  // ascending, distinct, holding default_value, within the limits
+  SettingLimit lower, upper;   // values never pass them
 };
+
+// Widening steps allowed at each end of a grid (docs/tune.md §3).
+inline constexpr int kMaxWidenings = 4;
+
+// The value one widening step beyond the grid's lower (upper = false) or upper end: the end
+// times the ratio of the end to its neighbour on a log axis, the end plus the end's spacing on a
+// linear one, clipped to the limit; nullopt when the end is the limit.
+std::optional<double> widenedEnd(const SettingGrid& grid, bool upper);
 
 // The estimators tune covers, in output order: gtao-runtime, bitmask-uniform, bitmask-cosine.
 const std::vector<std::string>& tunedEstimatorNames();
@@ -27,8 +44,8 @@ std::vector<SettingGrid> defaultGrids(const std::vector<std::string>& estimators
 
 // Applies one "ESTIMATOR.KEY=v1,v2,..." to `grids` (replacing that setting's values). Throws a
 // one-line gtbake::Error for an estimator not in `grids`, a key tune does not search, a value that
-// does not parse or is out of range (validateSettings), a repeated value, fewer than two values or
-// a grid without the default.
+// does not parse or is out of range (validateSettings) or outside the setting's limits, a
+// repeated value, fewer than two values or a grid without the default.
 void applyGridOption(std::vector<SettingGrid>* grids, const std::string& text);
 
 // The defaults with `grid`'s setting at `value`.

@@ -1,6 +1,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/text_format.h"
 #include "fit/multibounce_coeffs.h"
 #include "gtbake_version.h"
 #include "tune/tune_outputs.h"
@@ -48,13 +49,21 @@ Json optimumJson(const SettingResult& r, bool paper) {
   for (std::size_t k = 1; k < r.scores.size(); ++k) {
     if (objective(r.scores[k]) < objective(r.scores[best])) best = k;
   }
+  const OptimumPlace place = optimumPlace(r, o);
+  Json limit = nullptr;
+  if (place.status != OptimumStatus::kInterior) {
+    limit = {{"value", place.limit.value}, {"reason", place.limit.reason}};
+  }
   return {{"value", optimumValue(r, o.z)},
           {"axis_value", o.z},
+          {"status", statusName(place.status)},
+          {"limit", limit},
           {"at_bound", o.at_bound},
           {"se", o.se},
           {"t_quantile", o.t},
           {"interval", {optimumValue(r, o.low), optimumValue(r, o.high)}},
           {"interval_axis", {o.low, o.high}},
+          {"interval_clipped", o.interval_clipped},
           {"replicates", o.replicates},
           {"replicates_at_bound", o.replicates_at_bound},
           {"flat_range", {r.grid.values[o.flat_first], r.grid.values[o.flat_last]}},
@@ -72,6 +81,7 @@ Json settingJson(const SettingResult& r, const TuneAnalysis& a) {
   return {{"axis", r.grid.log_axis ? "log10" : "linear"},
           {"default", r.grid.default_value},
           {"values", r.grid.values},
+          {"widened", {{"lower", r.widened_lower}, {"upper", r.widened_upper}}},
           {"grid", grid},
           {"optimum", {{"paper", optimumJson(r, true)}, {"profile", optimumJson(r, false)}}}};
 }
@@ -80,6 +90,19 @@ Json settingJson(const SettingResult& r, const TuneAnalysis& a) {
 
 double optimumValue(const SettingResult& r, double z) {
   return valueOnAxis(r.grid, z);
+}
+
+std::string optimumSummary(const SettingResult& r, const SceneInterval& o) {
+  const OptimumPlace place = optimumPlace(r, o);
+  const std::string value = formatNumber(optimumValue(r, o.z), "%.3g");
+  if (place.status != OptimumStatus::kInterior) {  // a bound: how many replicas are there too
+    return std::string(place.status == OptimumStatus::kLowerBound ? "<= " : ">= ") + value +
+           " bound (" + std::to_string(o.replicates_at_bound) + "/" +
+           std::to_string(o.replicates.size()) + " replicas)";
+  }
+  return value + " [" + formatNumber(optimumValue(r, o.low), "%.3g") + ", " +
+         formatNumber(optimumValue(r, o.high), "%.3g") + "]" +
+         (o.interval_clipped ? " clipped" : "");
 }
 
 Json tuneSettingsJson(const std::vector<SettingGrid>& grids, const std::string& sweep) {
@@ -91,12 +114,16 @@ Json tuneSettingsJson(const std::vector<SettingGrid>& grids, const std::string& 
                  {"key", s.key},
                  {"axis", s.log_axis ? "log10" : "linear"},
                  {"default", s.default_value},
-                 {"values", s.values}});
+                 {"values", s.values},
+                 {"limits",
+                  {{"lower", {{"value", s.lower.value}, {"reason", s.lower.reason}}},
+                   {"upper", {{"value", s.upper.value}, {"reason", s.upper.reason}}}}}});
   }
   return {{"sweep", sweep},
           {"estimators", estimators},
           {"grids", g},
           {"one_at_a_time", true},
+          {"max_widenings", kMaxWidenings},
           {"weighting", "pixel"},
           {"profile_fit", {{"eiv_correction", false}, {"constrain_open", false}}},
           {"flat_fraction", kFlatFraction}};
@@ -129,24 +156,18 @@ Json tuneJson(const TuneAnalysis& a, const std::vector<SettingGrid>& grids,
 }
 
 void printTuneSummary(const TuneAnalysis& a) {
-  std::printf("%-16s %-18s %7s | %-28s | %-28s | %s\n", "estimator", "setting", "default",
-              "paper: best [95% interval]", "profile: best [95% interval]", "profile within 5%");
+  std::printf("%-16s %-18s %7s | %-34s | %-34s | %s\n", "estimator", "setting", "default",
+              "paper: optimum [95% interval]", "profile: optimum [95% interval]",
+              "profile within 5%");
   for (const SettingResult& r : a.settings) {
-    char cells[3][64];
+    std::string cells[2];
     int k = 0;
-    for (const SceneInterval* o : {&r.paper, &r.profile}) {
-      if (o->at_bound) {  // the interval says nothing there: how many replicas agree does
-        std::snprintf(cells[k++], sizeof cells[0], "%.3g grid end (%zu/%zu replicas)",
-                      optimumValue(r, o->z), o->replicates_at_bound, o->replicates.size());
-      } else {
-        std::snprintf(cells[k++], sizeof cells[0], "%.3g [%.3g, %.3g]", optimumValue(r, o->z),
-                      optimumValue(r, o->low), optimumValue(r, o->high));
-      }
-    }
-    std::snprintf(cells[2], sizeof cells[2], "%.3g-%.3g", r.grid.values[r.profile.flat_first],
+    for (const SceneInterval* o : {&r.paper, &r.profile}) cells[k++] = optimumSummary(r, *o);
+    char flat[64];
+    std::snprintf(flat, sizeof flat, "%.3g-%.3g", r.grid.values[r.profile.flat_first],
                   r.grid.values[r.profile.flat_last]);
-    std::printf("%-16s %-18s %7.3g | %-28s | %-28s | %s\n", r.grid.estimator.c_str(),
-                r.grid.key.c_str(), r.grid.default_value, cells[0], cells[1], cells[2]);
+    std::printf("%-16s %-18s %7.3g | %-34s | %-34s | %s\n", r.grid.estimator.c_str(),
+                r.grid.key.c_str(), r.grid.default_value, cells[0].c_str(), cells[1].c_str(), flat);
   }
   std::fflush(stdout);
 }

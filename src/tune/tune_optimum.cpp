@@ -40,8 +40,11 @@ SceneInterval sceneInterval(const std::vector<double>& x, const std::vector<doub
   }
   out.se = jackknifeSe(out.replicates);
   out.t = studentT975(S - 1);
-  out.low = out.z - out.t * out.se;
-  out.high = out.z + out.t * out.se;
+  // The interval says nothing beyond what was searched (docs/tune.md §3): clipped to the grid.
+  const double low = out.z - out.t * out.se, high = out.z + out.t * out.se;
+  out.interval_clipped = low < x.front() || high > x.back();
+  out.low = std::max(low, x.front());
+  out.high = std::min(high, x.back());
   const auto k =
       static_cast<std::size_t>(std::min_element(pooled.begin(), pooled.end()) - pooled.begin());
   const double limit = (1.0 + kFlatFraction) * pooled[k];

@@ -20,7 +20,8 @@ struct SceneInterval {
   bool at_bound = false;
   double se = 0.0;                 // SE_J of z
   double t = 0.0;                  // t_{0.975, S−1}
-  double low = 0.0, high = 0.0;    // z ∓ t·SE_J, on the axis
+  double low = 0.0, high = 0.0;    // z ∓ t·SE_J on the axis, clipped to the grid's ends
+  bool interval_clipped = false;   // z ∓ t·SE_J reached past an end of the grid
   std::vector<double> replicates;  // z without each cluster
   std::size_t replicates_at_bound = 0;
   // The flat range: the grid nodes [flat_first, flat_last] whose objective is within

@@ -25,5 +25,9 @@ void printTuneSummary(const TuneAnalysis& a);
 
 // A value on the setting's own scale from a point of its search axis.
 double optimumValue(const SettingResult& r, double z);
+// An optimum as the summary and the report print it: "v [low, high]" inside the grid (" clipped"
+// when the interval reached past an end), ">= v bound (n/S replicas)" at the upper limit and
+// "<= v bound (...)" at the lower one (docs/tune.md §3, §5).
+std::string optimumSummary(const SettingResult& r, const SceneInterval& o);
 
 }  // namespace gtbake

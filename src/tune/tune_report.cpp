@@ -63,15 +63,14 @@ std::string settingPlot(const SettingResult& r) {
   return plot.str();
 }
 
-// At a grid end the interval says nothing; how many replicas are there too does.
+// At a bound the interval says nothing; how many replicas are there too and the limit do.
 std::string optimumCell(const SettingResult& r, const SceneInterval& o) {
-  const std::string value = formatNumber(optimumValue(r, o.z), "%.3g");
-  if (o.at_bound) {
-    return value + " at the grid's end (" + std::to_string(o.replicates_at_bound) + " of " +
-           std::to_string(o.replicates.size()) + " replicas too)";
+  const OptimumPlace place = optimumPlace(r, o);
+  std::string cell = escapeHtml(optimumSummary(r, o));
+  if (place.status != OptimumStatus::kInterior) {
+    cell += "<br>" + std::string(statusName(place.status)) + ": " + escapeHtml(place.limit.reason);
   }
-  return value + " [" + formatNumber(optimumValue(r, o.low), "%.3g") + ", " +
-         formatNumber(optimumValue(r, o.high), "%.3g") + "]";
+  return cell;
 }
 
 }  // namespace
@@ -86,7 +85,9 @@ std::string tuneReportHtml(const TuneAnalysis& a) {
       std::to_string(a.points) + " pixels &times; " + std::to_string(a.albedos.size()) +
       " albedos of " + std::to_string(a.clusters.size()) +
       " scenes; one setting at a time, the others at their defaults. Bars: the optimum's 95 % "
-      "scene-level interval (delete-one-scene jackknife).</p>\n<table><tr><th>estimator</th>"
+      "scene-level interval (delete-one-scene jackknife), clipped to the searched grid; an optimum "
+      "at a grid end after widening is a bound, not a best "
+      "value.</p>\n<table><tr><th>estimator</th>"
       "<th>setting</th><th>default</th><th>paper: optimum [interval]</th><th>profile: optimum "
       "[interval]</th></tr>\n";
   for (const SettingResult& r : a.settings) {

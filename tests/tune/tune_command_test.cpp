@@ -113,6 +113,23 @@ TEST(TuneCommand, SameBytesOnOneAndTwoThreads) {
   EXPECT_EQ(reports[0], reports[1]);
 }
 
+// Reading the defaults' runs from screen-ao (docs/tune.md §7) gives the bytes of running them.
+TEST(TuneCommand, ScreenAoDefaultsGiveTheSameResults) {
+  const fs::path out = test::freshDir("tune_reuse");
+  std::vector<json> docs;
+  std::vector<std::size_t> runs;
+  for (const bool reuse : {false, true}) {
+    TuneOptions o = tuneOptions(out / (reuse ? "reuse" : "run"));
+    if (reuse) o.screen_ao = sweepDir() / "screen_ao";
+    runTune(o);
+    json doc = readJson(o.out / "tune.json");
+    docs.push_back(doc["results"]);
+    runs.push_back(doc["provenance"]["estimator_runs"]);
+  }
+  EXPECT_EQ(docs[0].dump(), docs[1].dump());
+  EXPECT_EQ(runs[1] + kEstimators.size(), runs[0]);  // one default run fewer per estimator
+}
+
 // Every failure is one line and leaves nothing in the output directory.
 void expectOneLineError(const TuneOptions& o, const std::string& needle) {
   try {
@@ -144,6 +161,8 @@ TEST(TuneCommand, BadGridsAreOneLineErrors) {
   expectOneLineError(with(kEstimators, {"gtao-runtime.intensity=1,inf"}), "finite");
   expectOneLineError(with(kEstimators, {"gtao-runtime.intensity=0,1"}), "intensity");
   expectOneLineError(with(kEstimators, {"bitmask-cosine.thickness=-1,0.5"}), "thickness");
+  expectOneLineError(with(kEstimators, {"gtao-runtime.radius=1,8"}), "screen-space maximum");
+  expectOneLineError(with(kEstimators, {"bitmask-cosine.thickness=0.01,0.5"}), "limits");
   expectOneLineError(with(kEstimators, {"gtao-runtime.radius"}), "ESTIMATOR.KEY=");
   expectOneLineError(with({}, {}), "no estimator");
 }
