@@ -12,7 +12,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
 
+#include "common/text_format.h"
 #include "fit/multibounce_coeffs.h"
 
 namespace gtbake {
@@ -74,6 +76,32 @@ inline ShapeChecks shapeChecks(const MultiBounceCoeffs& k, int nodes = kShapeGri
   s.open = s.open_max_deviation <= kOpenTolerance;
   s.nonnegative = s.min_G >= -kShapeTolerance;
   return s;
+}
+
+// The shipping gate (docs/profiles.md §9): a profile ships only with the shape above and a
+// held-out RMSE of G below the paper's constants' on the same Â; `reason` says which test failed,
+// or that both passed, with the numbers.
+struct ProfileGate {
+  bool shipped = false;
+  std::string reason;
+};
+
+inline ProfileGate profileGate(const ShapeChecks& s, double held_out_rmse, double paper_rmse) {
+  if (!s.monotone) {
+    return {false, "not monotone in A: dG/dA = " + formatNumber(s.min_slope, "%.3g") +
+                       " at A = " + formatNumber(s.min_slope_A, "%.3f") +
+                       ", rho = " + formatNumber(s.min_slope_rho, "%.2f")};
+  }
+  if (!s.open) {
+    return {false,
+            "G(1, rho) is not 1: off by up to " + formatNumber(s.open_max_deviation, "%.3g")};
+  }
+  if (!s.nonnegative) return {false, "G < 0: down to " + formatNumber(s.min_G, "%.3g")};
+  const std::string rmses =
+      "held-out RMSE of G " + formatNumber(held_out_rmse) + ", paper's " + formatNumber(paper_rmse);
+  if (!(held_out_rmse < paper_rmse))
+    return {false, "does not beat the paper's constants: " + rmses};
+  return {true, "monotone, G(1, rho) = 1, G >= 0, " + rmses};
 }
 
 }  // namespace gtbake
