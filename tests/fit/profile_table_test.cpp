@@ -49,7 +49,9 @@ TEST(ProfileTable, IsotonicRegressionMatchesBruteForce) {
     const std::vector<double> fit = isotonicRegression(y, w);
     double cost = 0.0;
     for (std::size_t i = 0; i < y.size(); ++i) {
-      if (i > 0) EXPECT_GE(fit[i], fit[i - 1]);
+      if (i > 0) {
+        EXPECT_GE(fit[i], fit[i - 1]);
+      }
       cost += w[i] * (y[i] - fit[i]) * (y[i] - fit[i]);
     }
     EXPECT_NEAR(cost, bruteForceIsotonic(y, w), 1e-12) << trial;
