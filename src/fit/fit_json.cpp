@@ -257,6 +257,24 @@ json profileJson(const ProfileChecks& p) {
           {"gate", {{"shipped", p.gate.shipped}, {"reason", p.gate.reason}}}};
 }
 
+// The constraint's alternative, and a profile's setting and checks (absent from the ray-traced
+// fit.json, whose shape_constrained is false).
+void addConstraintJson(const FitAnalysis& a, json& out) {
+  json alternative = {{"linear", coeffsJson(a.constraint.linear)},
+                      {"rmse", a.constraint.rmse},
+                      {"rmse_cost_of_constraint", constraintCost(a)},
+                      {"max_curve_difference_vs_refit", curveJson(a.constraint.vs_default)},
+                      {"open_surface", openJson(openSurface(a.constraint.linear))}};
+  if (a.fit.settings.shape_constrained) {
+    out["settings"]["shape_constrained"] = true;
+    out["unconstrained_alternative"] = alternative;
+    out["profile"] = profileJson(*a.profile);
+  } else {
+    alternative["constrain_open"] = !a.fit.settings.constrain_open;
+    out["constrain_open_alternative"] = alternative;
+  }
+}
+
 // What the fit's A was: the sweep's ray-traced A, or a screen-space estimator's Â (a profile).
 json inputJson(const AoInput& input, const fs::path& base) {
   if (input.rayTraced()) return {{"A", "ray-traced"}};
@@ -294,19 +312,7 @@ json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceC
       {"rms", cubicJson(fit.linear.lack_of_fit_rms)},
       {"max_abs", cubicJson(fit.linear.lack_of_fit_max)}};
   out["open_surface"] = openJson(a.open_surface);
-  json alternative = {{"linear", coeffsJson(a.constraint.linear)},
-                      {"rmse", a.constraint.rmse},
-                      {"rmse_cost_of_constraint", constraintCost(a)},
-                      {"max_curve_difference_vs_refit", curveJson(a.constraint.vs_default)},
-                      {"open_surface", openJson(openSurface(a.constraint.linear))}};
-  if (fit.settings.shape_constrained) {
-    out["settings"]["shape_constrained"] = true;  // absent: false (the ray-traced fit)
-    out["unconstrained_alternative"] = alternative;
-    out["profile"] = profileJson(*a.profile);
-  } else {
-    alternative["constrain_open"] = !fit.settings.constrain_open;
-    out["constrain_open_alternative"] = alternative;
-  }
+  addConstraintJson(a, out);
   out["weighting_alternatives"] = alternativesJson(a);
   json weights = json::array();
   for (const SceneWeight& w : a.scene_weights) {
