@@ -219,7 +219,6 @@ void runGrids(StageParts& parts, SweepData* data, const SweepImages& images,
 FitSettings profileFitSettings() {
   FitSettings s;
   s.eiv_correction = false;
-  s.shape_constrained = true;  // as the profile fit (docs/profiles.md §7)
   return s;
 }
 

@@ -98,8 +98,7 @@ Json tuneSettingsJson(const std::vector<SettingGrid>& grids, const std::string& 
           {"grids", g},
           {"one_at_a_time", true},
           {"weighting", "pixel"},
-          {"profile_fit",
-           {{"eiv_correction", false}, {"constrain_open", false}, {"shape_constrained", true}}},
+          {"profile_fit", {{"eiv_correction", false}, {"constrain_open", false}}},
           {"flat_fraction", kFlatFraction}};
 }
 
