@@ -9,12 +9,6 @@
 #include "validate_gtso/validate_gtso_set.h"
 
 namespace gtbake {
-namespace {
-
-constexpr const char* kCoeffNames[6] = {"a1", "a0", "b1", "b0", "c1", "c0"};
-
-}  // namespace
-
 FitInput readFitInput(const std::filesystem::path& file) {
   FitInput in;
   if (!std::filesystem::is_regular_file(file)) throw Error("no such file: " + file.string());
@@ -69,6 +63,7 @@ std::vector<ProfileInput> readProfiles(const std::filesystem::path& dir) {
       p.band_max =
           shippedNumber(jk["band_max"], "value", where + " scene_jackknife/band_max", true);
     }
+    p.gate = profileGate(shapeChecks(p.linear), p.rmse_held_out, p.rmse_paper);
     out.push_back(p);
   }
   return out;

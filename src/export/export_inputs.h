@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "fit/profile_shape.h"
 #include "gtso/gtso_set.h"
 
 namespace gtbake {
@@ -27,6 +28,9 @@ struct ProfileInput {
   double band_max = 0.0;           // largest scene-jackknife SE of G (0: no band)
   double rmse_paper = 0.0;         // RMSE of G with the paper's constants on that Â
   double rmse_held_out = 0.0;      // RMSE of G with the profile, each scene held out
+  // The shipping gate (docs/profiles.md §9), recomputed here from the coefficients and the two
+  // RMSEs: only a shipped profile enters the header and the includes.
+  ProfileGate gate;
 };
 
 // One tuned setting of a screen-space estimator (docs/tune.md), from tune.json: the value that

@@ -45,6 +45,10 @@ std::string floatLiteral(float value);
 
 // A profile's estimator as an identifier suffix ("gtao-runtime" -> "gtao_runtime").
 std::string profileIdentifier(const std::string& estimator);
+// The shipping gate's outcome per profile as comment lines (docs/profiles.md §9), and how many
+// profiles passed it.
+std::string profileGateComment(const std::vector<ProfileInput>& profiles);
+std::size_t shippedProfileCount(const std::vector<ProfileInput>& profiles);
 
 // The shared "// ..." provenance lines: command line, versions, samples, errors.
 std::string provenanceComment(const GeneratedCodeInput& in);

@@ -74,10 +74,13 @@ std::string upper(std::string s) {
 std::string profileFunctions(const GeneratedCodeInput& in) {
   if (in.profiles == nullptr || in.profiles->empty()) return "";
   std::ostringstream o;
-  o << "\n// Engine profiles (docs/profiles.md): Equation 10 refitted on the A each screen-space\n"
+  o << "\n" << profileGateComment(*in.profiles);
+  if (shippedProfileCount(*in.profiles) == 0) return o.str();
+  o << "// Engine profiles (docs/profiles.md): Equation 10 refitted on the A each screen-space\n"
     << "// estimator computes. RMSE of G on that A: paper's constants | profile held out by "
        "scene.\n";
   for (const ProfileInput& p : *in.profiles) {
+    if (!p.gate.shipped) continue;
     const auto& c = p.linear;
     o << "// " << p.estimator << ": " << lit(p.rmse_paper) << " | " << lit(p.rmse_held_out) << "\n"
       << "float multiBounce_" << profileIdentifier(p.estimator) << "(float A, float albedo) {\n"

@@ -162,6 +162,9 @@ void emitConstants(std::ostringstream& o, const GeneratedCodeInput& in) {
 // The engine profiles (docs/profiles.md): Equation 10 refitted on each estimator's Â.
 void emitProfiles(std::ostringstream& o, const GeneratedCodeInput& in) {
   if (in.profiles == nullptr || in.profiles->empty()) return;
+  o << profileGateComment(*in.profiles);
+  const std::size_t shipped = shippedProfileCount(*in.profiles);
+  if (shipped == 0) return;
   o << "// Engine profiles (docs/profiles.md): Equation 10 refitted on the A each screen-space\n"
     << "// estimator computes, path-traced G as the target. Feed an engine's own estimate through\n"
     << "// its estimator's profile: multiBounce(kMultiBounceProfiles[i], A, albedo). RMSE of G on\n"
@@ -173,10 +176,10 @@ void emitProfiles(std::ostringstream& o, const GeneratedCodeInput& in) {
     << "  float a[2], b[2], c[2];  // {slope, intercept} in rho, as kMultiBounceA/B/C\n"
     << "  float rmsePaper, rmseHeldOut, bandMax;\n"
     << "};\n"
-    << "inline constexpr int kMultiBounceProfileCount = " << in.profiles->size() << ";\n"
-    << "inline constexpr GtbakeMultiBounceProfile kMultiBounceProfiles[" << in.profiles->size()
-    << "] = {\n";
+    << "inline constexpr int kMultiBounceProfileCount = " << shipped << ";\n"
+    << "inline constexpr GtbakeMultiBounceProfile kMultiBounceProfiles[" << shipped << "] = {\n";
   for (const ProfileInput& p : *in.profiles) {
+    if (!p.gate.shipped) continue;
     const auto& c = p.linear;
     o << "    {\"" << p.estimator << "\", {" << f(float(c[0])) << ", " << f(float(c[1])) << "}, {"
       << f(float(c[2])) << ", " << f(float(c[3])) << "}, {" << f(float(c[4])) << ", "
@@ -301,7 +304,7 @@ inline float gtsoConeModelFromAlpha(float A, float cosBeta, float alpha) {
   return gtsoConeModel(kConeApertureU, A, cosBeta, std::sqrt(alpha));
 }
 
-// Multi-bounce G(A, rho) (paper Eq. 10), clamped below by A as in the paper's listing.
+// Multi-bounce G(A, rho) (paper Eq. 10) with the constants above, unclamped.
 inline float multiBounce(float A, float albedo) {
   return gtsoMultiBounce(kMultiBounceA, kMultiBounceB, kMultiBounceC, A, albedo);
 }
@@ -350,6 +353,23 @@ std::string profileIdentifier(const std::string& estimator) {
   std::string id = estimator;
   std::replace(id.begin(), id.end(), '-', '_');
   return id;
+}
+
+std::string profileGateComment(const std::vector<ProfileInput>& profiles) {
+  std::string out =
+      "// Profile gate (docs/profiles.md §9): shipped only if monotone in A, G(1, rho) = 1, G >= "
+      "0\n"
+      "// and its held-out RMSE of G beats the paper's constants on the same A.\n";
+  for (const ProfileInput& p : profiles) {
+    out += "//   " + p.estimator + (p.gate.shipped ? ": shipped; " : ": absent; ") + p.gate.reason +
+           "\n";
+  }
+  return out;
+}
+
+std::size_t shippedProfileCount(const std::vector<ProfileInput>& profiles) {
+  return static_cast<std::size_t>(std::count_if(
+      profiles.begin(), profiles.end(), [](const ProfileInput& p) { return p.gate.shipped; }));
 }
 
 namespace {

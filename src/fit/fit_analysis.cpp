@@ -71,12 +71,40 @@ std::vector<Alternative> weightingAlternatives(const SweepData& data, const Mult
 
 Alternative constraintAlternative(const SweepData& data, const MultiBounceFit& fit) {
   FitSettings settings = fit.settings;
-  settings.constrain_open = !settings.constrain_open;
+  // A shape-constrained fit against the fit without any constraint; otherwise the other
+  // constrain-open setting.
+  settings.constrain_open = !settings.constrain_open && !settings.shape_constrained;
+  settings.shape_constrained = false;
   const MultiBounceCoeffs k =
       coefficientsFromStatistics(total(fit.scene_stats), data.albedos, settings);
-  Alternative out{settings.constrain_open ? "constrain-open on" : "constrain-open off", k,
-                  maxCurveDifference(k, fit.linear.coeffs), errorTable(data, k).rmse};
-  return out;
+  const std::string name = fit.settings.shape_constrained ? "shape-constrained off"
+                           : settings.constrain_open      ? "constrain-open on"
+                                                          : "constrain-open off";
+  return {name, k, maxCurveDifference(k, fit.linear.coeffs), errorTable(data, k).rmse};
+}
+
+double constraintCost(const FitAnalysis& a) {
+  const FitSettings& s = a.fit.settings;
+  return s.constrain_open || s.shape_constrained ? a.refit_errors.rmse - a.constraint.rmse
+                                                 : a.constraint.rmse - a.refit_errors.rmse;
+}
+
+const char* constraintName(const FitSettings& settings) {
+  return settings.shape_constrained ? "the shape constraints (G(1, rho) = 1, dG/dA >= 0, G >= 0)"
+                                    : "a - b + c = 1 (--constrain-open)";
+}
+
+ProfileChecks profileChecks(const FitAnalysis& a) {
+  ProfileChecks p;
+  p.shape = shapeChecks(a.fit.linear.coeffs);
+  p.cubic_rmse = a.refit_errors.rmse;
+  p.floor_rmse = a.floor.rmse;
+  p.ratio = p.cubic_rmse / p.floor_rmse;
+  p.adequate = p.ratio <= kAdequacyRatio;
+  p.table = tableFit(a.data);
+  p.gate = a.held_out_errors ? profileGate(p.shape, a.held_out_errors->rmse, a.shipped_errors.rmse)
+                             : ProfileGate{false, "no held-out RMSE (fewer than two scenes)"};
+  return p;
 }
 
 std::optional<ErrorTable> heldOutErrors(const SweepData& data, const SceneJackknife& by_scene) {
@@ -99,6 +127,8 @@ FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& 
   // errors-in-variables correction to remove (its estimate would be G's noise alone).
   FitSettings used = settings;
   used.eiv_correction = settings.eiv_correction && input.rayTraced();
+  // A profile ships to engines: fitted under the shape it must have (docs/profiles.md §7).
+  used.shape_constrained = settings.shape_constrained || !input.rayTraced();
   FitAnalysis a = analyzePoints(std::move(data), used, shipped, {}, progress);
   a.input = input;
   return a;
@@ -130,6 +160,7 @@ FitAnalysis analyzePoints(SweepData data, const FitSettings& settings,
   a.constraint = constraintAlternative(a.data, a.fit);
   step();
   a.floor = fitFloor(a.data);
+  if (settings.shape_constrained) a.profile = profileChecks(a);
   step();
   return a;
 }

@@ -12,6 +12,8 @@
 #include "fit/fit_errors.h"
 #include "fit/fit_floor.h"
 #include "fit/multibounce_fit.h"
+#include "fit/profile_shape.h"
+#include "fit/profile_table.h"
 #include "fit/scene_jackknife.h"
 #include "fit/screen_estimate.h"
 #include "fit/sweep_data.h"
@@ -28,7 +30,8 @@ OpenSurface openSurface(const MultiBounceCoeffs& k);
 
 // The same fit under another setting, against the reported one.
 struct Alternative {
-  std::string name;  // "pixel", "scene", "flat-a", or "constrain-open on|off"
+  std::string
+      name;  // "pixel", "scene", "flat-a", "constrain-open on|off" or "shape-constrained off"
   MultiBounceCoeffs linear{};
   CurveDifference vs_default;  // max |G_alternative − G_default| (default: pixel weighting)
   double rmse = 0.0;           // unweighted RMSE of G over every point and albedo
@@ -39,6 +42,17 @@ struct SceneWeight {
   std::string scene;
   std::size_t points = 0;
   double share = 0.0;  // Σ_{i ∈ scene} w_i / Σ w_i
+};
+
+// An engine profile's shape, adequacy and gate (docs/profiles.md §7–§9).
+struct ProfileChecks {
+  ShapeChecks shape;        // of the reported coefficients
+  double cubic_rmse = 0.0;  // in sample (refit_errors.rmse)
+  double floor_rmse = 0.0;  // floor.rmse
+  double ratio = 0.0;       // cubic_rmse / floor_rmse
+  bool adequate = false;    // ratio ≤ kAdequacyRatio
+  TableFit table;           // the monotone 2D table, its in-sample and held-out RMSE
+  ProfileGate gate;         // the cubic's
 };
 
 struct FitAnalysis {
@@ -59,6 +73,7 @@ struct FitAnalysis {
   Alternative constraint;               // the other constrain-open setting, same weighting
   FitFloor floor;
   std::vector<SceneWeight> scene_weights;
+  std::optional<ProfileChecks> profile;  // shape-constrained fits (engine profiles) only
 };
 
 // Stages of analyzeSweep, for a progress bar (kAnalysisStages units).
@@ -80,5 +95,12 @@ std::vector<SceneWeight> sceneWeights(const SweepData& data, const std::vector<d
 std::vector<Alternative> weightingAlternatives(const SweepData& data, const MultiBounceFit& fit);
 Alternative constraintAlternative(const SweepData& data, const MultiBounceFit& fit);
 std::optional<ErrorTable> heldOutErrors(const SweepData& data, const SceneJackknife& by_scene);
+// Needs a's fit, errors and floor.
+ProfileChecks profileChecks(const FitAnalysis& a);
+// RMSE of G the constraint costs: constrained refit minus unconstrained (either order of
+// fit.settings and its alternative).
+double constraintCost(const FitAnalysis& a);
+// The constraint of `settings` (or the one its alternative adds), as the summary names it.
+const char* constraintName(const FitSettings& settings);
 
 }  // namespace gtbake

@@ -222,6 +222,59 @@ json floorJson(const FitAnalysis& a) {
           {"per_scene", scenes}};
 }
 
+// The shape checks, adequacy, monotone table and gate of an engine profile (docs/profiles.md
+// §7-§9).
+json profileJson(const ProfileChecks& p) {
+  const ShapeChecks& s = p.shape;
+  json rows = json::array();
+  for (std::size_t j = 0; j < p.table.table.rhos.size(); ++j) {
+    const auto begin = p.table.table.values.begin() + static_cast<std::ptrdiff_t>(j * kTableNodes);
+    rows.push_back(std::vector<double>(begin, begin + kTableNodes));
+  }
+  json table = {{"needed", !p.adequate},
+                {"A_nodes", kTableNodes},
+                {"rho", p.table.table.rhos},
+                {"values", rows},
+                {"rmse", p.table.rmse}};
+  if (p.table.held_out) table["held_out_by_scene_rmse"] = p.table.held_out_rmse;
+  return {{"shape",
+           {{"grid", {{"A_nodes", kShapeGridNodes}, {"rho", kShapeRhos}}},
+            {"min_dG_dA", s.min_slope},
+            {"min_dG_dA_at", {{"A", s.min_slope_A}, {"rho", s.min_slope_rho}}},
+            {"G1_max_abs_deviation", s.open_max_deviation},
+            {"min_G", s.min_G},
+            {"monotone", s.monotone},
+            {"open", s.open},
+            {"nonnegative", s.nonnegative},
+            {"tolerances", {{"G1", kOpenTolerance}, {"slope_and_G", kShapeTolerance}}}}},
+          {"adequacy",
+           {{"cubic_rmse", p.cubic_rmse},
+            {"floor_rmse", p.floor_rmse},
+            {"ratio", p.ratio},
+            {"threshold", kAdequacyRatio},
+            {"adequate", p.adequate}}},
+          {"table", table},
+          {"gate", {{"shipped", p.gate.shipped}, {"reason", p.gate.reason}}}};
+}
+
+// The constraint's alternative, and a profile's setting and checks (absent from the ray-traced
+// fit.json, whose shape_constrained is false).
+void addConstraintJson(const FitAnalysis& a, json& out) {
+  json alternative = {{"linear", coeffsJson(a.constraint.linear)},
+                      {"rmse", a.constraint.rmse},
+                      {"rmse_cost_of_constraint", constraintCost(a)},
+                      {"max_curve_difference_vs_refit", curveJson(a.constraint.vs_default)},
+                      {"open_surface", openJson(openSurface(a.constraint.linear))}};
+  if (a.fit.settings.shape_constrained) {
+    out["settings"]["shape_constrained"] = true;
+    out["unconstrained_alternative"] = alternative;
+    out["profile"] = profileJson(*a.profile);
+  } else {
+    alternative["constrain_open"] = !a.fit.settings.constrain_open;
+    out["constrain_open_alternative"] = alternative;
+  }
+}
+
 // What the fit's A was: the sweep's ray-traced A, or a screen-space estimator's Â (a profile).
 json inputJson(const AoInput& input, const fs::path& base) {
   if (input.rayTraced()) return {{"A", "ray-traced"}};
@@ -259,15 +312,7 @@ json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceC
       {"rms", cubicJson(fit.linear.lack_of_fit_rms)},
       {"max_abs", cubicJson(fit.linear.lack_of_fit_max)}};
   out["open_surface"] = openJson(a.open_surface);
-  out["constrain_open_alternative"] = {
-      {"constrain_open", !fit.settings.constrain_open},
-      {"linear", coeffsJson(a.constraint.linear)},
-      {"rmse", a.constraint.rmse},
-      {"rmse_cost_of_constraint", fit.settings.constrain_open
-                                      ? a.refit_errors.rmse - a.constraint.rmse
-                                      : a.constraint.rmse - a.refit_errors.rmse},
-      {"max_curve_difference_vs_refit", curveJson(a.constraint.vs_default)},
-      {"open_surface", openJson(openSurface(a.constraint.linear))}};
+  addConstraintJson(a, out);
   out["weighting_alternatives"] = alternativesJson(a);
   json weights = json::array();
   for (const SceneWeight& w : a.scene_weights) {

@@ -307,15 +307,15 @@ std::string alternativeTables(const FitAnalysis& a) {
                     formatNumber(alt.rmse, "%.5f")});
   }
   const OpenSurface& o = a.open_surface;
-  const double cost = a.fit.settings.constrain_open ? a.refit_errors.rmse - a.constraint.rmse
-                                                    : a.constraint.rmse - a.refit_errors.rmse;
+  const double cost = constraintCost(a);
   return "<h2>Point weighting and the open surface</h2>\n" +
          table({"weighting", "max |&Delta;G| vs pixel", "a1", "b1", "c1", "RMSE"}, rows) +
          "<p>G(1, &rho;) of the refit = " + formatNumber(o.intercept, "%.5f") + " " +
-         formatNumber(o.slope, "%+.5f") +
-         " &rho; (an open surface gives 1). The constraint a &minus; b + c "
-         "= 1 (--constrain-open) changes the RMSE by " +
-         formatNumber(cost, "%+.2e") + "; the curves differ by " +
+         formatNumber(o.slope, "%+.5f") + " &rho; (an open surface gives 1). " +
+         (a.fit.settings.shape_constrained
+              ? "The shape constraints (G(1, &rho;) = 1, dG/dA &ge; 0, G &ge; 0)"
+              : "The constraint a &minus; b + c = 1 (--constrain-open)") +
+         " changes the RMSE by " + formatNumber(cost, "%+.2e") + "; the curves differ by " +
          formatNumber(a.constraint.vs_default.value) + " at most.</p>\n";
 }
 

@@ -106,18 +106,29 @@ void printCoefficients(const FitAnalysis& a, const MultiBounceCoeffs& other, con
   }
 }
 
+// The shape, adequacy and gate of an engine profile (docs/profiles.md §7-§9).
+void printProfileChecks(const ProfileChecks& p) {
+  std::printf(
+      "shape: min dG/dA %.3g, max |G(1, rho) - 1| %.1e, min G %.3g\n"
+      "adequacy: cubic RMSE %.4f, floor %.4f, ratio %.3f (%s; threshold %.2f); monotone table "
+      "%dx%zu RMSE %.4f, held out %.4f\n"
+      "gate: %s (%s)\n",
+      p.shape.min_slope, p.shape.open_max_deviation, p.shape.min_G, p.cubic_rmse, p.floor_rmse,
+      p.ratio, p.adequate ? "adequate" : "not adequate", kAdequacyRatio, kTableNodes,
+      p.table.table.rhos.size(), p.table.rmse, p.table.held_out_rmse,
+      p.gate.shipped ? "shipped" : "not shipped", p.gate.reason.c_str());
+}
+
 void printAlternatives(const FitAnalysis& a) {
   const OpenSurface& o = a.open_surface;
   std::printf(
       "\nG(1, rho) of the refit = %.5f %+.5f rho (an open surface gives 1; max |G - 1| "
       "%.5f)\n",
       o.intercept, o.slope, o.max_deviation);
-  const double cost = a.fit.settings.constrain_open ? a.refit_errors.rmse - a.constraint.rmse
-                                                    : a.constraint.rmse - a.refit_errors.rmse;
-  std::printf(
-      "  a - b + c = 1 (--constrain-open) changes the unweighted RMSE by %+.2e; the curves "
-      "differ by %.4f at most\n",
-      cost, a.constraint.vs_default.value);
+  const double cost = constraintCost(a);
+  std::printf("  %s changes the unweighted RMSE by %+.2e; the curves differ by %.4f at most\n",
+              constraintName(a.fit.settings), cost, a.constraint.vs_default.value);
+  if (a.profile) printProfileChecks(*a.profile);
   std::printf("\n%-8s %-34s %9s %9s %9s\n", "weights", "max |dG| vs pixel weighting", "a1", "b1",
               "RMSE");
   for (const Alternative& alt : a.weightings) {

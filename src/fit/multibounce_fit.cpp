@@ -7,6 +7,7 @@
 
 #include "common/error.h"
 #include "fit/ceres_linear.h"
+#include "fit/shape_constrained_fit.h"
 
 namespace gtbake {
 
@@ -213,6 +214,9 @@ MultiBounceCoeffs coefficientsFromStatistics(const LevelStatistics& sums,
     extrapolate(solveLevels(sums, j, p, false), settings.eiv_correction, f);
     theta[j] = f.theta;
   }
+  if (settings.shape_constrained) {
+    return solveShapeConstrained(profileObjective(sums[0], albedos));
+  }
   return fitLines(albedos, theta, false).coeffs;
 }
 
@@ -248,8 +252,12 @@ MultiBounceFit fitMultiBounce(const SweepData& data, const FitSettings& settings
   const std::vector<Cubic> reported = column(&AlbedoFit::theta);
   const Lines lines = fitLines(data.albedos, reported, true);
   LinearFit& lin = fit.linear;
-  lin.coeffs = lines.coeffs;
-  lin.uncorrected = fitLines(data.albedos, column(&AlbedoFit::uncorrected), false).coeffs;
+  lin.coeffs = settings.shape_constrained
+                   ? solveShapeConstrained(profileObjective(sums[0], data.albedos))
+                   : lines.coeffs;
+  lin.uncorrected = settings.shape_constrained
+                        ? lin.coeffs
+                        : fitLines(data.albedos, column(&AlbedoFit::uncorrected), false).coeffs;
   lin.eiv_bias = applyLines(lines.L, column(&AlbedoFit::eiv_bias));
   lin.eiv_bias_quadratic = applyLines(lines.L, column(&AlbedoFit::eiv_bias_quadratic));
   lin.eiv_bias_two_point = applyLines(lines.L, column(&AlbedoFit::eiv_bias_two_point));

@@ -41,6 +41,10 @@ struct FitSettings {
   bool eiv_correction = true;
   Weighting weighting = Weighting::kPixel;
   bool constrain_open = false;  // a − b + c = 1 for every ρ: an open surface has G(1, ρ) = 1
+  // The six by the shape-constrained QP of shape_constrained_fit.h (G(1, ρ) = 1, dG/dA ≥ 0,
+  // G ≥ 0) on the full estimate's sums, in place of the lines (engine profiles,
+  // docs/profiles.md §7); the per-albedo cubics stay unconstrained.
+  bool shape_constrained = false;
 };
 
 struct AlbedoFit {

@@ -460,14 +460,14 @@ inline float gtso4DLookup(const GtsoVolume& table, const int* size, float A, flo
 // ---- closed forms ----
 
 // Multi-bounce G(A, rho) = a A^3 - b A^2 + c A (paper Eq. 10) with a = ka[0] rho + ka[1] etc.
-// ({slope, intercept}); clamped below by A as in the paper's listing.
+// ({slope, intercept}); unclamped (a shipped profile is monotone with G(1) = 1,
+// docs/profiles.md §9).
 inline float gtsoMultiBounce(const float* ka, const float* kb, const float* kc, float A,
                              float albedo) {
   const float a = ka[0] * albedo + ka[1];
   const float b = kb[0] * albedo + kb[1];
   const float c = kc[0] * albedo + kc[1];
-  const float g = ((a * A - b) * A + c) * A;
-  return g > A ? g : A;
+  return ((a * A - b) * A + c) * A;
 }
 
 // Solid angle of the intersection of two spherical caps of half-angles alphaV, alphaS whose axes

@@ -133,14 +133,14 @@ float gtso4DSample(GTSO_TEXTURE, float A, float cosBeta, float rp, float cosThet
   return f0 + (f1 - f0) * (a.w - s0);
 }
 
-// Multi-bounce G(A, rho) = a A^3 - b A^2 + c A (paper Eq. 10), clamped below by A, for
+// Multi-bounce G(A, rho) = a A^3 - b A^2 + c A (paper Eq. 10), unclamped, for
 // constants {slope, intercept} in rho: a = a1 rho + a0, and so on.
 float gtsoMultiBounce(float a1, float a0, float b1, float b0, float c1, float c0, float A,
                       float albedo) {
   float a = a1 * albedo + a0;
   float b = b1 * albedo + b0;
   float c = c1 * albedo + c0;
-  return max(A, ((a * A - b) * A + c) * A);
+  return ((a * A - b) * A + c) * A;
 }
 // With the shipped constants kMultiBounceA/B/C.
 float multiBounce(float A, float albedo) {

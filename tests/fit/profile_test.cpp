@@ -115,8 +115,16 @@ TEST(Profile, FitOnABiasedEstimateFindsTheLawsCubicInThatEstimate) {
   FitSettings settings;
   settings.eiv_correction = false;
   const MultiBounceFit fit = fitMultiBounce(data, settings);
-  EXPECT_LT(worstInMonteCarloBands(refit, test::cavityLawOwnFit(kBounces, square), fit), 4.0);
-  EXPECT_GT(worstInMonteCarloBands(refit, test::cavityLawOwnFit(kBounces), fit), 40.0);
+  // The regressor substitution, on the unconstrained alternative (the profile itself is
+  // shape-constrained, docs/profiles.md §7).
+  const MultiBounceCoeffs free = linearOf(doc["unconstrained_alternative"]["linear"]);
+  EXPECT_LT(worstInMonteCarloBands(free, test::cavityLawOwnFit(kBounces, square), fit), 4.0);
+  EXPECT_GT(worstInMonteCarloBands(free, test::cavityLawOwnFit(kBounces), fit), 40.0);
+  EXPECT_TRUE(doc["settings"]["shape_constrained"].get<bool>());
+  EXPECT_TRUE(shapeChecks(refit).pass());
+  EXPECT_EQ(doc["profile"]["gate"]["shipped"].get<bool>(),
+            doc["errors"]["held_out_by_scene"]["rmse"].get<double>() <
+                doc["errors"]["shipped"]["rmse"].get<double>());
   // Â carries no sampling noise: the correction for noise in A is off, and fit.json says so.
   EXPECT_FALSE(doc["settings"]["eiv_correction"].get<bool>());
   EXPECT_GT(result.held_out_rmse, result.rmse);
@@ -130,29 +138,32 @@ TEST(Profile, HeldOutErrorsEqualBruteForceLeaveOneSceneOutRefits) {
                                             {"c", {2.60, -0.35, 5.40, -0.65, 2.95, 0.69}, 3500},
                                             {"d", {2.30, -0.25, 5.00, -0.55, 2.85, 0.71}, 2000}},
                                            0.01, 0.01, 0.3, 5);
-  const FitSettings settings;
-  const MultiBounceFit fit = fitMultiBounce(data, settings);
-  const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs);
-  const std::optional<ErrorTable> held = heldOutErrors(data, jk);
-  ASSERT_TRUE(held.has_value());
-  ASSERT_EQ(held->per_scene.size(), data.scenes.size());
-  double sum2 = 0.0;
-  std::size_t count = 0;
-  for (std::size_t s = 0; s < data.scenes.size(); ++s) {
-    SweepData rest, alone;
-    for (std::size_t t = 0; t < data.scenes.size(); ++t) {
-      test::appendScene(data, t, t == s ? alone : rest);
+  for (bool constrained : {false, true}) {  // a profile's replicas are shape-constrained too
+    FitSettings settings;
+    settings.shape_constrained = constrained;
+    const MultiBounceFit fit = fitMultiBounce(data, settings);
+    const SceneJackknife jk = sceneJackknife(data, fit, kPaperCoeffs);
+    const std::optional<ErrorTable> held = heldOutErrors(data, jk);
+    ASSERT_TRUE(held.has_value());
+    ASSERT_EQ(held->per_scene.size(), data.scenes.size());
+    double sum2 = 0.0;
+    std::size_t count = 0;
+    for (std::size_t s = 0; s < data.scenes.size(); ++s) {
+      SweepData rest, alone;
+      for (std::size_t t = 0; t < data.scenes.size(); ++t) {
+        test::appendScene(data, t, t == s ? alone : rest);
+      }
+      const MultiBounceCoeffs without = fitMultiBounce(rest, settings).linear.coeffs;
+      const ErrorTable own = errorTable(alone, without);
+      EXPECT_NEAR(held->per_scene[s].rmse, own.rmse, 1e-9 * own.rmse) << data.scenes[s].name;
+      EXPECT_NEAR(held->per_scene[s].max_abs, own.max_abs, 1e-9 * own.max_abs);
+      const std::size_t n = (data.scenes[s].end - data.scenes[s].begin) * data.albedos.size();
+      sum2 += own.rmse * own.rmse * static_cast<double>(n);
+      count += n;
     }
-    const MultiBounceCoeffs without = fitMultiBounce(rest, settings).linear.coeffs;
-    const ErrorTable own = errorTable(alone, without);
-    EXPECT_NEAR(held->per_scene[s].rmse, own.rmse, 1e-9 * own.rmse) << data.scenes[s].name;
-    EXPECT_NEAR(held->per_scene[s].max_abs, own.max_abs, 1e-9 * own.max_abs);
-    const std::size_t n = (data.scenes[s].end - data.scenes[s].begin) * data.albedos.size();
-    sum2 += own.rmse * own.rmse * static_cast<double>(n);
-    count += n;
+    EXPECT_NEAR(held->rmse, std::sqrt(sum2 / static_cast<double>(count)), 1e-9 * held->rmse);
+    EXPECT_GT(held->rmse, errorTable(data, fit.linear.coeffs).rmse);
   }
-  EXPECT_NEAR(held->rmse, std::sqrt(sum2 / static_cast<double>(count)), 1e-9 * held->rmse);
-  EXPECT_GT(held->rmse, errorTable(data, fit.linear.coeffs).rmse);
 }
 
 void expectFitError(const fs::path& screen, const std::string& estimator, const char* needle) {
