@@ -32,9 +32,11 @@ struct ProfileObjective {
 // The objective from level 0 of the fit's sums (normal_equations.h) and the sweep's albedos.
 ProfileObjective profileObjective(const NormalEquations& sums, const std::vector<double>& albedos);
 
-// The minimiser under the shape constraints, checked on a grid of `nodes` values of Â. Throws a
-// one-line gtbake::Error when the active-set iteration does not terminate.
+// The minimiser under the shape constraints, checked on a grid of `nodes` values of Â. Every
+// iterate is feasible; if the active-set iteration has not terminated after 2 iterations per
+// constraint, the last (feasible, no worse than any before it) iterate is returned and
+// *converged (when given) is false.
 MultiBounceCoeffs solveShapeConstrained(const ProfileObjective& objective,
-                                        int nodes = kShapeGridNodes);
+                                        int nodes = kShapeGridNodes, bool* converged = nullptr);
 
 }  // namespace gtbake

@@ -247,6 +247,7 @@ void readDefaults(const Scoring& sc, const std::filesystem::path& dir,
 FitSettings profileFitSettings() {
   FitSettings s;
   s.eiv_correction = false;
+  s.shape_constrained = true;  // as the profiles (docs/profiles.md §7)
   return s;
 }
 

@@ -125,7 +125,8 @@ Json tuneSettingsJson(const std::vector<SettingGrid>& grids, const std::string& 
           {"one_at_a_time", true},
           {"max_widenings", kMaxWidenings},
           {"weighting", "pixel"},
-          {"profile_fit", {{"eiv_correction", false}, {"constrain_open", false}}},
+          {"profile_fit",
+           {{"eiv_correction", false}, {"constrain_open", false}, {"shape_constrained", true}}},
           {"flat_fraction", kFlatFraction}};
 }
 
