@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include "common/input_limits.h"
 #include "common/output_set.h"
 #include "common/provenance.h"
+#include "common/text_format.h"
 
 namespace gtbake {
 
@@ -58,6 +60,12 @@ std::string albedoChannel(double rho) {
   return name;
 }
 
+std::string nearFieldSuffix(double radius) {
+  std::string suffix = "_R" + formatNumber(radius, "%g");
+  std::replace(suffix.begin(), suffix.end(), '.', 'p');
+  return suffix;
+}
+
 namespace {
 
 // sweep.json, validated: the settings a fit needs and the scene entries.
@@ -68,9 +76,28 @@ struct SweepJson {
   int bounces = 0;
   std::vector<double> albedos;
   json scenes;
+  std::string suffix;  // of the channels read: "" (unbounded) or nearFieldSuffix(R)
 };
 
-SweepJson readSweepJson(const fs::path& dir) {
+// The channel suffix of the truth at `radius` (none: unbounded), checked against the sweep's
+// G-buffer radii.
+std::string truthSuffix(const json& settings, std::optional<double> radius,
+                        const std::string& where) {
+  if (!radius) return "";
+  const json radii = settings.value("gbuffer_radii", json::array());
+  if (radii.is_array()) {
+    for (const json& r : radii) {
+      if (r.is_number() && nearFieldSuffix(r.get<double>()) == nearFieldSuffix(*radius)) {
+        return nearFieldSuffix(*radius);
+      }
+    }
+  }
+  throw Error(where + ": no near-field truth at radius " + formatNumber(*radius, "%g") +
+              " m; the sweep holds gbuffer_radii " + radii.dump() +
+              " (trace it with `gtbake sweep --gbuffer-radius`)");
+}
+
+SweepJson readSweepJson(const fs::path& dir, std::optional<double> radius) {
   if (fs::exists(dir) && !fs::is_directory(dir)) {
     throw Error("--sweep " + dir.string() + " is a file; pass the directory `gtbake sweep` wrote");
   }
@@ -89,6 +116,7 @@ SweepJson readSweepJson(const fs::path& dir) {
   }
   const json& settings = doc["settings"];
   out.settings = settings;
+  out.suffix = truthSuffix(settings, radius, where);
   out.spp = static_cast<int>(jsonInteger(settings, "spp", 2, kMaxSweepSpp, where + " settings"));
   out.bounces =
       static_cast<int>(jsonInteger(settings, "bounces", 1, kMaxSweepBounces, where + " settings"));
@@ -128,6 +156,7 @@ SweepJson readSweepJson(const fs::path& dir) {
 struct SceneChannels {
   std::vector<const std::vector<float>*> p[3];
   std::vector<const std::vector<float>*> g;
+  std::vector<std::string> g_names;
   const std::vector<float>* mask = nullptr;
 };
 
@@ -138,18 +167,19 @@ SceneChannels requireChannels(const ExrImage& image, const std::string& file, co
   c.mask = &image.channel("mask", file);
   const std::string prefix[3] = {"", "H0.", "H1."};
   for (int s = 0; s < 3; ++s) {
-    c.p[s].push_back(&image.channel(prefix[s] + "A", file));
+    c.p[s].push_back(&image.channel(prefix[s] + "A" + sj.suffix, file));
     for (int k = 1; k <= sj.bounces; ++k) {
-      c.p[s].push_back(&image.channel(prefix[s] + "P" + std::to_string(k), file));
+      c.p[s].push_back(&image.channel(prefix[s] + "P" + std::to_string(k) + sj.suffix, file));
     }
   }
   for (double rho : sj.albedos) {
-    const std::string name = albedoChannel(rho);
+    const std::string name = albedoChannel(rho) + sj.suffix;
     if (image.channels.count(name) == 0) {
       throw Error(file + ": albedo " + std::to_string(rho) + " listed in sweep.json has no " +
                   name + " channel");
     }
     c.g.push_back(&image.channel(name, file));
+    c.g_names.push_back(name);
   }
   for (const auto& named_channel : image.channels) {
     const std::string& name = named_channel.first;
@@ -209,9 +239,8 @@ void appendUnmaskedPoints(const SceneChannels& c, const ExrImage& image, const s
       const double stored = (*c.g[j])[i];
       const double recomputed = multiBounceG(c.p[0], i, albedos[j]);
       if (!std::isfinite(stored) || std::abs(stored - recomputed) > kAlbedoConsistencyTolerance) {
-        throw Error(file + ": channel " + albedoChannel(albedos[j]) +
-                    " is inconsistent with albedo " + std::to_string(albedos[j]) +
-                    " and the P_k channels");
+        throw Error(file + ": channel " + c.g_names[j] + " is inconsistent with albedo " +
+                    std::to_string(albedos[j]) + " and the P_k channels");
       }
       out.full.G[j].push_back(stored);
       for (int s = 0; s < 2; ++s)
@@ -273,8 +302,8 @@ void appendPoints(const PointSet& from, PointSet& to) {
 
 }  // namespace
 
-SweepData loadSweep(const fs::path& dir) {
-  const SweepJson sj = readSweepJson(dir);
+SweepData loadSweep(const fs::path& dir, std::optional<double> radius) {
+  const SweepJson sj = readSweepJson(dir, radius);
   // Scenes load in parallel; the first failure in scene order is reported, so the error does not
   // depend on the thread count.
   const std::size_t S = sj.scenes.size();
