@@ -66,23 +66,8 @@ std::string nearFieldSuffix(double radius) {
   return suffix;
 }
 
-namespace {
-
-// sweep.json, validated: the settings a fit needs and the scene entries.
-struct SweepJson {
-  OutputManifest manifest;  // every file read must match it (output_set.h)
-  json settings;
-  int spp = 0;
-  int bounces = 0;
-  std::vector<double> albedos;
-  json scenes;
-  std::string suffix;  // of the channels read: "" (unbounded) or nearFieldSuffix(R)
-};
-
-// The channel suffix of the truth at `radius` (none: unbounded), checked against the sweep's
-// G-buffer radii.
-std::string truthSuffix(const json& settings, std::optional<double> radius,
-                        const std::string& where) {
+std::string truthChannelSuffix(const json& settings, std::optional<double> radius,
+                               const std::string& where) {
   if (!radius) return "";
   const json radii = settings.value("gbuffer_radii", json::array());
   if (radii.is_array()) {
@@ -96,6 +81,19 @@ std::string truthSuffix(const json& settings, std::optional<double> radius,
               " m; the sweep holds gbuffer_radii " + radii.dump() +
               " (trace it with `gtbake sweep --gbuffer-radius`)");
 }
+
+namespace {
+
+// sweep.json, validated: the settings a fit needs and the scene entries.
+struct SweepJson {
+  OutputManifest manifest;  // every file read must match it (output_set.h)
+  json settings;
+  int spp = 0;
+  int bounces = 0;
+  std::vector<double> albedos;
+  json scenes;
+  std::string suffix;  // of the channels read: "" (unbounded) or nearFieldSuffix(R)
+};
 
 SweepJson readSweepJson(const fs::path& dir, std::optional<double> radius) {
   if (fs::exists(dir) && !fs::is_directory(dir)) {
@@ -116,7 +114,7 @@ SweepJson readSweepJson(const fs::path& dir, std::optional<double> radius) {
   }
   const json& settings = doc["settings"];
   out.settings = settings;
-  out.suffix = truthSuffix(settings, radius, where);
+  out.suffix = truthChannelSuffix(settings, radius, where);
   out.spp = static_cast<int>(jsonInteger(settings, "spp", 2, kMaxSweepSpp, where + " settings"));
   out.bounces =
       static_cast<int>(jsonInteger(settings, "bounces", 1, kMaxSweepBounces, where + " settings"));

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -60,5 +61,11 @@ SweepData loadSweep(const std::filesystem::path& dir, std::optional<double> radi
 // The suffix of the near-field channels at radius R: "_R" and R as %g with '.' written 'p'
 // (sweep's nearFieldChannelName), e.g. 1 -> "_R1".
 std::string nearFieldSuffix(double radius);
+
+// The suffix of the channels holding the truth at `radius` (none: "", the unbounded truth), after
+// checking that the sweep's settings (sweep.json "settings", read from `where`) list that G-buffer
+// radius: otherwise a one-line gtbake::Error naming the radii it holds.
+std::string truthChannelSuffix(const nlohmann::json& settings, std::optional<double> radius,
+                               const std::string& where);
 
 }  // namespace gtbake

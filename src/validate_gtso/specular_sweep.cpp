@@ -1,5 +1,7 @@
 #include "validate_gtso/specular_sweep.h"
 
+#include "fit/sweep_data.h"
+
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <utility>
@@ -53,8 +55,10 @@ void checkRanges(const SpecularScene& scene, const std::string& where) {
   }
 }
 
+// `suffix`: the channels' (truthChannelSuffix).
 SpecularScene readScene(const OutputManifest& set, const nlohmann::json& entry,
-                        const SpecularSweep& sweep, const std::string& json_where) {
+                        const SpecularSweep& sweep, const std::string& json_where,
+                        const std::string& suffix) {
   SpecularScene scene;
   scene.name = entry.at("name").get<std::string>();
   for (const char* key : {"scene", "type"}) {
@@ -97,7 +101,7 @@ SpecularScene readScene(const OutputManifest& set, const nlohmann::json& entry,
     }
   }
   for (double r : sweep.roughness) {
-    const std::string name = specularChannelName(r);
+    const std::string name = specularChannelName(r) + suffix;
     if (image.channels.count(name) == 0) throw Error(where + " " + kNoSpecular);
     scene.S.push_back(need(image, name, where, kNoSpecular));
     scene.H0.push_back(need(image, "H0." + name, where, kNoSpecular));
@@ -126,7 +130,7 @@ void readSettings(const nlohmann::json& settings, const std::string& where, Spec
 
 }  // namespace
 
-SpecularSweep readSpecularSweep(const fs::path& dir) {
+SpecularSweep readSpecularSweep(const fs::path& dir, std::optional<double> radius) {
   const fs::path json_path = dir / "sweep.json";
   if (!fs::is_regular_file(json_path))
     throw Error(dir.string() + " is not a sweep directory (no sweep.json); run `gtbake sweep`");
@@ -135,11 +139,13 @@ SpecularSweep readSpecularSweep(const fs::path& dir) {
   const nlohmann::json json = parseJsonText(set.readVerified("sweep.json"), json_path.string());
   SpecularSweep sweep;
   sweep.dir = dir;
+  sweep.radius = radius;
   try {
     readSettings(json.at("settings"), json_path.string(), &sweep);
+    const std::string suffix = truthChannelSuffix(json.at("settings"), radius, json_path.string());
     requireDistinctSweepEntries(json.at("scenes"), json_path.string());  // before any decode
     for (const nlohmann::json& entry : json.at("scenes")) {
-      sweep.scenes.push_back(readScene(set, entry, sweep, json_path.string()));
+      sweep.scenes.push_back(readScene(set, entry, sweep, json_path.string(), suffix));
     }
   } catch (const nlohmann::json::exception& e) {
     throw Error(json_path.string() + ": unexpected layout (" + std::string(e.what()) + ")");
