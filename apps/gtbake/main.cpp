@@ -84,6 +84,7 @@ std::string firstLine(const std::string& text) {
 struct AoInputText {
   std::string estimator;
   std::string screen_ao;
+  std::string truth = "near";
 };
 std::shared_ptr<AoInputText> addAoInputOptions(
     CLI::App* parser, const char* what =
@@ -93,6 +94,11 @@ std::shared_ptr<AoInputText> addAoInputOptions(
   parser->add_option("--estimator", text->estimator, what);
   parser->add_option("--screen-ao", text->screen_ao,
                      "Directory from gtbake screen-ao (default: <sweep>/screen_ao)");
+  parser
+      ->add_option("--truth", text->truth,
+                   "With --estimator: score against the near-field truth at the estimator's "
+                   "radius (near) or the unbounded one (unbounded); docs/sweep.md")
+      ->capture_default_str();
   return text;
 }
 
@@ -199,7 +205,8 @@ Subcommand addFitCommand(CLI::App& app) {
   return {parser, [options, shipped, shipped_option, weighting, input](const RunContext& context) {
             if (shipped_option->count() > 0) options->shipped = parseCoeffs(*shipped, "--shipped");
             options->weighting = parseWeighting(*weighting);
-            options->input = parseAoInput(input->estimator, input->screen_ao, options->sweep);
+            options->input =
+                parseAoInput(input->estimator, input->screen_ao, input->truth, options->sweep);
             options->progress = context.progress;
             runFit(*options);
             return 0;
@@ -232,7 +239,8 @@ Subcommand addValidateCommand(CLI::App& app) {
   return {parser, [=](const RunContext& context) {
             if (coeffs_option->count() > 0) options->coeffs = parseCoeffs(*coeffs);
             options->weighting = parseWeighting(*weighting);
-            options->input = parseAoInput(input->estimator, input->screen_ao, options->sweep);
+            options->input =
+                parseAoInput(input->estimator, input->screen_ao, input->truth, options->sweep);
             if (json_option->count() > 0) options->json = *json;
             if (fail_option->count() > 0) options->rule.fail_above = *fail_above;
             options->progress = context.progress;
@@ -282,7 +290,8 @@ Subcommand addValidateGtsoCommand(CLI::App& app) {
       "(docs/validate_gtso.md section 6; reads <luts>/validate_gtso.json for the fitted u)");
   parser->add_flag("--no-images", "Leave the per-scene PNGs out of the report");
   return {parser, [options, input, parser](const RunContext& context) {
-            options->input = parseAoInput(input->estimator, input->screen_ao, options->sweep);
+            options->input =
+                parseAoInput(input->estimator, input->screen_ao, input->truth, options->sweep);
             options->write_images = parser->count("--no-images") == 0;
             options->progress = context.progress;
             runValidateGtso(*options);

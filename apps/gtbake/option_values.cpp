@@ -101,8 +101,12 @@ std::vector<double> parseNumberList(const std::string& text, bool (*valid)(doubl
 }  // namespace
 
 AoInput parseAoInput(const std::string& estimator, const std::string& screen_ao,
-                     const std::filesystem::path& sweep) {
+                     const std::string& truth, const std::filesystem::path& sweep) {
   AoInput input;
+  if (truth != "near" && truth != "unbounded") {
+    throw Error("--truth must be near or unbounded, got '" + truth + "'");
+  }
+  input.unbounded_truth = truth == "unbounded";
   if (estimator.empty()) {
     if (!screen_ao.empty()) throw Error("--screen-ao needs --estimator (which estimator's A)");
     return input;

@@ -36,9 +36,9 @@ std::vector<double> parseSpecularRoughness(const std::string& text);
 // --estimator NAME [--screen-ao DIR] of fit and validate: the A a profile is fitted on
 // (docs/profiles.md). An empty name is the ray-traced A (then --screen-ao must be empty too); a
 // name must be a `gtbake screen-ao` estimator, built-in or imported (isEstimatorName; the set
-// itself says whether it holds it); DIR defaults to <sweep>/screen_ao, where `gtbake
-// all` writes it. Throws gtbake::Error.
+// itself says whether it holds it); DIR defaults to <sweep>/screen_ao, where `gtbake all` writes
+// it; truth is --truth, near or unbounded. Throws gtbake::Error.
 AoInput parseAoInput(const std::string& estimator, const std::string& screen_ao,
-                     const std::filesystem::path& sweep);
+                     const std::string& truth, const std::filesystem::path& sweep);
 
 }  // namespace gtbake

@@ -120,7 +120,9 @@ std::optional<ErrorTable> heldOutErrors(const SweepData& data, const SceneJackkn
 FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& settings,
                          const MultiBounceCoeffs& shipped, Progress* progress,
                          const AoInput& input) {
-  SweepData data = loadSweep(sweep);
+  // A screen-space estimator is scored against the truth within its own radius (docs/sweep.md,
+  // "Near-field truth") unless --truth unbounded; ray-traced A keeps the unbounded G.
+  SweepData data = loadSweep(sweep, truthRadius(input));
   useScreenEstimate(&data, input);
   if (progress != nullptr) progress->add(1);
   // Â is a deterministic function of the G-buffer: no noise in the regressor, nothing for the

@@ -55,6 +55,24 @@ ScreenEstimateSet::ScreenEstimateSet(const AoInput& input) : input_(input) {
   }
 }
 
+std::optional<double> truthRadius(const AoInput& input) {
+  if (input.rayTraced() || input.unbounded_truth) return std::nullopt;
+  const OutputManifest manifest = readOutputSet(input.screen_ao, "screen_ao");
+  const std::string where = (input.screen_ao / "screen_ao.json").string();
+  const nlohmann::json doc = parseJsonText(manifest.readVerified("screen_ao.json"), where);
+  const nlohmann::json* radius = nullptr;
+  if (doc.is_object() && doc.contains("settings") && doc["settings"].is_object() &&
+      doc["settings"].contains(input.estimator) && doc["settings"][input.estimator].is_object() &&
+      doc["settings"][input.estimator].contains("radius")) {
+    radius = &doc["settings"][input.estimator]["radius"];
+  }
+  if (radius == nullptr || !radius->is_number() || !(radius->get<double>() > 0.0)) {
+    throw Error(where + ": settings." + input.estimator +
+                ".radius must be a positive number (the radius of its near-field truth)");
+  }
+  return radius->get<double>();
+}
+
 ImageEstimate ScreenEstimateSet::read(const std::string& name, const std::filesystem::path& sweep,
                                       bool with_bent) const {
   const auto found = files_.find(name);

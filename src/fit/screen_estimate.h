@@ -32,8 +32,16 @@ std::optional<float> clampedEstimate(float a);
 struct AoInput {
   std::string estimator;            // "" = ray-traced; else a `gtbake screen-ao` estimator name
   std::filesystem::path screen_ao;  // its output directory (the set screen_ao.manifest.json)
+  // Score against the unbounded truth (A, G, S) instead of the near-field truth at the
+  // estimator's own radius (`--truth unbounded`; docs/sweep.md, "Near-field truth").
+  bool unbounded_truth = false;
   bool rayTraced() const { return estimator.empty(); }
 };
+
+// The G-buffer radius whose near-field truth scores `input`: the radius screen-ao used for the
+// estimator (screen_ao.json settings.<estimator>.radius); none for ray-traced input or
+// --truth unbounded. A set without that radius is a one-line gtbake::Error.
+std::optional<double> truthRadius(const AoInput& input);
 
 // One image of a screen-ao set at every pixel (row-major): the mask (1 = geometry), the
 // estimator's Â (clamped to [0, 1] where float rounding left it just outside) and, when read, its

@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <climits>
 #include <cmath>
 #include <cstdio>
@@ -54,29 +55,31 @@ void requireFitSettings(const SweepSet& set) {
 struct SceneChannels {
   std::vector<const std::vector<float>*> p[3];
   std::vector<const std::vector<float>*> g;
+  std::vector<std::string> g_names;
   const std::vector<float>* mask = nullptr;
 };
 
 // Looks every channel up (a missing one is an error naming it) and rejects G### channels whose
 // albedo sweep.json does not list.
 SceneChannels requireChannels(const ExrImage& image, const std::string& file,
-                              const SweepSettings& sj) {
+                              const SweepSettings& sj, const std::string& suffix) {
   SceneChannels c;
   c.mask = &image.channel("mask", file);
   const std::string prefix[3] = {"", "H0.", "H1."};
   for (int s = 0; s < 3; ++s) {
-    c.p[s].push_back(&image.channel(prefix[s] + "A", file));
+    c.p[s].push_back(&image.channel(prefix[s] + "A" + suffix, file));
     for (int k = 1; k <= sj.bounces; ++k) {
-      c.p[s].push_back(&image.channel(prefix[s] + "P" + std::to_string(k), file));
+      c.p[s].push_back(&image.channel(prefix[s] + "P" + std::to_string(k) + suffix, file));
     }
   }
   for (double rho : sj.albedos) {
-    const std::string name = albedoChannel(rho);
+    const std::string name = albedoChannel(rho) + suffix;
     if (image.channels.count(name) == 0) {
       throw Error(file + ": albedo " + std::to_string(rho) + " listed in sweep.json has no " +
                   name + " channel");
     }
     c.g.push_back(&image.channel(name, file));
+    c.g_names.push_back(name);
   }
   for (const auto& named_channel : image.channels) {
     const std::string& name = named_channel.first;
@@ -136,9 +139,8 @@ void appendUnmaskedPoints(const SceneChannels& c, const ExrImage& image, const s
       const double stored = (*c.g[j])[i];
       const double recomputed = multiBounceG(c.p[0], i, albedos[j]);
       if (!std::isfinite(stored) || std::abs(stored - recomputed) > kAlbedoConsistencyTolerance) {
-        throw Error(file + ": channel " + albedoChannel(albedos[j]) +
-                    " is inconsistent with albedo " + std::to_string(albedos[j]) +
-                    " and the P_k channels");
+        throw Error(file + ": channel " + c.g_names[j] + " is inconsistent with albedo " +
+                    std::to_string(albedos[j]) + " and the P_k channels");
       }
       out.full.G[j].push_back(stored);
       for (int s = 0; s < 2; ++s)
@@ -147,7 +149,7 @@ void appendUnmaskedPoints(const SceneChannels& c, const ExrImage& image, const s
   }
 }
 
-ScenePoints loadScene(const SweepSet& set, const SweepView& view) {
+ScenePoints loadScene(const SweepSet& set, const SweepView& view, const std::string& suffix) {
   ScenePoints out;
   out.name = view.name;
   out.cluster = view.scene;
@@ -166,7 +168,7 @@ ScenePoints loadScene(const SweepSet& set, const SweepView& view) {
   if (sj.seed) provenance["gtbake.seed"] = std::to_string(*sj.seed);
   if (!view.gltf.empty()) provenance["gtbake.scene"] = view.gltf;
   checkAttributes(image.attributes, provenance, file, "sweep.json");
-  appendUnmaskedPoints(requireChannels(image, file, sj), image, file, sj.albedos, out);
+  appendUnmaskedPoints(requireChannels(image, file, sj, suffix), image, file, sj.albedos, out);
   const std::size_t count = out.full.A.size();
   if (view.unmasked_pixels && *view.unmasked_pixels != static_cast<std::int64_t>(count)) {
     throw Error(file + ": mask has " + std::to_string(count) +
@@ -189,9 +191,10 @@ void appendPoints(const PointSet& from, PointSet& to) {
 
 }  // namespace
 
-SweepData loadSweep(const fs::path& dir) {
+SweepData loadSweep(const fs::path& dir, std::optional<double> radius) {
   const SweepSet sj = readSweepSet(dir);
   requireFitSettings(sj);
+  const std::string suffix = truthChannelSuffix(sj, radius);
   // Scenes load in parallel; the first failure in scene order is reported, so the error does not
   // depend on the thread count.
   const std::size_t S = sj.views.size();
@@ -199,7 +202,7 @@ SweepData loadSweep(const fs::path& dir) {
   std::vector<std::exception_ptr> errors(S);
   tbb::parallel_for(std::size_t{0}, S, [&](std::size_t s) {
     try {
-      scenes[s] = loadScene(sj, sj.views[s]);
+      scenes[s] = loadScene(sj, sj.views[s], suffix);
     } catch (...) {
       errors[s] = std::current_exception();
     }

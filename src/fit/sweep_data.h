@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,7 +51,10 @@ struct SweepData {
 // The EXR channel holding G at albedo ρ: "G" followed by round(100 ρ) in three digits (G010).
 std::string albedoChannel(double rho);
 
-// Reads and validates a sweep directory.
-SweepData loadSweep(const std::filesystem::path& dir);
+// Reads and validates a sweep directory. With a radius R, the near-field truth at that G-buffer
+// radius (docs/sweep.md, "Near-field truth") in place of the unbounded one: A_R, P1_R.., G###_R
+// and their halves; a radius the sweep did not trace (sweep.json settings "gbuffer_radii") is a
+// one-line gtbake::Error naming the radii it holds.
+SweepData loadSweep(const std::filesystem::path& dir, std::optional<double> radius = std::nullopt);
 
 }  // namespace gtbake

@@ -66,14 +66,17 @@ double specularRmse(const ValidateGtsoResult& r, const char* method) {
 double specularProfiles(const AllOptions& options, std::vector<Profile>* profiles) {
   banner("validate-gtso per estimator", options.progress);
   const auto t = std::chrono::steady_clock::now();
-  const SpecularSweep sweep = readSpecularSweep(options.out);  // once for every estimator
+  // Once for every estimator of the same radius (all of them with the defaults): S_R at it.
+  std::optional<SpecularSweep> sweep;
   for (Profile& p : *profiles) {
     ValidateGtsoOptions v;
     v.sweep = options.out;
-    v.sweep_data = &sweep;
     v.luts = options.out;
     v.input.estimator = p.estimator;
     v.input.screen_ao = options.out / "screen_ao";
+    const std::optional<double> radius = truthRadius(v.input);
+    if (!sweep || sweep->radius != radius) sweep = readSpecularSweep(options.out, radius);
+    v.sweep_data = &*sweep;
     v.write_images = false;  // 72 PNGs per estimator; `gtbake validate-gtso --estimator` draws them
     v.print_summary = false;
     v.progress = options.progress;

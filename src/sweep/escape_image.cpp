@@ -37,8 +37,10 @@ EscapeImage makeEscapeImage(int width, int height, const WalkSettings& settings)
   image.view.assign(3 * pixels, 0.0f);
   image.bent.assign(3 * pixels, 0.0f);
   image.depth.assign(pixels, 0.0f);
-  image.radius_hits.assign(pixels * settings.gbuffer_radii.size(), 0);
+  const std::size_t radii = settings.gbuffer_radii.size();
+  image.near_counts.assign(pixels * radii * 2 * static_cast<std::size_t>(settings.bounces + 1), 0);
   image.specular.assign(3 * pixels * settings.specular_roughness.size(), 0.0f);
+  image.specular_near.assign(3 * pixels * radii * settings.specular_roughness.size(), 0.0f);
   return image;
 }
 
@@ -58,7 +60,8 @@ std::uint64_t tracePixel(const EmbreeTracer& tracer, const PerspectiveCamera& ca
   const std::size_t radii = settings.gbuffer_radii.size();
   std::uint64_t rays =
       1 + countEscapes(tracer, hit, settings, stream, &image->counts[p * per_pixel],
-                       &scratch->walks, bent, radii > 0 ? &image->radius_hits[p * radii] : nullptr);
+                       &scratch->walks, bent,
+                       radii > 0 ? &image->near_counts[p * radii * per_pixel] : nullptr);
   const Eigen::Vector3d forward = -camera.basis.col(2);
   image->depth[p] =
       static_cast<float>((hit.position.cast<double>() - camera.position).dot(forward));
@@ -73,14 +76,23 @@ std::uint64_t tracePixel(const EmbreeTracer& tracer, const PerspectiveCamera& ca
   const std::size_t roughness = settings.specular_roughness.size();
   if (roughness == 0) return rays;
   scratch->sums.assign(4 * roughness, 0.0);
-  rays +=
-      traceSpecular(tracer, hit, wo, settings, stream, scratch->sums.data(), &scratch->specular);
+  scratch->near_sums.assign(2 * radii * roughness, 0.0);
+  rays += traceSpecular(tracer, hit, wo, settings, stream, scratch->sums.data(), &scratch->specular,
+                        radii > 0 ? scratch->near_sums.data() : nullptr);
   float* out = &image->specular[3 * p * roughness];
-  for (std::size_t r = 0; r < roughness; ++r) {
-    const double* sum = &scratch->sums[4 * r];
-    out[3 * r] = static_cast<float>(specularRatio(sum[0] + sum[2], sum[1] + sum[3]));
-    out[3 * r + 1] = static_cast<float>(specularRatio(sum[0], sum[1]));
-    out[3 * r + 2] = static_cast<float>(specularRatio(sum[2], sum[3]));
+  float* near_out = radii > 0 ? &image->specular_near[3 * p * radii * roughness] : nullptr;
+  for (std::size_t j = 0; j < roughness; ++j) {
+    const double* sum = &scratch->sums[4 * j];
+    out[3 * j] = static_cast<float>(specularRatio(sum[0] + sum[2], sum[1] + sum[3]));
+    out[3 * j + 1] = static_cast<float>(specularRatio(sum[0], sum[1]));
+    out[3 * j + 2] = static_cast<float>(specularRatio(sum[2], sum[3]));
+    for (std::size_t r = 0; r < radii; ++r) {
+      const double* near = &scratch->near_sums[2 * (r * roughness + j)];
+      float* v = near_out + 3 * (r * roughness + j);
+      v[0] = static_cast<float>(specularRatio(near[0] + near[1], sum[1] + sum[3]));
+      v[1] = static_cast<float>(specularRatio(near[0], sum[1]));
+      v[2] = static_cast<float>(specularRatio(near[1], sum[3]));
+    }
   }
   return rays;
 }
@@ -133,10 +145,14 @@ std::string albedoChannelName(double albedo) {
   return hundredthsChannelName('G', albedo);
 }
 
+std::string nearFieldChannelName(const std::string& name, double radius) {
+  std::string suffix = "_R" + formatNumber(radius, "%g");
+  std::replace(suffix.begin(), suffix.end(), '.', 'p');
+  return name + suffix;
+}
+
 std::string gbufferRadiusChannelName(double radius) {
-  std::string name = "A_R" + formatNumber(radius, "%g");
-  std::replace(name.begin(), name.end(), '.', 'p');
-  return name;
+  return nearFieldChannelName("A", radius);
 }
 
 std::string specularChannelName(double roughness) {
@@ -145,105 +161,154 @@ std::string specularChannelName(double roughness) {
 
 namespace {
 
-// Z, then A_R per G-buffer radius: (c_0 + first hits beyond R)/N (docs/sweep.md, "G-buffer").
-std::vector<ExrChannel> gbufferChannels(const EscapeImage& image) {
+ExrChannel blankChannel(const std::string& name, std::size_t pixels) {
+  return ExrChannel{name, std::vector<float>(pixels, 0.0f)};
+}
+
+// The channels of one set of escape counts (the unbounded ones or one G-buffer radius's), named
+// through `name`: A, P1..PK, G010 … and the halves H0.A, H0.P1 …, H1.…
+struct EscapeChannels {
+  std::vector<ExrChannel> full;  // A, P1..PK
+  std::vector<ExrChannel> halves[2];
+  std::vector<ExrChannel> g;
+};
+
+// count(p, h, k): the walks of half h of pixel p that escape after exactly k bounces.
+template <class Count, class Name>
+EscapeChannels escapeCountChannels(const EscapeImage& image, const Count& count, const Name& name) {
+  const int bounces = image.settings.bounces;
   const std::size_t pixels = image.mask.size();
-  const std::size_t radii = image.settings.gbuffer_radii.size();
-  std::vector<ExrChannel> channels = {{"Z", image.depth}};
-  for (float r : image.settings.gbuffer_radii) {
-    channels.push_back({gbufferRadiusChannelName(r), std::vector<float>(pixels, 0.0f)});
+  const double n_full = image.settings.spp;
+  const double n_half = 0.5 * n_full;
+  auto pName = [](int k) { return k == 0 ? std::string("A") : "P" + std::to_string(k); };
+  EscapeChannels c;
+  for (int k = 0; k <= bounces; ++k) {
+    c.full.push_back(blankChannel(name(pName(k)), pixels));
+    for (int h = 0; h < 2; ++h)
+      c.halves[h].push_back(blankChannel("H" + std::to_string(h) + "." + name(pName(k)), pixels));
+  }
+  for (double albedo : kSweepAlbedos)
+    c.g.push_back(blankChannel(name(albedoChannelName(albedo)), pixels));
+  for (std::size_t p = 0; p < pixels; ++p) {
+    if (image.mask[p] == 0) continue;
+    for (int k = 0; k <= bounces; ++k) {
+      const std::uint32_t c0 = count(p, 0, k);
+      const std::uint32_t c1 = count(p, 1, k);
+      c.full[k].pixels[p] = static_cast<float>((static_cast<double>(c0) + c1) / n_full);
+      c.halves[0][k].pixels[p] = static_cast<float>(c0 / n_half);
+      c.halves[1][k].pixels[p] = static_cast<float>(c1 / n_half);
+    }
+    for (std::size_t a = 0; a < c.g.size(); ++a) {
+      // Ĝ(ρ) = Σ_k ρ^k c_k / N, Horner order in double.
+      double sum = 0.0;
+      for (int k = bounces; k >= 0; --k) {
+        sum = sum * kSweepAlbedos[a] +
+              (static_cast<double>(count(p, 0, k)) + count(p, 1, k)) / n_full;
+      }
+      c.g[a].pixels[p] = static_cast<float>(sum);
+    }
+  }
+  return c;
+}
+
+// The S channels of one set of specular values (values[3(p·stride + offset + j) + {0, 1, 2}] =
+// Ŝ, H0, H1 of roughness j), named through `name`: S010 … and the halves H0.S010 …, H1.S010 …
+template <class Name>
+std::vector<ExrChannel> specularChannels(const EscapeImage& image, const std::vector<float>& values,
+                                         std::size_t stride, std::size_t offset, const Name& name,
+                                         std::vector<ExrChannel> halves[2]) {
+  const std::size_t pixels = image.mask.size();
+  std::vector<ExrChannel> full;
+  for (double r : image.settings.specular_roughness) {
+    full.push_back(blankChannel(name(specularChannelName(r)), pixels));
+    for (int h = 0; h < 2; ++h) {
+      halves[h].push_back(
+          blankChannel("H" + std::to_string(h) + "." + name(specularChannelName(r)), pixels));
+    }
   }
   for (std::size_t p = 0; p < pixels; ++p) {
     if (image.mask[p] == 0) continue;
-    const double escaped = static_cast<double>(image.count(p, 0, 0)) + image.count(p, 1, 0);
-    for (std::size_t r = 0; r < radii; ++r) {
-      channels[1 + r].pixels[p] = static_cast<float>((escaped + image.radius_hits[p * radii + r]) /
-                                                     static_cast<double>(image.settings.spp));
+    for (std::size_t j = 0; j < full.size(); ++j) {
+      const float* s = &values[3 * (p * stride + offset + j)];
+      full[j].pixels[p] = s[0];
+      halves[0][j].pixels[p] = s[1];
+      halves[1][j].pixels[p] = s[2];
     }
   }
+  return full;
+}
+
+void appendChannels(std::vector<ExrChannel>* to, std::vector<ExrChannel>&& from) {
+  for (auto& c : from) to->push_back(std::move(c));
+}
+
+// Every near-field channel of G-buffer radius index r (docs/sweep.md, "Near-field truth"): A_R
+// first, then the order of escapeChannels' comment.
+std::vector<ExrChannel> nearFieldChannels(const EscapeImage& image, std::size_t r) {
+  const double radius = image.settings.gbuffer_radii[r];
+  const auto name = [radius](const std::string& base) {
+    return nearFieldChannelName(base, radius);
+  };
+  const auto count = [&image, r](std::size_t p, int h, int k) {
+    return image.nearCount(p, r, h, k);
+  };
+  EscapeChannels escape = escapeCountChannels(image, count, name);
+  std::vector<ExrChannel> specular_halves[2];
+  const std::size_t roughness = image.settings.specular_roughness.size();
+  std::vector<ExrChannel> specular =
+      specularChannels(image, image.specular_near, image.settings.gbuffer_radii.size() * roughness,
+                       r * roughness, name, specular_halves);
+  std::vector<ExrChannel> channels = std::move(escape.full);
+  appendChannels(&channels, std::move(escape.g));
+  appendChannels(&channels, std::move(specular));
+  for (auto& half : escape.halves) appendChannels(&channels, std::move(half));
+  for (auto& half : specular_halves) appendChannels(&channels, std::move(half));
   return channels;
 }
 
 }  // namespace
 
 std::vector<ExrChannel> escapeChannels(const EscapeImage& image) {
-  const int bounces = image.settings.bounces;
   const std::size_t pixels = image.mask.size();
-  const double n_full = image.settings.spp;
-  const double n_half = 0.5 * n_full;
-  auto blank = [&](const std::string& name) {
-    return ExrChannel{name, std::vector<float>(pixels, 0.0f)};
-  };
-  auto pName = [](int k) { return k == 0 ? std::string("A") : "P" + std::to_string(k); };
-
-  std::vector<ExrChannel> full;  // A, P1..PK
-  std::vector<ExrChannel> halves[2];
-  for (int k = 0; k <= bounces; ++k) {
-    full.push_back(blank(pName(k)));
-    for (int h = 0; h < 2; ++h)
-      halves[h].push_back(blank("H" + std::to_string(h) + "." + pName(k)));
-  }
-  std::vector<ExrChannel> g;
-  for (double albedo : kSweepAlbedos) g.push_back(blank(albedoChannelName(albedo)));
-  ExrChannel mask = blank("mask");
+  const auto same = [](const std::string& base) { return base; };
+  const auto count = [&image](std::size_t p, int h, int k) { return image.count(p, h, k); };
+  EscapeChannels escape = escapeCountChannels(image, count, same);
+  ExrChannel mask = blankChannel("mask", pixels);
   // NX NY NZ, VX VY VZ, BNX BNY BNZ.
   std::vector<ExrChannel> vectors;
   const std::vector<float>* sources[3] = {&image.normal, &image.view, &image.bent};
   for (const char* prefix : {"N", "V", "BN"}) {
-    for (const char* axis : {"X", "Y", "Z"}) vectors.push_back(blank(std::string(prefix) + axis));
+    for (const char* axis : {"X", "Y", "Z"})
+      vectors.push_back(blankChannel(std::string(prefix) + axis, pixels));
   }
-  const std::size_t roughness = image.settings.specular_roughness.size();
-  std::vector<ExrChannel> specular;
-  std::vector<ExrChannel> specular_halves[2];
-  for (double r : image.settings.specular_roughness) {
-    specular.push_back(blank(specularChannelName(r)));
-    for (int h = 0; h < 2; ++h) {
-      specular_halves[h].push_back(blank("H" + std::to_string(h) + "." + specularChannelName(r)));
-    }
-  }
-
   for (std::size_t p = 0; p < pixels; ++p) {
     if (image.mask[p] == 0) continue;
     mask.pixels[p] = 1.0f;
-    for (int k = 0; k <= bounces; ++k) {
-      const std::uint32_t c0 = image.count(p, 0, k);
-      const std::uint32_t c1 = image.count(p, 1, k);
-      full[k].pixels[p] = static_cast<float>((static_cast<double>(c0) + c1) / n_full);
-      halves[0][k].pixels[p] = static_cast<float>(c0 / n_half);
-      halves[1][k].pixels[p] = static_cast<float>(c1 / n_half);
-    }
-    for (std::size_t a = 0; a < g.size(); ++a) {
-      // Ĝ(ρ) = Σ_k ρ^k c_k / N, Horner order in double.
-      double sum = 0.0;
-      for (int k = bounces; k >= 0; --k) {
-        sum = sum * kSweepAlbedos[a] +
-              (static_cast<double>(image.count(p, 0, k)) + image.count(p, 1, k)) / n_full;
-      }
-      g[a].pixels[p] = static_cast<float>(sum);
-    }
     for (int v = 0; v < 3; ++v) {
       for (int c = 0; c < 3; ++c) vectors[3 * v + c].pixels[p] = (*sources[v])[3 * p + c];
     }
-    for (std::size_t r = 0; r < roughness; ++r) {
-      const float* s = &image.specular[3 * (p * roughness + r)];
-      specular[r].pixels[p] = s[0];
-      specular_halves[0][r].pixels[p] = s[1];
-      specular_halves[1][r].pixels[p] = s[2];
-    }
+  }
+  std::vector<ExrChannel> specular_halves[2];
+  std::vector<ExrChannel> specular = specularChannels(
+      image, image.specular, image.settings.specular_roughness.size(), 0, same, specular_halves);
+  // Per G-buffer radius, A_R (with Z, the G-buffer channels) and the rest.
+  std::vector<std::vector<ExrChannel>> near;
+  std::vector<ExrChannel> gbuffer = {{"Z", image.depth}};
+  for (std::size_t r = 0; r < image.settings.gbuffer_radii.size(); ++r) {
+    near.push_back(nearFieldChannels(image, r));
+    gbuffer.push_back(std::move(near.back().front()));
+    near.back().erase(near.back().begin());
   }
 
-  std::vector<ExrChannel> channels = std::move(full);
-  for (auto& c : g) channels.push_back(std::move(c));
+  std::vector<ExrChannel> channels = std::move(escape.full);
+  appendChannels(&channels, std::move(escape.g));
   channels.push_back(std::move(mask));
-  for (auto& c : vectors) channels.push_back(std::move(c));
-  for (auto& c : gbufferChannels(image)) channels.push_back(std::move(c));
-  for (auto& c : specular) channels.push_back(std::move(c));
-  for (auto& half : halves) {
-    for (auto& c : half) channels.push_back(std::move(c));
-  }
-  for (auto& half : specular_halves) {
-    for (auto& c : half) channels.push_back(std::move(c));
-  }
+  appendChannels(&channels, std::move(vectors));
+  appendChannels(&channels, std::move(gbuffer));
+  appendChannels(&channels, std::move(specular));
+  for (auto& half : escape.halves) appendChannels(&channels, std::move(half));
+  for (auto& half : specular_halves) appendChannels(&channels, std::move(half));
+  for (auto& radius : near) appendChannels(&channels, std::move(radius));
   return channels;
 }
 

@@ -43,13 +43,14 @@ struct EscapeImage {
   std::vector<float> view;
   std::vector<float> bent;
   // Per pixel: linear view depth Z (metres along the camera's forward axis −basis.col(2) from the
-  // camera to the hit) and, per G-buffer radius r (settings.gbuffer_radii), the walks whose first
-  // segment hit beyond it, at p·radii + r.
+  // camera to the hit) and, per G-buffer radius r (settings.gbuffer_radii), the near-field escape
+  // counts (countEscapes' near_counts) at (p·radii + r)·2(K+1) + h(K+1) + k.
   std::vector<float> depth;
-  std::vector<std::uint32_t> radius_hits;
+  std::vector<std::uint32_t> near_counts;
   // Per pixel and roughness j (R = settings.specular_roughness.size()): Ŝ, H0, H1 at
-  // 3(pR + j) + {0, 1, 2}.
+  // 3(pR + j) + {0, 1, 2}; near-field Ŝ_R, H0, H1 per radius r at 3((p·radii + r)R + j) + ….
   std::vector<float> specular;
+  std::vector<float> specular_near;
   std::uint64_t rays = 0;  // camera rays + walk segments + specular rays
   double seconds = 0.0;    // tracing wall time (BVH build excluded)
 
@@ -57,6 +58,11 @@ struct EscapeImage {
   // Escape count for pixel p, half h, bounce k.
   std::uint32_t count(std::size_t p, int h, int k) const {
     return counts[p * 2 * (settings.bounces + 1) + h * (settings.bounces + 1) + k];
+  }
+  // Near-field escape count at G-buffer radius index r.
+  std::uint32_t nearCount(std::size_t p, std::size_t r, int h, int k) const {
+    return near_counts[((p * settings.gbuffer_radii.size() + r) * 2 + h) * (settings.bounces + 1) +
+                       k];
   }
 };
 
@@ -68,6 +74,7 @@ struct PixelScratch {
   WalkScratch walks;
   SpecularScratch specular;
   std::vector<double> sums;
+  std::vector<double> near_sums;
 };
 
 // Everything the sweep records for pixel (i, j) of a width × height image, stored at `slot` of
@@ -95,13 +102,18 @@ inline EscapeImage traceEscapeImage(const EmbreeTracer& tracer, const Perspectiv
 
 // EXR channels: A, P1..PK, G010 … G090, mask, NX NY NZ, VX VY VZ, BNX BNY BNZ, Z, A_R… (one per
 // G-buffer radius, gbufferRadiusChannelName), S010 …, then
-// H0.A, H0.P1..PK, H1.A, H1.P1..PK, H0.S010 …, H1.S010 … (masked = 0).
+// H0.A, H0.P1..PK, H1.A, H1.P1..PK, H0.S010 …, H1.S010 …, then per G-buffer radius the rest of
+// its near-field channels, the names with nearFieldChannelName's suffix: P1_R1..PK_R1,
+// G010_R1 …, S010_R1 …, H0.A_R1, H0.P1_R1 …, H1.A_R1 …, H0.S010_R1 …, H1.S010_R1 … (masked = 0).
 std::vector<ExrChannel> escapeChannels(const EscapeImage& image);
 
 // G(ρ) channel name, e.g. 0.5 -> "G050".
 std::string albedoChannelName(double albedo);
-// A_R channel name of a G-buffer radius: "A_R" and the radius in metres as %g with '.' written
-// 'p' (EXR reads '.' as a layer separator), e.g. 1 -> "A_R1", 0.25 -> "A_R0p25".
+// The near-field channel of an unbounded one at G-buffer radius R: the name, "_R" and the radius
+// in metres as %g with '.' written 'p' (EXR reads '.' as a layer separator), e.g. ("G050", 1) ->
+// "G050_R1", ("A", 0.25) -> "A_R0p25" (docs/sweep.md, "Near-field truth").
+std::string nearFieldChannelName(const std::string& name, double radius);
+// A_R channel name of a G-buffer radius: nearFieldChannelName("A", radius).
 std::string gbufferRadiusChannelName(double radius);
 // S(r_p) channel name, e.g. 0.25 -> "S025".
 std::string specularChannelName(double roughness);

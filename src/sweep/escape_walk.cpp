@@ -55,10 +55,22 @@ inline void addDirection(double* sum, float x, float y, float z) {
   sum[2] += z;
 }
 
-// Counts a first segment that hit at distance t against every G-buffer radius, if kept.
-inline void addRadiusHit(std::uint32_t* radius_hits, const std::vector<float>& radii, float t) {
-  if (radius_hits == nullptr) return;
-  for (std::size_t r = 0; r < radii.size(); ++r) radius_hits[r] += t > radii[r] ? 1u : 0u;
+// Segment k of a walk of half h, alive at the G-buffer radii from index *near on, missed (t = ∞)
+// or hit at distance t: every alive radius R < t counts an escape after k bounces and *near moves
+// past it (radii ascend, so the radii a walk escaped at are always a prefix).
+inline void addNearEscapes(std::uint32_t* near_counts, const std::vector<float>& radii, int h,
+                           int k, int bounces, float t, std::int32_t* near) {
+  if (near_counts == nullptr) return;
+  const std::int32_t n = static_cast<std::int32_t>(radii.size());
+  for (; *near < n && t > radii[*near]; ++*near) {
+    ++near_counts[(2 * *near + h) * (bounces + 1) + k];
+  }
+}
+
+// How far the last segment of a walk still alive at a G-buffer radius is traced again for its hit
+// distance: the largest radius (within the sky radius).
+inline float nearLimit(const WalkSettings& settings) {
+  return std::min(settings.gbuffer_radii.back(), settings.radius);
 }
 
 void resizeScratch(WalkScratch* w, int spp, const WalkSampler& sampler) {
@@ -75,6 +87,7 @@ void resizeScratch(WalkScratch* w, int spp, const WalkSampler& sampler) {
       w->direction[c].resize(n);
     }
     w->t.resize(n);
+    w->near.resize(n);
     w->tri_scale.resize(n);
     // The fields Embree never writes are set once here (makeRayHit's values); setRay fills the
     // rest for every segment.
@@ -185,7 +198,7 @@ void nextSegments(WalkScratch* w, int m) {
 std::uint64_t countEscapesSingle(const EmbreeTracer& tracer, const SurfaceHit& start,
                                  const WalkSettings& settings, const WalkSampler& sampler,
                                  std::uint64_t stream, std::uint32_t* counts, WalkScratch* w,
-                                 double* first_escape_sum, std::uint32_t* radius_hits) {
+                                 double* first_escape_sum, std::uint32_t* near_counts) {
   const int bounces = settings.bounces;
   const int spp = settings.spp;
   resizeScratch(w, spp, sampler);
@@ -198,8 +211,12 @@ std::uint64_t countEscapesSingle(const EmbreeTracer& tracer, const SurfaceHit& s
   firstDirections(w, spp, n0);
   const Eigen::Vector3f origin0 = tracer.offsetOrigin(start);
   std::uint64_t rays = 0;
+  const std::vector<float>& radii = settings.gbuffer_radii;
+  const std::int32_t near_end =
+      near_counts == nullptr ? 0 : static_cast<std::int32_t>(radii.size());
   for (int s = 0; s < spp; ++s) {
     std::uint32_t* half_counts = counts + (s & 1) * (bounces + 1);
+    std::int32_t near = 0;
     SurfaceHit at = start;
     std::array<std::uint32_t, 4> words = {w->words[0][s], w->words[1][s], w->words[2][s],
                                           w->words[3][s]};
@@ -217,14 +234,86 @@ std::uint64_t countEscapesSingle(const EmbreeTracer& tracer, const SurfaceHit& s
                                         : !tracer.intersect(ray, settings.radius, &at);
       if (escaped) {
         ++half_counts[k];
+        addNearEscapes(near_counts, radii, s & 1, k, bounces, INFINITY, &near);
         if (k == 0)
           addDirection(first_escape_sum, ray.direction.x(), ray.direction.y(), ray.direction.z());
         break;
       }
-      if (k == 0 && k < bounces) addRadiusHit(radius_hits, settings.gbuffer_radii, at.t);
+      if (k == bounces && near < near_end) {
+        // The last segment again, for its hit distance (escape_walk.h, countEscapes).
+        ++rays;
+        at.t = tracer.intersect(ray, nearLimit(settings), &at) ? at.t : INFINITY;
+      }
+      addNearEscapes(near_counts, radii, s & 1, k, bounces, at.t, &near);
     }
   }
   return rays;
+}
+
+// The walks of the point's last segment K that hit something (unbounded: no escape) but are still
+// alive at some G-buffer radius: that segment again up to nearLimit, one rtcIntersect1M, for its
+// hit distance. Reads slots 0..m of the occluded stream; returns the rays traced.
+std::uint64_t lastNearSegments(const EmbreeTracer& tracer, const WalkSettings& settings, int m,
+                               std::uint32_t* near_counts, WalkScratch* w) {
+  RTCRayHit* rays = w->rays.data();
+  const std::int32_t near_end = static_cast<std::int32_t>(settings.gbuffer_radii.size());
+  int n = 0;  // slot n ≤ i, so in place
+  for (int i = 0; i < m; ++i) {
+    if (rays[i].ray.tfar >= 0.0f || w->near[i] >= near_end) continue;
+    w->walk[n] = w->walk[i];
+    w->near[n] = w->near[i];
+    setRay(&rays[n], w->origin[0][i], w->origin[1][i], w->origin[2][i], w->direction[0][i],
+           w->direction[1][i], w->direction[2][i], nearLimit(settings));
+    ++n;
+  }
+  if (n == 0) return 0;
+  tracer.intersectStream(rays, static_cast<unsigned>(n));
+  for (int i = 0; i < n; ++i) {
+    const bool hit = rays[i].hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    addNearEscapes(near_counts, settings.gbuffer_radii, w->walk[i] & 1, settings.bounces,
+                   settings.bounces, hit ? rays[i].ray.tfar : INFINITY, &w->near[i]);
+  }
+  return static_cast<std::uint64_t>(n);
+}
+
+// Bounce k's escapes among the m walks of the intersect stream: counted (unbounded and at every
+// G-buffer radius they reach); the survivors' hits compacted to the front (slot alive ≤ i, so in
+// place). Returns how many survive.
+int countAndCompact(const EmbreeTracer& tracer, const WalkSettings& settings, int m, int k,
+                    std::uint32_t* counts, double* first_escape_sum, std::uint32_t* near_counts,
+                    WalkScratch* w) {
+  const int bounces = settings.bounces;
+  const RTCRayHit* rays = w->rays.data();
+  int alive = 0;
+  for (int i = 0; i < m; ++i) {
+    const RTCRayHit& rh = rays[i];
+    const int h = w->walk[i] & 1;
+    const bool escaped = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID;
+    addNearEscapes(near_counts, settings.gbuffer_radii, h, k, bounces,
+                   escaped ? INFINITY : rh.ray.tfar, &w->near[i]);
+    if (escaped) {
+      ++counts[h * (bounces + 1) + k];
+      if (k == 0) addDirection(first_escape_sum, rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+      continue;
+    }
+    w->walk[alive] = w->walk[i];
+    w->near[alive] = w->near[i];
+    w->words[2][alive] = w->words[2][i];
+    w->words[3][alive] = w->words[3][i];
+    w->from[0][alive] = rh.ray.org_x;
+    w->from[1][alive] = rh.ray.org_y;
+    w->from[2][alive] = rh.ray.org_z;
+    w->along[0][alive] = rh.ray.dir_x;
+    w->along[1][alive] = rh.ray.dir_y;
+    w->along[2][alive] = rh.ray.dir_z;
+    w->t[alive] = rh.ray.tfar;
+    w->ng[0][alive] = rh.hit.Ng_x;
+    w->ng[1][alive] = rh.hit.Ng_y;
+    w->ng[2][alive] = rh.hit.Ng_z;
+    w->tri_scale[alive] = tracer.triangleScale(rh.hit.primID);
+    ++alive;
+  }
+  return alive;
 }
 
 // All walks of the point bounce by bounce (the estimator of escape_walk.h): per bounce the Philox
@@ -234,7 +323,7 @@ std::uint64_t countEscapesSingle(const EmbreeTracer& tracer, const SurfaceHit& s
 std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& start,
                                  const WalkSettings& settings, const WalkSampler& sampler,
                                  std::uint64_t stream, std::uint32_t* counts, WalkScratch* w,
-                                 double* first_escape_sum, std::uint32_t* radius_hits) {
+                                 double* first_escape_sum, std::uint32_t* near_counts) {
   const int bounces = settings.bounces;
   resizeScratch(w, settings.spp, sampler);
   const PhiloxLanes philox(settings.seed, stream);
@@ -244,6 +333,7 @@ std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& s
   offsetAlongNormal(p0, n0, start.scale, origin0);
   int m = settings.spp;
   for (int s = 0; s < m; ++s) w->walk[s] = s;
+  std::fill(w->near.begin(), w->near.begin() + m, 0);
   RTCRayHit* rays = w->rays.data();
   std::uint64_t traced = 0;
   for (int k = 0; k <= bounces && m > 0; ++k) {
@@ -271,43 +361,21 @@ std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& s
     }
     traced += static_cast<std::uint64_t>(m);
     if (k == bounces) {
-      // The last counted segment: only whether it escapes matters.
+      // The last counted segment: only whether it escapes matters (and, for a walk still alive
+      // at a G-buffer radius, where it hits: lastNearSegments).
       tracer.occludedStream(rays, static_cast<unsigned>(m));
       for (int i = 0; i < m; ++i) {
         if (rays[i].ray.tfar < 0.0f) continue;
         ++counts[(w->walk[i] & 1) * (bounces + 1) + k];
+        addNearEscapes(near_counts, settings.gbuffer_radii, w->walk[i] & 1, k, bounces, INFINITY,
+                       &w->near[i]);
         if (k == 0) addDirection(first_escape_sum, dx[i], dy[i], dz[i]);
       }
+      if (near_counts != nullptr) traced += lastNearSegments(tracer, settings, m, near_counts, w);
       break;
     }
     tracer.intersectStream(rays, static_cast<unsigned>(m));
-    // Count the escapes; compact the others' hits (slot alive ≤ i, so in place).
-    int alive = 0;
-    for (int i = 0; i < m; ++i) {
-      const RTCRayHit& rh = rays[i];
-      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-        ++counts[(w->walk[i] & 1) * (bounces + 1) + k];
-        if (k == 0) addDirection(first_escape_sum, dx[i], dy[i], dz[i]);
-        continue;
-      }
-      if (k == 0) addRadiusHit(radius_hits, settings.gbuffer_radii, rh.ray.tfar);
-      w->walk[alive] = w->walk[i];
-      w->words[2][alive] = w->words[2][i];
-      w->words[3][alive] = w->words[3][i];
-      w->from[0][alive] = rh.ray.org_x;
-      w->from[1][alive] = rh.ray.org_y;
-      w->from[2][alive] = rh.ray.org_z;
-      w->along[0][alive] = rh.ray.dir_x;
-      w->along[1][alive] = rh.ray.dir_y;
-      w->along[2][alive] = rh.ray.dir_z;
-      w->t[alive] = rh.ray.tfar;
-      w->ng[0][alive] = rh.hit.Ng_x;
-      w->ng[1][alive] = rh.hit.Ng_y;
-      w->ng[2][alive] = rh.hit.Ng_z;
-      w->tri_scale[alive] = tracer.triangleScale(rh.hit.primID);
-      ++alive;
-    }
-    m = alive;
+    m = countAndCompact(tracer, settings, m, k, counts, first_escape_sum, near_counts, w);
   }
   return traced;
 }
@@ -317,12 +385,12 @@ std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& s
 std::uint64_t countEscapes(const EmbreeTracer& tracer, const SurfaceHit& start,
                            const WalkSettings& settings, std::uint64_t stream,
                            std::uint32_t* counts, WalkScratch* scratch, double* first_escape_sum,
-                           std::uint32_t* radius_hits) {
+                           std::uint32_t* near_counts) {
   const WalkSampler sampler(settings, stream);
   return settings.streams ? countEscapesStream(tracer, start, settings, sampler, stream, counts,
-                                               scratch, first_escape_sum, radius_hits)
+                                               scratch, first_escape_sum, near_counts)
                           : countEscapesSingle(tracer, start, settings, sampler, stream, counts,
-                                               scratch, first_escape_sum, radius_hits);
+                                               scratch, first_escape_sum, near_counts);
 }
 
 }  // namespace gtbake

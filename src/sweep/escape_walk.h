@@ -66,9 +66,10 @@ struct WalkSettings {
   // VNDF samples per value (even: two half-sample estimates). Empty: not traced.
   std::vector<double> specular_roughness;
   int specular_spp = 0;
-  // A at these radii R (metres, ascending; empty: none) from the same walks: A_R counts a walk
-  // whose first segment escapes or first hits at a distance t > R (docs/sweep.md, "G-buffer").
-  // Needs bounces ≥ 1 (the first segment's hit distance is only known from an intersect query).
+  // Near-field truth at these radii R (metres, ascending; empty: none) from the same walks
+  // (docs/sweep.md, "Near-field truth"): a walk escapes at radius R at its first segment that
+  // misses or hits at a distance t > R, so A_R counts a walk whose first segment does. Needs
+  // bounces ≥ 1 (a segment's hit distance is only known from an intersect query).
   std::vector<float> gbuffer_radii;
 };
 
@@ -122,6 +123,7 @@ struct WalkScratch {
   std::vector<float> tri_scale;         // the hit triangle's largest |vertex coordinate|
   std::vector<float> origin[3];         // the next segment's origin
   std::vector<float> direction[3];      // and direction
+  std::vector<std::int32_t> near;       // first G-buffer radius index not yet escaped
   std::vector<float> cell[2];           // per sample: the first bounce's stratum (column, row)
   int cell_columns = 0;                 // grid the strata were made for
   int cell_count = 0;
@@ -133,13 +135,16 @@ struct WalkScratch {
 // If first_escape_sum is given, adds to it (x, y, z, in double, in sample order) the first-bounce
 // directions of the walks that escape at once: (π/N) times that sum estimates
 // ∫ V (n·ω) ω dω, whose direction is the bent normal (cosine sampling cancels the (n·ω)/π).
-// If radius_hits is given, adds to radius_hits[r] the walks whose first segment hits something
-// farther than settings.gbuffer_radii[r] (so c_0 + radius_hits[r] walks see no occluder within
-// that radius). Returns the number of rays traced. Depends only on (start, settings, stream).
+// If near_counts is given, adds to near_counts[(2r + h)(K + 1) + k] the walks of half h that
+// escape at radius R_r = settings.gbuffer_radii[r] after exactly k bounces: segment k is the
+// first that misses or hits farther than R_r (docs/sweep.md, "Near-field truth"). A walk whose
+// last segment K hits something (no unbounded escape) but that is alive at some R_r gets one more
+// ray, that segment traced again up to the largest radius for its hit distance. Returns the
+// number of rays traced. Depends only on (start, settings, stream).
 std::uint64_t countEscapes(const EmbreeTracer& tracer, const SurfaceHit& start,
                            const WalkSettings& settings, std::uint64_t stream,
                            std::uint32_t* counts, WalkScratch* scratch,
                            double* first_escape_sum = nullptr,
-                           std::uint32_t* radius_hits = nullptr);
+                           std::uint32_t* near_counts = nullptr);
 
 }  // namespace gtbake

@@ -90,6 +90,8 @@ void resizeScratch(SpecularScratch* w, int spp, const StratumGrid& grid) {
     }
     w->weight.resize(n);
     w->traced.resize(n);
+    w->again.resize(n);
+    w->hit_t.resize(n);
     w->rays.assign(n, makeRayHit(Ray{Eigen::Vector3f::Zero(), Eigen::Vector3f::UnitZ()}, 0.0f));
   }
 }
@@ -110,11 +112,52 @@ GTBAKE_AVX2_CLONES void specularKernel(int m, const VndfFrame& f, const float t[
   }
 }
 
+// Near-field visibility of the m rays of roughness j just traced by occludedStream (slot k: sample
+// traced[k], direction w->direction[·][traced[k]], weight w->weight[traced[k]]): the occluded ones
+// again up to the largest G-buffer radius (within the sky radius) for their hit distance t, then
+// each radius R < t adds the weight to its half's Σ V_R·w (both halves: the mirror's one ray).
+// Returns the rays traced again.
+std::uint64_t addNearSpecular(const EmbreeTracer& tracer, const WalkSettings& settings,
+                              const float origin[3], int m, std::size_t j, bool both_halves,
+                              double* near_sums, SpecularScratch* w) {
+  RTCRayHit* rays = w->rays.data();
+  const float limit = std::min(settings.gbuffer_radii.back(), settings.radius);
+  int n = 0;  // slot n ≤ k, so in place
+  for (int k = 0; k < m; ++k) {
+    w->hit_t[k] = INFINITY;
+    if (rays[k].ray.tfar >= 0.0f) continue;
+    const int i = w->traced[k];
+    w->again[n] = k;
+    setRay(&rays[n], origin[0], origin[1], origin[2], w->direction[0][i], w->direction[1][i],
+           w->direction[2][i], limit);
+    ++n;
+  }
+  if (n > 0) tracer.intersectStream(rays, static_cast<unsigned>(n));
+  for (int a = 0; a < n; ++a) {
+    if (rays[a].hit.geomID != RTC_INVALID_GEOMETRY_ID) w->hit_t[w->again[a]] = rays[a].ray.tfar;
+  }
+  const std::size_t roughness = settings.specular_roughness.size();
+  for (std::size_t r = 0; r < settings.gbuffer_radii.size(); ++r) {
+    double* sum = near_sums + 2 * (r * roughness + j);
+    for (int k = 0; k < m; ++k) {
+      if (!(w->hit_t[k] > settings.gbuffer_radii[r])) continue;
+      const int i = w->traced[k];
+      if (both_halves) {
+        sum[0] += w->weight[i];
+        sum[1] += w->weight[i];
+      } else {
+        sum[i & 1] += w->weight[i];
+      }
+    }
+  }
+  return static_cast<std::uint64_t>(n);
+}
+
 }  // namespace
 
 std::uint64_t traceSpecular(const EmbreeTracer& tracer, const SurfaceHit& start, const float wo[3],
                             const WalkSettings& settings, std::uint64_t stream, double* sums,
-                            SpecularScratch* w) {
+                            SpecularScratch* w, double* near_sums) {
   const int spp = settings.specular_spp;
   const StratumGrid grid(std::max(1, spp / 2));
   resizeScratch(w, spp, grid);
@@ -135,10 +178,13 @@ std::uint64_t traceSpecular(const EmbreeTracer& tracer, const SurfaceHit& start,
     double* sum = sums + 4 * j;
     const double r = settings.specular_roughness[j];
     if (r == 0.0) {
-      // Mirror: ωr = 2(n·ωo)n − ωo, weight 1, the same value in both halves.
+      // Mirror: ωr = 2(n·ωo)n − ωo, weight 1, the same value in both halves (slot 0: sample 0).
       const float d = 2.0f * wo_local[2];
-      setRay(&rays[0], origin[0], origin[1], origin[2], d * n[0] - wo[0], d * n[1] - wo[1],
-             d * n[2] - wo[2], settings.radius);
+      for (int c = 0; c < 3; ++c) w->direction[c][0] = d * n[c] - wo[c];
+      w->weight[0] = 1.0f;
+      w->traced[0] = 0;
+      setRay(&rays[0], origin[0], origin[1], origin[2], w->direction[0][0], w->direction[1][0],
+             w->direction[2][0], settings.radius);
       tracer.occludedStream(rays, 1);
       ++traced;
       const double v = rays[0].ray.tfar >= 0.0f ? 1.0 : 0.0;
@@ -146,6 +192,8 @@ std::uint64_t traceSpecular(const EmbreeTracer& tracer, const SurfaceHit& start,
         sum[2 * h] += v;
         sum[2 * h + 1] += 1.0;
       }
+      if (near_sums != nullptr)
+        traced += addNearSpecular(tracer, settings, origin, 1, j, true, near_sums, w);
       continue;
     }
     const VndfFrame frame = makeVndfFrame(r * r, wo_local);
@@ -175,6 +223,8 @@ std::uint64_t traceSpecular(const EmbreeTracer& tracer, const SurfaceHit& start,
       if (rays[k].ray.tfar >= 0.0f) sum[2 * h] += weight;
       sum[2 * h + 1] += weight;
     }
+    if (near_sums != nullptr)
+      traced += addNearSpecular(tracer, settings, origin, m, j, false, near_sums, w);
   }
   return traced;
 }

@@ -4,6 +4,9 @@
 //
 // fr the GGX BRDF of docs/gtso.md §1 (α = r_p², height-correlated Smith G2, F = 1), ωo the unit
 // direction from x to the camera, V the binary sky visibility within the sky radius R (the V of A).
+// Near-field S_R (docs/sweep.md, "Near-field truth"): the same with V_R, where an occluder farther
+// than the G-buffer radius R does not occlude; from the same samples, the occluded ones traced
+// again up to the largest radius for their hit distance.
 //
 // Estimator. Visible normals wm ~ D_ωo(wm) = G1(ωo) max(0, ωo·wm) D(wm) / (n·ωo) (Heitz 2018),
 // ωi = reflect(ωo, wm). Per sample, fr (n·ωi) / pdf(ωi) = G2(ωo, ωi) / G1(ωo) =: w ∈ [0, 1]
@@ -89,16 +92,20 @@ struct SpecularScratch {
   std::vector<float> direction[3];
   std::vector<float> weight;
   std::vector<std::int32_t> traced;  // sample of each ray slot
+  std::vector<std::int32_t> again;   // slot of each ray traced again for its hit distance
+  std::vector<float> hit_t;          // per slot: hit distance (∞ where the ray escaped)
   std::vector<RTCRayHit> rays;
 };
 
 // For every roughness j of settings.specular_roughness, traces settings.specular_spp samples from
 // `start` (mirror: one ray) for the view direction wo (unit, world space, n·wo ≥ 0) and adds to
 // sums[4j + 2h] Σ V·w and to sums[4j + 2h + 1] Σ w over the samples of half h (sample parity),
-// in sample order. Returns the rays traced. Depends only on (start, wo, settings, stream).
+// in sample order. If near_sums is given, adds to near_sums[2(rJ + j) + h] (J roughness values)
+// Σ V_R·w at G-buffer radius R_r = settings.gbuffer_radii[r] (its Σ w is the unbounded one).
+// Returns the rays traced. Depends only on (start, wo, settings, stream).
 std::uint64_t traceSpecular(const EmbreeTracer& tracer, const SurfaceHit& start, const float wo[3],
                             const WalkSettings& settings, std::uint64_t stream, double* sums,
-                            SpecularScratch* scratch);
+                            SpecularScratch* scratch, double* near_sums = nullptr);
 
 // Ŝ from a half's or the pooled sums Σ V·w, Σ w (1 when no sample had weight).
 inline double specularRatio(double visible, double total) {

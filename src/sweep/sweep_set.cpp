@@ -1,5 +1,6 @@
 #include "sweep/sweep_set.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -174,6 +175,23 @@ SweepSet readSweepSet(const fs::path& dir) {
   }
   requireDistinct(set.views, set.where);
   return set;
+}
+
+std::string nearFieldSuffix(double radius) {
+  std::string suffix = "_R" + formatNumber(radius, "%g");
+  std::replace(suffix.begin(), suffix.end(), '.', 'p');
+  return suffix;
+}
+
+std::string truthChannelSuffix(const SweepSet& set, std::optional<double> radius) {
+  if (!radius) return "";
+  for (double r : set.settings.gbuffer_radii) {
+    if (nearFieldSuffix(r) == nearFieldSuffix(*radius)) return nearFieldSuffix(*radius);
+  }
+  throw Error(set.where + ": no near-field truth at radius " + formatNumber(*radius, "%g") +
+              " m; the sweep holds gbuffer_radii " +
+              formatNumberList(set.settings.gbuffer_radii, "none") +
+              " (trace it with `gtbake sweep --gbuffer-radius`)");
 }
 
 }  // namespace gtbake

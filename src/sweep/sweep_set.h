@@ -57,4 +57,13 @@ struct SweepSet {
 // writes them, each view's name and file once, every file inside <dir>). Throws one line.
 SweepSet readSweepSet(const std::filesystem::path& dir);
 
+// The suffix of the near-field channels at radius R: "_R" and R as %g with '.' written 'p'
+// (escape_image.h nearFieldChannelName), e.g. 1 -> "_R1".
+std::string nearFieldSuffix(double radius);
+
+// The suffix of the channels holding the truth at `radius` (none: "", the unbounded truth), after
+// checking that the sweep traced that G-buffer radius (settings gbuffer_radii): otherwise a
+// one-line gtbake::Error naming the radii it holds.
+std::string truthChannelSuffix(const SweepSet& set, std::optional<double> radius);
+
 }  // namespace gtbake

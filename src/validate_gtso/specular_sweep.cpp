@@ -51,7 +51,9 @@ void checkRanges(const SpecularScene& scene, const std::string& where) {
   }
 }
 
-SpecularScene readScene(const SweepSet& set, const SweepView& view, const SpecularSweep& sweep) {
+// `suffix`: the channels' (truthChannelSuffix).
+SpecularScene readScene(const SweepSet& set, const SweepView& view, const SpecularSweep& sweep,
+                        const std::string& suffix) {
   SpecularScene scene;
   scene.name = view.name;
   scene.cluster = view.scene;
@@ -87,7 +89,7 @@ SpecularScene readScene(const SweepSet& set, const SweepView& view, const Specul
     }
   }
   for (double r : sweep.roughness) {
-    const std::string name = specularChannelName(r);
+    const std::string name = specularChannelName(r) + suffix;
     if (image.channels.count(name) == 0) throw Error(where + " " + kNoSpecular);
     scene.S.push_back(need(image, name, where, kNoSpecular));
     scene.H0.push_back(need(image, "H0." + name, where, kNoSpecular));
@@ -116,12 +118,16 @@ void readSettings(const SweepSet& set, SpecularSweep* sweep) {
 
 }  // namespace
 
-SpecularSweep readSpecularSweep(const fs::path& dir) {
+SpecularSweep readSpecularSweep(const fs::path& dir, std::optional<double> radius) {
   const SweepSet set = readSweepSet(dir);
   SpecularSweep sweep;
   sweep.dir = dir;
+  sweep.radius = radius;
   readSettings(set, &sweep);
-  for (const SweepView& view : set.views) sweep.scenes.push_back(readScene(set, view, sweep));
+  const std::string suffix = truthChannelSuffix(set, radius);
+  for (const SweepView& view : set.views) {
+    sweep.scenes.push_back(readScene(set, view, sweep, suffix));
+  }
   return sweep;
 }
 

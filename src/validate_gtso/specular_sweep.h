@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,12 +41,17 @@ struct SpecularSweep {
   int spp = 0;
   int specular_spp = 0;
   std::vector<double> roughness;  // r_p of each S channel, as sweep.json lists them
+  // The G-buffer radius of the near-field S_R read (docs/sweep.md, "Near-field truth"); none:
+  // the unbounded S.
+  std::optional<double> radius;
   std::vector<SpecularScene> scenes;
 };
 
 // Reads sweep.json and every scene's EXR. A sweep traced without specular channels (or an EXR
-// missing one of them) is a one-line gtbake::Error naming --specular-roughness.
-SpecularSweep readSpecularSweep(const std::filesystem::path& dir);
+// missing one of them) is a one-line gtbake::Error naming --specular-roughness. With a radius,
+// S_R and its halves (S010_R1 …) in place of S; a radius the sweep lacks is a one-line error.
+SpecularSweep readSpecularSweep(const std::filesystem::path& dir,
+                                std::optional<double> radius = std::nullopt);
 
 // What the runtime feeds its specular occlusion (docs/validate_gtso.md §6): every scene's A and
 // bent normal replaced by a screen-space estimator's Â and b̂ (input.estimator of the screen-ao

@@ -96,8 +96,12 @@ double shippedU(const ValidateGtsoOptions& options) {
 // The sweep and tables read, the samples gathered; on an estimator's inputs A and b replaced.
 void readInputs(const ValidateGtsoOptions& options, StageParts& parts, Analysis& a) {
   a.sweep = parts.run("reading the sweep", 1, [&](Progress&) {
-    SpecularSweep sweep =
-        options.sweep_data ? *options.sweep_data : readSpecularSweep(options.sweep);
+    // An estimator's inputs are scored against S_R at its radius (docs/sweep.md, "Near-field
+    // truth") unless --truth unbounded.
+    const std::optional<double> radius = truthRadius(options.input);
+    SpecularSweep sweep = options.sweep_data && options.sweep_data->radius == radius
+                              ? *options.sweep_data
+                              : readSpecularSweep(options.sweep, radius);
     if (!options.input.rayTraced()) useScreenEstimate(&sweep, options.input);
     return sweep;
   });

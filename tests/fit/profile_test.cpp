@@ -71,8 +71,8 @@ FitResult fitOn(const fs::path& screen_ao, const std::string& estimator, const f
   FitOptions options;
   options.sweep = profileSweep();
   options.out = out;
-  options.input = {estimator, screen_ao};
-  options.write_report = false;  // as gtbake all writes profiles
+  options.input = {estimator, screen_ao, true};  // the synthetic sweep has no near-field truth
+  options.write_report = false;                  // as gtbake all writes profiles
   options.progress = false;
   return runFit(options);
 }

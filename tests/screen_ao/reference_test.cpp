@@ -108,16 +108,17 @@ TEST(GbufferRadius, FloorUnderCeilingClosedForm) {
   start.position = Eigen::Vector3f(0.1f, 0.0f, 0.2f);
   start.normal = Eigen::Vector3f::UnitY();
   std::vector<std::uint32_t> counts(4, 0);
-  std::vector<std::uint32_t> beyond(settings.gbuffer_radii.size(), 0);
+  // Near-field counts: radius r, half h, bounce k at (2r + h)(K + 1) + k; A_R = c_{0,R}/N.
+  std::vector<std::uint32_t> near(settings.gbuffer_radii.size() * counts.size(), 0);
   WalkScratch scratch;
-  countEscapes(tracer, start, settings, 7, counts.data(), &scratch, nullptr, beyond.data());
+  countEscapes(tracer, start, settings, 7, counts.data(), &scratch, nullptr, near.data());
   EXPECT_EQ(counts[0] + counts[2], 0u);  // A = 0
-  for (std::size_t r = 0; r < beyond.size(); ++r) {
+  for (std::size_t r = 0; r < settings.gbuffer_radii.size(); ++r) {
     const double radius = settings.gbuffer_radii[r];
     const double expected = radius < h ? 1.0 : (h / radius) * (h / radius);
     const double se = std::sqrt(expected * (1.0 - expected) / settings.spp);
-    EXPECT_NEAR(static_cast<double>(beyond[r]) / settings.spp, expected, 4.0 * se + 1e-9)
-        << "R = " << radius;
+    const double a_r = static_cast<double>(near[4 * r] + near[4 * r + 2]) / settings.spp;
+    EXPECT_NEAR(a_r, expected, 4.0 * se + 1e-9) << "R = " << radius;
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include "common/math_constants.h"
 #include "scene/mesh_builder.h"
+#include "scene/procedural_scenes.h"
 
 namespace gtbake::test {
 
@@ -32,6 +33,14 @@ void addGroundSquare(Scene& s, double half) {
 }
 
 }  // namespace
+
+Scene parallelPlanes(double height) {
+  MeshBuilder mesh;
+  const std::vector<double> axis = gradedAxis(1.0, 1.0, kGroundExtent);
+  addHeightfield(mesh, axis, axis, [](double, double) { return 0.0; });
+  addHeightfield(mesh, axis, axis, [&](double, double) { return height; });
+  return mesh.finish("parallel_planes", lookAt({0, 0.5 * height, 0}, {0, 0, -1}, {0, 1, 0}, kFov));
+}
 
 Scene openPlane(double half) {
   Scene s;

@@ -16,6 +16,10 @@ namespace gtbake::test {
 // Square of half-size `half` in y = 0, camera above it looking down at 45°.
 Scene openPlane(double half);
 
+// Two infinite parallel planes: the floor y = 0 and the ceiling y = height, both out to
+// ±kGroundExtent (graded cells, so the ray offsets stay those of a small scene near the origin).
+Scene parallelPlanes(double height);
+
 // Spherical bowl: the part y ≤ 0 of the sphere of radius R centred at (0, R − h, 0), depth h,
 // `rings` latitude steps from the bottom vertex to the rim ring at y = 0, `segments` longitudes.
 // Every vertex lies on the sphere and the rim ring is planar, so the mesh is convex and a point

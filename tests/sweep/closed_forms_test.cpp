@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <numeric>
 #include <random>
 
 #include <tbb/parallel_for.h>
@@ -25,6 +26,67 @@ namespace {
 
 double binomialSe(double p, double n) {
   return std::sqrt(std::max(p * (1.0 - p), 0.0) / n);
+}
+
+// Ratio Σ num_i / Σ den_i over replicas and its delta-method standard error.
+struct Pooled {
+  double estimate = 0.0;
+  double se = 0.0;
+};
+
+template <class Num, class Den>
+Pooled pooledRatio(int replicas, const Num& num, const Den& den) {
+  double n = 0.0;
+  double d = 0.0;
+  for (int i = 0; i < replicas; ++i) {
+    n += num(i);
+    d += den(i);
+  }
+  Pooled p;
+  p.estimate = n / d;
+  double var = 0.0;
+  for (int i = 0; i < replicas; ++i) {
+    const double e = num(i) - p.estimate * den(i);
+    var += e * e;
+  }
+  p.se = std::sqrt(var) / d;
+  return p;
+}
+
+// S by quadrature of the GGX lobe of r_p > 0 (gtso::GgxDistribution::f, polar coordinates about
+// ω_r) against a visibility of local directions (n = +z, ω_o in the (x, z) plane).
+template <class Visible>
+double lobeQuadrature(double roughness, const gtso::Vec3& wo_local, const Visible& visible) {
+  const gtso::GgxDistribution ggx(roughness * roughness);
+  const gtso::Vec3 wr{-wo_local.x, 0.0, wo_local.z};
+  const gtso::Vec3 e1{wo_local.z, 0.0, wo_local.x};  // ⟂ ω_r in the plane of incidence
+  const gtso::Vec3 e2{0.0, 1.0, 0.0};
+  // ψ = π t² concentrates the cells at ω_r, where the narrow lobes live.
+  const int nt = 2000;
+  const int nphi = 768;
+  std::vector<double> lobe(nt, 0.0);
+  std::vector<double> lit(nt, 0.0);
+  tbb::parallel_for(0, nt, [&](int a) {
+    const double t = (a + 0.5) / nt;
+    const double psi = kPi * t * t;
+    const double dpsi = 2.0 * kPi * t / nt;
+    for (int b = 0; b < nphi; ++b) {
+      const double phi = 2.0 * kPi * (b + 0.5) / nphi;
+      const gtso::Vec3 wi = std::cos(psi) * wr + (std::sin(psi) * std::cos(phi)) * e1 +
+                            (std::sin(psi) * std::sin(phi)) * e2;
+      if (wi.z <= 0.0) continue;
+      const double f = ggx.f(wo_local, wi) * wi.z * std::sin(psi) * dpsi;
+      lobe[a] += f;
+      if (visible(wi)) lit[a] += f;
+    }
+  });
+  double lobe_sum = 0.0;
+  double lit_sum = 0.0;
+  for (int a = 0; a < nt; ++a) {
+    lobe_sum += lobe[a];
+    lit_sum += lit[a];
+  }
+  return lit_sum / lobe_sum;
 }
 
 // Above a plane nothing is occluded: A = G(ρ) = 1 and S = 1 for every roughness exactly (the ratio
@@ -297,56 +359,18 @@ TEST(ClosedForm, WellFloorSpecularOcclusionMatchesQuadrature) {
   });
 
   for (std::size_t j = 0; j < roughness.size(); ++j) {
-    // Pooled ratio and its delta-method SE over the replicas.
-    double num = 0.0;
-    double den = 0.0;
-    for (int i = 0; i < replicas; ++i) {
-      const double* q = &sums[(i * roughness.size() + j) * 4];
-      num += q[0] + q[2];
-      den += q[1] + q[3];
-    }
-    const double estimate = num / den;
-    double var = 0.0;
-    for (int i = 0; i < replicas; ++i) {
-      const double* q = &sums[(i * roughness.size() + j) * 4];
-      const double e = (q[0] + q[2]) - estimate * (q[1] + q[3]);
-      var += e * e;
-    }
-    const double se = std::sqrt(var) / den;
-
-    double exact = 1.0;  // mirror: ω_r at 24° leaves through the opening
-    if (roughness[j] > 0.0) {
-      const gtso::GgxDistribution ggx(roughness[j] * roughness[j]);
-      const gtso::Vec3 wr{-wo_local.x, 0.0, wo_local.z};
-      const gtso::Vec3 e1{wo_local.z, 0.0, wo_local.x};  // ⟂ ω_r in the plane of incidence
-      const gtso::Vec3 e2{0.0, 1.0, 0.0};
-      // ψ = π t² concentrates the cells at ω_r, where the narrow lobes live.
-      const int nt = 2000;
-      const int nphi = 768;
-      std::vector<double> lobe(nt, 0.0);
-      std::vector<double> lit(nt, 0.0);
-      tbb::parallel_for(0, nt, [&](int a) {
-        const double t = (a + 0.5) / nt;
-        const double psi = kPi * t * t;
-        const double dpsi = 2.0 * kPi * t / nt;
-        for (int b = 0; b < nphi; ++b) {
-          const double phi = 2.0 * kPi * (b + 0.5) / nphi;
-          const gtso::Vec3 wi = std::cos(psi) * wr + (std::sin(psi) * std::cos(phi)) * e1 +
-                                (std::sin(psi) * std::sin(phi)) * e2;
-          if (wi.z <= 0.0) continue;
-          const double f = ggx.f(wo_local, wi) * wi.z * std::sin(psi) * dpsi;
-          lobe[a] += f;
-          if (visible(world(wi))) lit[a] += f;
-        }
-      });
-      double lobe_sum = 0.0;
-      double lit_sum = 0.0;
-      for (int a = 0; a < nt; ++a) {
-        lobe_sum += lobe[a];
-        lit_sum += lit[a];
-      }
-      exact = lit_sum / lobe_sum;
-    }
+    const std::size_t stride = 4 * roughness.size();
+    const Pooled pooled = pooledRatio(
+        replicas, [&](int i) { return sums[i * stride + 4 * j] + sums[i * stride + 4 * j + 2]; },
+        [&](int i) { return sums[i * stride + 4 * j + 1] + sums[i * stride + 4 * j + 3]; });
+    const double estimate = pooled.estimate;
+    const double se = pooled.se;
+    // Mirror: ω_r at 24° leaves through the opening.
+    const double exact =
+        roughness[j] > 0.0
+            ? lobeQuadrature(roughness[j], wo_local,
+                             [&](const gtso::Vec3& wi) { return visible(world(wi)); })
+            : 1.0;
     std::printf("[ info ] r_p %.2f: S = %.5f ± %.5f, quadrature %.5f\n", roughness[j], estimate, se,
                 exact);
     if (roughness[j] == 0.0) {
@@ -411,6 +435,141 @@ TEST(ClosedForm, BentNormalBesideSphere) {
               estimate * 180 / kPi, se * 180 / kPi, lo * 180 / kPi, hi * 180 / kPi);
   EXPECT_GT(estimate, lo - 3.0 * se);
   EXPECT_LT(estimate, hi + 3.0 * se);
+}
+
+// A surface point of the parallel planes: where the vertical ray from (x, h/2, z) hits the floor
+// (down) or the ceiling (up), so its offset scale is the tracer's.
+SurfaceHit planePoint(const EmbreeTracer& tracer, double h, float x, float z, bool floor) {
+  SurfaceHit hit;
+  const Ray ray{Eigen::Vector3f(x, static_cast<float>(0.5 * h), z),
+                Eigen::Vector3f(0.0f, floor ? -1.0f : 1.0f, 0.0f)};
+  EXPECT_TRUE(tracer.intersect(ray, INFINITY, &hit));
+  return hit;
+}
+
+// Floor and ceiling at height h, two infinite parallel planes (docs/sweep.md "Near-field truth"):
+// a cosine-distributed segment from either plane leaves at θ from its normal and hits the other at
+// h/cos θ, beyond R iff cos θ < h/R, and cos²θ is uniform under the cosine density, so every
+// segment escapes at radius R ≥ h with q = (h/R)², independently of the walk before it:
+// p_{k,R} = (1 − q)^k q and G_R(ρ) = q Σ_{k≤K} (ρ(1 − q))^k. The unbounded walks never escape
+// (a segment reaching the planes' edge 10 km away has cos θ < 5e-5: probability 2.5e-9). Each
+// p̂_{k,R} within 4 binomial SE, each Ĝ_R(ρ) within 4 multinomial SE, for two seeds; both
+// traversals give the same counts.
+TEST(ClosedForm, NearFieldBetweenParallelPlanes) {
+  const double h = 0.5;
+  const EmbreeTracer tracer(test::parallelPlanes(h));
+  WalkSettings settings;
+  settings.spp = 1 << 12;
+  settings.bounces = 3;
+  settings.gbuffer_radii = {0.6f, 1.0f, 2.5f};
+  const std::size_t k1 = settings.bounces + 1;
+  const std::size_t radii = settings.gbuffer_radii.size();
+  const int points = 64;  // half on the floor, half on the ceiling
+  for (std::uint64_t seed : {1u, 2u}) {
+    settings.seed = seed;
+    std::vector<std::uint32_t> counts(points * 2 * k1, 0);
+    std::vector<std::uint32_t> near(points * radii * 2 * k1, 0);
+    std::vector<std::uint32_t> near_single(near.size(), 0);
+    tbb::parallel_for(0, points, [&](int i) {
+      const SurfaceHit start =
+          planePoint(tracer, h, 0.37f * (i % 8) + 0.1f, 0.29f * (i / 8) + 0.1f, i % 2 == 0);
+      WalkScratch scratch;
+      countEscapes(tracer, start, settings, i, &counts[i * 2 * k1], &scratch, nullptr,
+                   &near[i * radii * 2 * k1]);
+      WalkSettings single = settings;
+      single.streams = false;
+      std::vector<std::uint32_t> unused(2 * k1, 0);
+      countEscapes(tracer, start, single, i, unused.data(), &scratch, nullptr,
+                   &near_single[i * radii * 2 * k1]);
+    });
+    EXPECT_EQ(std::accumulate(counts.begin(), counts.end(), 0u), 0u);
+    EXPECT_EQ(near, near_single);
+    const double n = static_cast<double>(points) * settings.spp;
+    for (std::size_t r = 0; r < radii; ++r) {
+      const double q = std::pow(h / settings.gbuffer_radii[r], 2.0);
+      std::vector<double> p(k1, 0.0);
+      std::vector<double> expected(k1, 0.0);
+      for (std::size_t k = 0; k < k1; ++k) {
+        for (int i = 0; i < points; ++i) {
+          for (std::size_t half = 0; half < 2; ++half)
+            p[k] += near[((i * radii + r) * 2 + half) * k1 + k];
+        }
+        p[k] /= n;
+        expected[k] = std::pow(1.0 - q, static_cast<double>(k)) * q;
+        EXPECT_NEAR(p[k], expected[k], 4.0 * binomialSe(expected[k], n))
+            << "R " << settings.gbuffer_radii[r] << " k " << k << " seed " << seed;
+      }
+      for (double rho : kSweepAlbedos) {
+        double g = 0.0;
+        double g_exact = 0.0;
+        double second = 0.0;  // Σ ρ^{2k} p_k
+        for (std::size_t k = k1; k-- > 0;) {
+          g = g * rho + p[k];
+          g_exact = g_exact * rho + expected[k];
+          second = second * rho * rho + expected[k];
+        }
+        EXPECT_NEAR(g, g_exact, 4.0 * std::sqrt((second - g_exact * g_exact) / n))
+            << "R " << settings.gbuffer_radii[r] << " rho " << rho << " seed " << seed;
+      }
+    }
+  }
+}
+
+// The floor under the ceiling at h, ω_o at 40° from the normal: a ray leaving at θ_i hits the
+// ceiling at h/cos θ_i, so V_R(ω_i) = [cos θ_i < h/R] and the unbounded S is 0. Mirror:
+// S_R = [h/cos θ_r > R], here h/cos 40° = 0.653 m: S_R = 1 at R = 0.6 and 0 at R = 1 and 2.5
+// exactly. Rough lobes: Ŝ_R pooled over 128 replicas against the quadrature of the lobe with that
+// visibility, within 3 SE.
+TEST(ClosedForm, NearFieldSpecularUnderCeiling) {
+  const double h = 0.5;
+  const EmbreeTracer tracer(test::parallelPlanes(h));
+  const double theta_o = 40.0 * kPi / 180.0;
+  const gtso::Vec3 wo_local{std::sin(theta_o), 0.0, std::cos(theta_o)};
+  const float wo[3] = {static_cast<float>(std::sin(theta_o)), static_cast<float>(std::cos(theta_o)),
+                       0.0f};
+  const std::vector<double> roughness = {0.0, 0.25, 0.5};
+  WalkSettings settings;
+  settings.specular_roughness = roughness;
+  settings.specular_spp = 256;
+  settings.gbuffer_radii = {0.6f, 1.0f, 2.5f};
+  const std::size_t J = roughness.size();
+  const std::size_t radii = settings.gbuffer_radii.size();
+  const int replicas = 128;
+  std::vector<double> sums(replicas * 4 * J, 0.0);
+  std::vector<double> near(replicas * 2 * radii * J, 0.0);
+  const SurfaceHit start = planePoint(tracer, h, 0.1f, 0.1f, true);
+  tbb::parallel_for(0, replicas, [&](int i) {
+    SpecularScratch scratch;
+    traceSpecular(tracer, start, wo, settings, static_cast<std::uint64_t>(i), &sums[i * 4 * J],
+                  &scratch, &near[i * 2 * radii * J]);
+  });
+  for (std::size_t j = 0; j < J; ++j) {
+    const auto den = [&](int i) {
+      return sums[i * 4 * J + 4 * j + 1] + sums[i * 4 * J + 4 * j + 3];
+    };
+    const Pooled unbounded = pooledRatio(
+        replicas, [&](int i) { return sums[i * 4 * J + 4 * j] + sums[i * 4 * J + 4 * j + 2]; },
+        den);
+    EXPECT_LT(unbounded.estimate, 1e-6) << "r_p " << roughness[j];
+    for (std::size_t r = 0; r < radii; ++r) {
+      const double radius = settings.gbuffer_radii[r];
+      const std::size_t at = 2 * (r * J + j);
+      const Pooled s_r = pooledRatio(
+          replicas,
+          [&](int i) { return near[i * 2 * radii * J + at] + near[i * 2 * radii * J + at + 1]; },
+          den);
+      if (roughness[j] == 0.0) {
+        EXPECT_EQ(s_r.estimate, h / std::cos(theta_o) > radius ? 1.0 : 0.0) << "R " << radius;
+        continue;
+      }
+      const double exact = lobeQuadrature(roughness[j], wo_local,
+                                          [&](const gtso::Vec3& wi) { return wi.z < h / radius; });
+      std::printf("[ info ] r_p %.2f R %.2f: S_R = %.5f ± %.5f, quadrature %.5f\n", roughness[j],
+                  radius, s_r.estimate, s_r.se, exact);
+      EXPECT_NEAR(s_r.estimate, exact, 3.0 * s_r.se + 2e-4)
+          << "r_p " << roughness[j] << " R " << radius;
+    }
+  }
 }
 
 }  // namespace

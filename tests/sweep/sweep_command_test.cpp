@@ -1,7 +1,9 @@
 // runSweep end to end: glTF in, EXR/PNG/JSON out (docs/index.md "Pipeline"). Determinism across
 // thread counts, the channel layout, a closed form seen through the camera's pixels, and bad input.
 #include <gtest/gtest.h>
+
 #include <unistd.h>
+#include <algorithm>
 
 #include <cmath>
 #include <fstream>
@@ -110,6 +112,17 @@ TEST_F(SweepCommand, ChannelsJsonAndHalves) {
                         "VY", "VZ", "Z", "mask"}) {
     expected.push_back(c);
   }
+  // The near-field channels of the default G-buffer radius 1 (docs/sweep.md, "Near-field truth").
+  for (const char* c : {"P1", "P2", "G010", "G020", "G030", "G040", "G050", "G070", "G090", "S010",
+                        "S025", "S040", "S060", "S080"}) {
+    expected.push_back(std::string(c) + "_R1");
+  }
+  for (const char* h : {"H0.", "H1."}) {
+    for (const char* c : {"A", "P1", "P2", "S010", "S025", "S040", "S060", "S080"}) {
+      expected.push_back(h + std::string(c) + "_R1");
+    }
+  }
+  std::sort(expected.begin(), expected.end());
   EXPECT_EQ(names, expected);
   EXPECT_EQ(image.attributes.at("gtbake.spp"), "16");
   EXPECT_EQ(image.attributes.at("gtbake.bounces"), "2");

@@ -65,6 +65,7 @@ struct EstimatorFixture {
     v.sweep = sweep;
     v.luts = luts;
     v.input.estimator = estimator;
+    v.input.unbounded_truth = true;  // the synthetic sweep has no near-field truth
     v.input.screen_ao = screen_ao;
     v.write_images = false;
     v.print_summary = false;
