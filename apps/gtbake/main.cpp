@@ -412,9 +412,17 @@ Subcommand addTuneCommand(CLI::App& app) {
   parser->add_option("--screen-ao", options->screen_ao,
                      "A gtbake screen-ao set of the same sweep: the estimators it ran at their "
                      "defaults are read from it, not run again (docs/tune.md §7)");
+  auto truth = std::make_shared<std::string>("near");
+  parser
+      ->add_option("--truth", *truth,
+                   "near: score against the near-field truth at the estimators' default radius "
+                   "(1 m); unbounded: against the unbounded G (docs/tune.md §1)")
+      ->check(CLI::IsMember({"near", "unbounded"}))
+      ->capture_default_str();
   addThreadsOption(parser, options->threads);
-  return {parser, [options, estimators](const RunContext& context) {
+  return {parser, [options, estimators, truth](const RunContext& context) {
             options->estimators = parseEstimatorList(*estimators);
+            options->unbounded_truth = *truth == "unbounded";
             options->progress = context.progress;
             runTune(*options);
             return 0;

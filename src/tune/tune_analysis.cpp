@@ -418,12 +418,13 @@ void useEstimates(SweepData* data, const std::vector<SweepImage>& images,
 }
 
 TuneAnalysis analyzeTune(const std::filesystem::path& sweep, const std::vector<SettingGrid>& grids,
-                         bool progress, const std::filesystem::path& screen_ao) {
+                         bool progress, const std::filesystem::path& screen_ao,
+                         std::optional<double> truth_radius) {
   StageParts parts("tune", progress);
   SweepData data;
   SweepImages images;
   parts.run("read the sweep", 2, [&](Progress& bar) {
-    data = loadSweep(sweep);
+    data = loadSweep(sweep, truth_radius);
     bar.add(1);
     images = readSweepImages(sweep);
     bar.add(1);
@@ -445,6 +446,7 @@ TuneAnalysis analyzeTune(const std::filesystem::path& sweep, const std::vector<S
   a.points = data.points();
   a.albedos = data.albedos;
   a.sweep_version = images.sweep_version;
+  a.truth_radius = truth_radius;
   const auto q = clusterTargetSquares(data, clusters);
   const Scoring sc{&data, &images, &clusters, &q};
   DefaultScores defaults;

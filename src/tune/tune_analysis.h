@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -77,7 +78,8 @@ struct TuneAnalysis {
   std::vector<std::size_t> cluster_points;  // [cluster] unmasked pixels
   std::size_t points = 0;
   std::vector<double> albedos;
-  std::string sweep_version;  // sweep.json's gtbake_version
+  std::string sweep_version;           // sweep.json's gtbake_version
+  std::optional<double> truth_radius;  // near-field truth radius scored against; none: unbounded
   std::vector<SettingResult> settings;
   std::size_t estimator_runs = 0;
   std::vector<std::pair<std::string, double>> part_seconds;
@@ -104,10 +106,12 @@ class TuneNotApplicable : public Error {
 // Reads the sweep (loadSweep for G, readSweepImages for the G-buffer), scores every grid and
 // widens it (docs/tune.md §3). With `screen_ao` (a screen-ao set of this sweep; empty = none),
 // each estimator it ran at tune's defaults has its default run read from it, not run again.
-// Throws a one-line gtbake::Error on a sweep without G-buffer channels, TuneNotApplicable with
-// fewer than kMinJackknifeScenes clusters (before any estimator runs).
+// Scores against the truth at truth_radius (none: the unbounded G). Throws a one-line
+// gtbake::Error on a sweep without G-buffer channels or without that radius's truth,
+// TuneNotApplicable with fewer than kMinJackknifeScenes clusters (before any estimator runs).
 TuneAnalysis analyzeTune(const std::filesystem::path& sweep, const std::vector<SettingGrid>& grids,
-                         bool progress, const std::filesystem::path& screen_ao = {});
+                         bool progress, const std::filesystem::path& screen_ao = {},
+                         std::optional<double> truth_radius = std::nullopt);
 
 // Puts the estimate of every image in place of A in data.full (unmasked pixels in point order,
 // clamped within kEstimateRounding of [0, 1]; farther is a one-line error).

@@ -26,7 +26,9 @@ TuneResult runTune(const TuneOptions& o) {
   const std::vector<SettingGrid> grids = tuneGrids(o);
   const OutputLock lock(o.out);  // for the whole run (output_lock.h)
   const ThreadLimit threads(o.threads);
-  const TuneAnalysis analysis = analyzeTune(o.sweep, grids, o.progress, o.screen_ao);
+  const std::optional<double> truth =
+      o.unbounded_truth ? std::nullopt : std::optional<double>(o.truth_radius);
+  const TuneAnalysis analysis = analyzeTune(o.sweep, grids, o.progress, o.screen_ao, truth);
   OutputSet output(o.out, "tune");
   TuneResult result;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -13,6 +13,10 @@
 
 namespace gtbake {
 
+// The radius of the near-field truth tune scores against by default: every tuned estimator's
+// default radius (screen_ao_settings.h), in metres.
+inline constexpr double kTuneTruthRadius = 1.0;
+
 struct TuneOptions {
   std::filesystem::path sweep;  // a directory written by gtbake sweep (with G-buffer channels)
   std::filesystem::path out;
@@ -21,6 +25,11 @@ struct TuneOptions {
   // A screen-ao set of the same sweep (empty = none): each estimator it ran at tune's defaults
   // has its default run read from it instead of run again (docs/tune.md §7).
   std::filesystem::path screen_ao;
+  // The truth every value is scored against: the near-field truth at the estimators' default
+  // radius (docs/tune.md §1, the radius the pass is asked to be ground truth within), or with
+  // unbounded_truth the unbounded G (for comparison, or sweeps without near-field channels).
+  double truth_radius = kTuneTruthRadius;
+  bool unbounded_truth = false;
   int threads = 0;
   bool progress = true;
 };

@@ -146,6 +146,9 @@ Json tuneJson(const TuneAnalysis& a, const std::vector<SettingGrid>& grids,
   j["gtbake_version"] = GTBAKE_VERSION;
   j["settings"] = tuneSettingsJson(grids, provenance.sweep);
   j["sweep"] = {{"points", a.points}, {"albedos", a.albedos}, {"clusters", clusters}};
+  // What every value was scored against (docs/tune.md §1).
+  j["truth"] = a.truth_radius ? nlohmann::json{{"kind", "near-field"}, {"radius", *a.truth_radius}}
+                              : nlohmann::json{{"kind", "unbounded"}, {"radius", nullptr}};
   j["results"] = results;
   j["provenance"] = {{"gtbake_version", GTBAKE_VERSION},
                      {"sweep", provenance.sweep},

@@ -72,7 +72,7 @@ TEST(TuneCommand, DefaultSettingMatchesTheProfileFit) {
     f.write_report = false;
     f.print_summary = false;
     f.progress = false;
-    f.input = {e, sweepDir() / "screen_ao", true};  // tune scores the unbounded G (not yet near)
+    f.input = {e, sweepDir() / "screen_ao"};  // near-field truth at 1 m, as tune scores
     runFit(f);
     const json fit = readJson(f.out);
     const std::string key = e == "gtao-runtime" ? "radius" : "thickness";
@@ -174,6 +174,8 @@ TEST(TuneCommand, SweepsItCannotTuneAreOneLineErrors) {
       walk, {"a", "b", "c"}, 32, 32, 16, 3, [](double u) { return test::cavityLaw(u, 3); }, 5);
   TuneOptions o = tuneOptions(root / "out_walk");
   o.sweep = walk;
+  expectOneLineError(o, "no near-field truth at radius 1 m");  // a synthetic walk sweep has none
+  o.unbounded_truth = true;
   expectOneLineError(o, "sweep it again");  // no camera: no G-buffer
   o = tuneOptions(root / "out_two");
   o.sweep = test::tinySweep(root / "two", {"cavity", "corner"});
