@@ -122,7 +122,8 @@ FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& 
                          const AoInput& input) {
   // A screen-space estimator is scored against the truth within its own radius (docs/sweep.md,
   // "Near-field truth") unless --truth unbounded; ray-traced A keeps the unbounded G.
-  SweepData data = loadSweep(sweep, truthRadius(input));
+  const std::optional<double> radius = truthRadius(input);
+  SweepData data = loadSweep(sweep, radius);
   useScreenEstimate(&data, input);
   if (progress != nullptr) progress->add(1);
   // Â is a deterministic function of the G-buffer: no noise in the regressor, nothing for the
@@ -133,6 +134,13 @@ FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& 
   used.shape_constrained = settings.shape_constrained || !input.rayTraced();
   FitAnalysis a = analyzePoints(std::move(data), used, shipped, {}, progress);
   a.input = input;
+  a.truth_radius = radius;
+  if (radius) {
+    SweepData unbounded = loadSweep(sweep);
+    useScreenEstimate(&unbounded, input);
+    a.unbounded = UnboundedComparison{errorTable(unbounded, shipped).rmse,
+                                      errorTable(unbounded, a.fit.linear.coeffs).rmse};
+  }
   return a;
 }
 

@@ -55,6 +55,13 @@ struct ProfileChecks {
   ProfileGate gate;         // the cubic's
 };
 
+// The same constants scored against the unbounded G (docs/profiles.md §1): beside a fit against
+// near-field truth, what the far field no screen-space pass sees adds to its error.
+struct UnboundedComparison {
+  double shipped_rmse = 0.0;  // the shipped (paper's) constants
+  double refit_rmse = 0.0;    // the refit (fitted against the near-field truth)
+};
+
 struct FitAnalysis {
   SweepData data;
   MultiBounceFit fit;
@@ -73,7 +80,9 @@ struct FitAnalysis {
   Alternative constraint;               // the other constrain-open setting, same weighting
   FitFloor floor;
   std::vector<SceneWeight> scene_weights;
-  std::optional<ProfileChecks> profile;  // shape-constrained fits (engine profiles) only
+  std::optional<ProfileChecks> profile;          // shape-constrained fits (engine profiles) only
+  std::optional<double> truth_radius;            // near-field truth radius of G (none: unbounded)
+  std::optional<UnboundedComparison> unbounded;  // with truth_radius only
 };
 
 // Stages of analyzeSweep, for a progress bar (kAnalysisStages units).

@@ -326,6 +326,13 @@ json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceC
     // Positive: the refit beats the shipped constants on scenes it was not fitted on.
     out["errors"]["shipped_minus_held_out_rmse"] = a.shipped_errors.rmse - a.held_out_errors->rmse;
   }
+  // What G is (docs/sweep.md "Near-field truth"), and beside near-field errors the unbounded ones.
+  out["truth"] = a.truth_radius ? json{{"kind", "near-field"}, {"radius", *a.truth_radius}}
+                                : json{{"kind", "unbounded"}, {"radius", nullptr}};
+  if (a.unbounded) {
+    out["errors"]["unbounded_truth"] = {{"shipped_rmse", a.unbounded->shipped_rmse},
+                                        {"refit_rmse", a.unbounded->refit_rmse}};
+  }
   out["shipped"] = {{"coeffs", coeffsJson(shipped)},
                     {"max_curve_difference",
                      {{"value", a.shipped_difference.value},
