@@ -32,6 +32,16 @@ bool startsWith(const std::string& s, const std::string& prefix) {
 
 // Where the number that ends at `end` begins, or npos if none ends there. The number is the
 // longest suffix of text[..end) of the form [sign] digits [. digits] [e [sign] digits].
+// A word quoted by a "%s" marker (a status a JSON string holds, e.g. upper_bound): letters,
+// digits and '_' immediately before the marker.
+std::size_t wordBegin(const std::string& text, std::size_t end) {
+  std::size_t begin = end;
+  while (begin > 0 && begin + kMaxNumberBytes > end &&
+         (std::isalnum(static_cast<unsigned char>(text[begin - 1])) || text[begin - 1] == '_'))
+    --begin;
+  return begin == end ? std::string::npos : begin;
+}
+
 std::size_t numberBegin(const std::string& text, std::size_t end) {
   static const std::regex kNumber(
       "(?:[+-]|\xE2\x88\x92)?(?:[0-9]+(?:\\.[0-9]*)?|\\.[0-9]+)(?:[eE][+-]?[0-9]+)?$");
@@ -49,8 +59,10 @@ std::vector<std::string> splitFields(const std::string& body) {
   return fields;
 }
 
-// Checks that `format` is exactly one conversion of a double: %[flags][width][.precision]conv.
+// Checks that `format` is exactly one conversion of a double: %[flags][width][.precision]conv,
+// or "%s" for a JSON string quoted as a word.
 std::string formatProblem(const std::string& format) {
+  if (format == kWordFormat) return {};
   std::size_t i = 0;
   if (format.empty() || format[i++] != '%') return "must start with %";
   while (i < format.size() && std::string("-+ #0").find(format[i]) != std::string::npos) ++i;
@@ -143,14 +155,16 @@ ParsedDoc parseMarkers(const std::string& text) {
       doc.malformed.push_back({DocIssue::Kind::kMalformed, marker.line, problem});
       continue;
     }
-    const std::size_t begin = numberBegin(text, open);
+    const std::size_t begin =
+        marker.format == kWordFormat ? wordBegin(text, open) : numberBegin(text, open);
     if (begin == std::string::npos) {
       doc.malformed.push_back(
           {DocIssue::Kind::kMalformed, marker.line, "no number immediately before the marker"});
       continue;
     }
     const unsigned char before = begin > 0 ? static_cast<unsigned char>(text[begin - 1]) : ' ';
-    if (std::isalnum(before) || before == '.' || before == ',' || before == '_') {
+    if ((marker.format != kWordFormat && std::isalnum(before)) || before == '.' || before == ',' ||
+        before == '_') {
       doc.malformed.push_back({DocIssue::Kind::kMalformed, marker.line,
                                "the number before the marker is glued to '" +
                                    std::string(1, static_cast<char>(before)) +
@@ -166,6 +180,7 @@ ParsedDoc parseMarkers(const std::string& text) {
 }
 
 std::string formatNumber(const std::string& format, double value) {
+  if (format == kWordFormat) throw Error("format %s quotes a string, not a number");
   if (const std::string problem = formatProblem(format); !problem.empty()) {
     throw Error("format '" + format + "' " + problem);
   }
@@ -213,6 +228,11 @@ ValueLookup jsonLookup(const std::filesystem::path& artifact_dir,
       return result;
     }
     const nlohmann::json& value = it->second.json.at(ptr);
+    if (value.is_string()) {  // for a "%s" marker; a number format reads the error
+      result.text = value.get<std::string>();
+      result.error = file + " " + pointer + " is string, not a number";
+      return result;
+    }
     if (!value.is_number()) {
       result.error = file + " " + pointer + " is " + value.type_name() + ", not a number";
       return result;
@@ -225,6 +245,12 @@ ValueLookup jsonLookup(const std::filesystem::path& artifact_dir,
 std::optional<std::string> expectedNumber(const NumberMarker& marker, const ValueLookup& lookup,
                                           std::string& error) {
   const LookupResult found = lookup(marker.file, marker.pointer);
+  if (marker.format == kWordFormat) {
+    if (!found.text)
+      error = found.error.empty() ? marker.file + " " + marker.pointer + " is not a string"
+                                  : found.error;
+    return found.text;
+  }
   if (!found.value) {
     error = found.error;
     return std::nullopt;

@@ -20,9 +20,13 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gtbake::docs {
+
+// The FORMAT of a marker that quotes a JSON string as one word (e.g. a status: upper_bound).
+inline constexpr std::string_view kWordFormat = "%s";
 
 // One marker as written in a document.
 struct NumberMarker {
@@ -64,6 +68,7 @@ std::string formatNumber(const std::string& format, double value);
 // Looks a marker's value up: (file, pointer) -> number, or an error message.
 struct LookupResult {
   std::optional<double> value;
+  std::optional<std::string> text;  // a JSON string (quoted by a "%s" marker)
   std::string error;
 };
 using ValueLookup =

@@ -106,7 +106,7 @@ TEST(DocNumbers, MalformedMarkersAreRejectedWithTheirLine) {
       {"1.0<!--@ fit.json a %.1f-->", "not an RFC 6901"},
       {"1.0<!--@ fit.json /a/~2 %.1f-->", "not an RFC 6901"},
       {"1.0<!--@ fit.json /a %d-->", "needs one conversion"},
-      {"1.0<!--@ fit.json /a %s-->", "needs one conversion"},
+      {"1.0<!--@ fit.json /a %d-->", "needs one conversion"},
       {"1.0<!--@ fit.json /a %.1f%%-->", "text after the conversion"},
       {"1.0<!--@ fit.json /a .1f-->", "must start with %"},
       {"1.0<!--@ fit.json /a %.1f 100-->", "SCALE"},
@@ -128,6 +128,29 @@ TEST(DocNumbers, MalformedMarkersAreRejectedWithTheirLine) {
         << c.text << " -> " << r.issues[0].message;
     EXPECT_EQ(r.updated_text, text) << c.text;
   }
+}
+
+// A "%s" marker quotes a JSON string as one word (a status), checked and updated like a number;
+// a number where a word is expected, or a word where a number is, is a lookup issue.
+TEST(DocNumbers, WordMarkersQuoteStrings) {
+  const ValueLookup lookup = [](const std::string& file, const std::string& pointer) {
+    LookupResult r;
+    if (pointer == "/status") r.text = "upper_bound";
+    if (pointer == "/value") r.value = 4.0;
+    if (!r.text && !r.value) r.error = file + " has no " + pointer;
+    return r;
+  };
+  const std::string text =
+      "| interior<!--@ tune.json /status %s--> | 4.0<!--@ tune.json /value %.1f--> |\n";
+  const CheckResult r = checkDocument(text, lookup);
+  EXPECT_EQ(r.markers, 2);
+  EXPECT_EQ(r.mismatches, 1);
+  EXPECT_EQ(r.updated_text,
+            "| upper_bound<!--@ tune.json /status %s--> | 4.0<!--@ tune.json /value %.1f--> |\n");
+  EXPECT_TRUE(checkDocument(r.updated_text, lookup).issues.empty());
+  const CheckResult wrong = checkDocument("x 4<!--@ tune.json /value %s-->\n", lookup);
+  ASSERT_EQ(wrong.issues.size(), 1u);
+  EXPECT_NE(wrong.issues[0].message.find("not a string"), std::string::npos);
 }
 
 TEST(DocNumbers, ExamplesInCodeAreNotMarkers) {
@@ -165,6 +188,7 @@ TEST(DocNumbers, JsonLookupReportsMissingFilePointerAndNonNumbers) {
   EXPECT_FALSE(missing_key.value);
   EXPECT_NE(missing_key.error.find("has no /linear/b1"), std::string::npos) << missing_key.error;
   EXPECT_NE(lookup("fit.json", "/list/5").error.find("has no"), std::string::npos);
+  EXPECT_EQ(lookup("fit.json", "/linear/name").text, std::optional<std::string>("x"));
   EXPECT_NE(lookup("fit.json", "/linear/name").error.find("string, not a number"),
             std::string::npos);
   EXPECT_NE(lookup("fit.json", "/linear/none").error.find("null, not a number"), std::string::npos);
