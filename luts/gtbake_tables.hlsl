@@ -216,14 +216,14 @@ float gtso4DSample(GTSO_TEXTURE, float A, float cosBeta, float rp, float cosThet
   return f0 + (f1 - f0) * (a.w - s0);
 }
 
-// Multi-bounce G(A, rho) = a A^3 - b A^2 + c A (paper Eq. 10), clamped below by A, for
+// Multi-bounce G(A, rho) = a A^3 - b A^2 + c A (paper Eq. 10), unclamped, for
 // constants {slope, intercept} in rho: a = a1 rho + a0, and so on.
 float gtsoMultiBounce(float a1, float a0, float b1, float b0, float c1, float c0, float A,
                       float albedo) {
   float a = a1 * albedo + a0;
   float b = b1 * albedo + b0;
   float c = c1 * albedo + c0;
-  return max(A, ((a * A - b) * A + c) * A);
+  return ((a * A - b) * A + c) * A;
 }
 // With the shipped constants kMultiBounceA/B/C.
 float multiBounce(float A, float albedo) {
@@ -321,55 +321,62 @@ float gtsoConeModelFromAlpha(float A, float cosBeta, float alpha) {
   return gtsoConeModel(A, cosBeta, sqrt(alpha));
 }
 
+// Profile gate (docs/profiles.md §9): shipped only if monotone in A, G(1, rho) = 1, G >= 0
+// and its held-out RMSE of G beats the paper's constants on the same A.
+//   bitmask-cosine: shipped; monotone, G(1, rho) = 1, G >= 0, held-out RMSE of G 0.0648, paper's 0.0666
+//   bitmask-uniform: shipped; monotone, G(1, rho) = 1, G >= 0, held-out RMSE of G 0.0747, paper's 0.0782
+//   gtao-reference: shipped; monotone, G(1, rho) = 1, G >= 0, held-out RMSE of G 0.0819, paper's 0.0917
+//   gtao-runtime: shipped; monotone, G(1, rho) = 1, G >= 0, held-out RMSE of G 0.0837, paper's 0.1100
+//   hbao: shipped; monotone, G(1, rho) = 1, G >= 0, held-out RMSE of G 0.0968, paper's 0.1253
 // Engine profiles (docs/profiles.md): Equation 10 refitted on the A each screen-space
 // estimator computes. RMSE of G on that A: paper's constants | profile held out by scene.
-// bitmask-cosine: 0.300913453 | 0.243307978
+// bitmask-cosine: 0.0665940195 | 0.0647746921
 float multiBounce_bitmask_cosine(float A, float albedo) {
-  return gtsoMultiBounce(-0.426939875, 2.79497576, 0.734025002, 3.8176651, 1.26011479, 1.84961796, A, albedo);
+  return gtsoMultiBounce(0.988181591, 0.805157185, 3.14473462, 1.10603452, 2.15655303, 1.30087733, A, albedo);
 }
-// bitmask-uniform: 0.306081831 | 0.24648875
+// bitmask-uniform: 0.0782153904 | 0.0747374743
 float multiBounce_bitmask_uniform(float A, float albedo) {
-  return gtsoMultiBounce(-1.14478588, 2.85336256, -0.511130393, 3.92933035, 0.724922299, 1.90959811, A, albedo);
+  return gtsoMultiBounce(0.785894871, -0.151680902, 2.78969049, -0.59285605, 2.00379562, 0.558824837, A, albedo);
 }
-// gtao-reference: 0.294771314 | 0.246977329
+// gtao-reference: 0.0917131677 | 0.0819094554
 float multiBounce_gtao_reference(float A, float albedo) {
-  return gtsoMultiBounce(0.117070027, 3.34503484, 1.55391932, 4.90223122, 1.53508103, 2.39189696, A, albedo);
+  return gtsoMultiBounce(0.884406507, 1.77964842, 2.77208447, 3.02731228, 1.88767791, 2.24766397, A, albedo);
 }
-// gtao-runtime: 0.340588123 | 0.261432201
+// gtao-runtime: 0.109992765 | 0.0836767107
 float multiBounce_gtao_runtime(float A, float albedo) {
-  return gtsoMultiBounce(-2.73452663, 4.56829214, -3.16311097, 6.67551279, -0.296319008, 2.87215209, A, albedo);
+  return gtsoMultiBounce(-3.52959037, 4.28490877, -3.98900652, 6.06697321, -0.459416062, 2.7820642, A, albedo);
 }
-// hbao: 0.347720295 | 0.263644546
+// hbao: 0.125309125 | 0.0967970565
 float multiBounce_hbao(float A, float albedo) {
-  return gtsoMultiBounce(-5.53101254, 9.28411198, -8.21610069, 15.0506096, -2.55655909, 6.5393362, A, albedo);
+  return gtsoMultiBounce(-1.35903955, 4.10931444, -0.206791729, 5.69926405, 1.15224779, 2.58994985, A, albedo);
 }
 
 // Tuned settings (docs/tune.md; gtbake_tables.h kTunedSettings has the intervals): the
 // evaluated value with the lowest RMSE of G under the profile refit, and that refit.
-// bitmask-cosine thickness: default 0.5, best with the paper's constants 4.0, with the refit 4.0 [4.0, 4.0] (at the grid's end); RMSE of G held out 0.242849067
-#define GTBAKE_TUNED_BITMASK_COSINE_THICKNESS 4.0
+// bitmask-cosine thickness: default 0.5, best with the paper's constants 0.578383327, with the refit 0.548248649 [0.376974285, 0.797339678]; RMSE of G held out 0.0647746921
+#define GTBAKE_TUNED_BITMASK_COSINE_THICKNESS 0.5
 float multiBounce_bitmask_cosine_thickness(float A, float albedo) {
-  return gtsoMultiBounce(-0.165622592, 2.81023312, 1.14490998, 3.91910887, 1.40991807, 1.93725622, A, albedo);
+  return gtsoMultiBounce(0.988181591, 0.805157185, 3.14473462, 1.10603452, 2.15655303, 1.30087733, A, albedo);
 }
-// bitmask-uniform thickness: default 0.5, best with the paper's constants 4.0, with the refit 4.0 [4.0, 4.0] (at the grid's end); RMSE of G held out 0.245448306
-#define GTBAKE_TUNED_BITMASK_UNIFORM_THICKNESS 4.0
+// bitmask-uniform thickness: default 0.5, best with the paper's constants 8.0, with the refit 0.693848908 [0.125, 8.0]; RMSE of G held out 0.0747374743
+#define GTBAKE_TUNED_BITMASK_UNIFORM_THICKNESS 0.5
 float multiBounce_bitmask_uniform_thickness(float A, float albedo) {
-  return gtsoMultiBounce(-0.857694089, 2.6100142, -0.0515306666, 3.59408379, 0.897057533, 1.81971729, A, albedo);
+  return gtsoMultiBounce(0.785894871, -0.151680902, 2.78969049, -0.59285605, 2.00379562, 0.558824837, A, albedo);
 }
-// gtao-runtime intensity: default 1.0, best with the paper's constants 8.0, with the refit 3.54782486 [2.75085187, 4.57569551]; RMSE of G held out 0.258670241
-#define GTBAKE_TUNED_GTAO_RUNTIME_INTENSITY 4.0
+// gtao-runtime intensity: default 1.0, best with the paper's constants 2.07500386, with the refit 2.01052356 [1.70001447, 2.37774777]; RMSE of G held out 0.0805869699
+#define GTBAKE_TUNED_GTAO_RUNTIME_INTENSITY 2.0
 float multiBounce_gtao_runtime_intensity(float A, float albedo) {
-  return gtsoMultiBounce(0.670914531, 3.03520393, 2.34423923, 4.70562983, 1.79538119, 2.46036267, A, albedo);
+  return gtsoMultiBounce(-0.590469956, 2.77684307, 0.702542484, 4.12929487, 1.29301238, 2.35245204, A, albedo);
 }
-// gtao-runtime radius: default 1.0, best with the paper's constants 7.98249674, with the refit 10.0411272 [9.20300484, 10.9555779]; RMSE of G held out 0.205316588
-#define GTBAKE_TUNED_GTAO_RUNTIME_RADIUS 8.0
+// gtao-runtime radius: default 1.0, best with the paper's constants 2.47315693, with the refit 2.04301023 [1.93498933, 2.15706134]; RMSE of G held out 0.0632451549
+#define GTBAKE_TUNED_GTAO_RUNTIME_RADIUS 2.0
 float multiBounce_gtao_runtime_radius(float A, float albedo) {
-  return gtsoMultiBounce(-0.785332859, 3.17626238, 0.359873444, 3.98265362, 1.18622768, 1.74278045, A, albedo);
+  return gtsoMultiBounce(-0.212006018, 1.08480656, 1.33603382, 1.21794391, 1.54803979, 1.13313735, A, albedo);
 }
-// gtao-runtime thin_compensation: default 0.0, best with the paper's constants 0.0, with the refit 0.0 [0.0, 0.0] (at the grid's end); RMSE of G held out 0.261432201
+// gtao-runtime thin_compensation: default 0.0, best with the paper's constants 0.0, with the refit 0.0 [0.0, 0.0] (at the grid's end); RMSE of G held out 0.0836767107
 #define GTBAKE_TUNED_GTAO_RUNTIME_THIN_COMPENSATION 0.0
 float multiBounce_gtao_runtime_thin_compensation(float A, float albedo) {
-  return gtsoMultiBounce(-2.73452663, 4.56829214, -3.16311097, 6.67551279, -0.296319008, 2.87215209, A, albedo);
+  return gtsoMultiBounce(-3.52959037, 4.28490877, -3.98900652, 6.06697321, -0.459416062, 2.7820642, A, albedo);
 }
 
 #endif  // GTBAKE_TABLES_INCLUDED
