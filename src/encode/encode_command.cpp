@@ -13,8 +13,8 @@
 #include "encode/bc4_layout.h"
 #include "encode/format_errors.h"
 #include "encode/shipped_volumes.h"
-#include "gtso/gtso_set.h"
 #include "gtbake_version.h"
+#include "gtso/gtso_set.h"
 #include "texture/texture_containers.h"
 
 namespace gtbake {

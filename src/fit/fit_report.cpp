@@ -8,8 +8,8 @@
 #include "common/atomic_file.h"
 #include "common/output_set.h"
 #include "common/text_escape.h"
-#include "plot/svg_plot.h"
 #include "gtbake_version.h"
+#include "plot/svg_plot.h"
 
 namespace gtbake {
 

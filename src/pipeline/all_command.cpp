@@ -199,6 +199,24 @@ SweepResult sweepScenes(const AllOptions& options, int threads, double* scenes_s
   return runSweep(sweep);
 }
 
+// The estimators' settings against the near-field truth (docs/tune.md) into <out>/tune, reading
+// screen-ao's default runs; an empty result when the sweep has too few scenes for its intervals.
+TuneResult tuneSettings(const AllOptions& options, int threads) {
+  banner("tune", options.progress);
+  TuneOptions tune;
+  tune.sweep = options.out;
+  tune.out = options.out / "tune";
+  tune.screen_ao = options.out / "screen_ao";  // its defaults' Â, not run again (docs/tune.md §7)
+  tune.threads = threads;
+  tune.progress = options.progress;
+  try {
+    return runTune(tune);
+  } catch (const TuneNotApplicable& e) {  // nothing written
+    std::fprintf(stderr, "gtbake all: tune skipped: %s\n", e.what());
+    return {};
+  }
+}
+
 }  // namespace
 
 void runAll(const AllOptions& options) {
@@ -226,19 +244,7 @@ void runAll(const AllOptions& options) {
   const ScreenAoResult screened =
       screenAndProfiles(options, limit.threads(), &profiles, &profile_seconds);
 
-  banner("tune", options.progress);  // the estimators' settings against G (docs/tune.md)
-  TuneOptions tune;
-  tune.sweep = swept_dir;
-  tune.out = options.out / "tune";
-  tune.screen_ao = options.out / "screen_ao";  // its defaults' Â, not run again (docs/tune.md §7)
-  tune.threads = limit.threads();
-  tune.progress = options.progress;
-  TuneResult tuned;
-  try {
-    tuned = runTune(tune);
-  } catch (const TuneNotApplicable& e) {  // too few scenes for its intervals: nothing written
-    std::fprintf(stderr, "gtbake all: tune skipped: %s\n", e.what());
-  }
+  const TuneResult tuned = tuneSettings(options, limit.threads());
 
   banner("gtso", options.progress);
   GtsoOptions gtso;
