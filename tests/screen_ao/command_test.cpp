@@ -12,6 +12,7 @@
 #include "gbuffer_scenes.h"
 #include "scene/scene.h"
 #include "screen_ao/screen_ao_command.h"
+#include "screen_ao_errors.h"
 #include "support/temp_dir.h"
 #include "sweep/sweep_command.h"
 
@@ -71,35 +72,21 @@ TEST_F(ScreenAoCommand, WritesOneOutputSet) {
   EXPECT_NE(m.find("screen_ao.html"), nullptr);
 }
 
-// Every failure is one line and leaves no output set behind.
-void expectOneLineError(const ScreenAoOptions& o, const std::string& needle) {
-  try {
-    runScreenAo(o);
-    ADD_FAILURE() << "no error; expected " << needle;
-  } catch (const Error& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find(needle), std::string::npos) << what;
-    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
-  }
-  std::error_code ec;
-  EXPECT_FALSE(fs::exists(o.out / "screen_ao.manifest.json", ec));
-}
-
 TEST_F(ScreenAoCommand, RejectsBadInput) {
   const fs::path swept = sweep();
-  expectOneLineError(options(dir_.path() / "nowhere", "a"), "does not exist");
+  test::expectScreenAoError(options(dir_.path() / "nowhere", "a"), "does not exist");
   ScreenAoOptions bad = options(swept, "b");
   bad.settings.runtime.frames = 0;
-  expectOneLineError(bad, "frames");
+  test::expectScreenAoError(bad, "frames");
   bad = options(swept, "c");
   bad.settings.reference.radius = -1.0;
-  expectOneLineError(bad, "radius");
+  test::expectScreenAoError(bad, "radius");
   bad = options(swept, "d");
   applySetting(&bad.settings, "gtao-reference.refine_levels=17");
-  expectOneLineError(bad, "refine_levels");
+  test::expectScreenAoError(bad, "refine_levels");
   bad = options(swept, "e");
   applySetting(&bad.settings, "gtao-reference.refine_tolerance=0");
-  expectOneLineError(bad, "refine_tolerance");
+  test::expectScreenAoError(bad, "refine_tolerance");
   EXPECT_THROW(parseEstimatorList("gtao,hbao"), Error);
   EXPECT_THROW(parseEstimatorList("hbao,hbao"), Error);
   ScreenAoSettings s;

@@ -16,6 +16,7 @@
 #include "gbuffer_scenes.h"
 #include "screen_ao/gbuffer_export.h"
 #include "screen_ao/screen_ao_command.h"
+#include "screen_ao_errors.h"
 #include "support/temp_dir.h"
 #include "sweep/sweep_command.h"
 #include "tune/tiny_sweep.h"
@@ -265,20 +266,6 @@ TEST(ScreenAoImport, ViewSpaceBentNormalsMatchWorldSpace) {
   EXPECT_GT(world["bent_mean_deg"].get<double>(), 1.0);  // the comparison is not of zeros
 }
 
-// One line, non-zero exit (an Error), no output set.
-void expectImportError(const ScreenAoOptions& o, const std::string& needle) {
-  try {
-    runScreenAo(o);
-    ADD_FAILURE() << "no error; expected " << needle;
-  } catch (const Error& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find(needle), std::string::npos) << what;
-    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
-  }
-  std::error_code ec;
-  EXPECT_FALSE(fs::exists(o.out / "screen_ao.manifest.json", ec)) << needle;
-}
-
 // A copy of the user's images with cavity's A (or the whole file) replaced.
 fs::path editedImages(const std::string& tag, float value, int side = 0) {
   const RoundTrip& r = roundTrip();
@@ -307,20 +294,22 @@ fs::path editedImages(const std::string& tag, float value, int side = 0) {
 TEST(ScreenAoImport, BadImportsAreOneLineErrors) {
   const RoundTrip& r = roundTrip();
   const fs::path out = r.root / "bad";
-  expectImportError(importOptions(out, editedImages("size", 0.5f, 8), 1.0), "size 8x8");
-  expectImportError(importOptions(out, editedImages("nan", std::nanf("")), 1.0), "not in [0, 1]");
-  expectImportError(importOptions(out, editedImages("high", 1.0001f), 1.0), "not in [0, 1]");
-  expectImportError(importOptions(out, editedImages("low", -1e-6f), 1.0), "not in [0, 1]");
+  test::expectScreenAoError(importOptions(out, editedImages("size", 0.5f, 8), 1.0), "size 8x8");
+  test::expectScreenAoError(importOptions(out, editedImages("nan", std::nanf("")), 1.0),
+                            "not in [0, 1]");
+  test::expectScreenAoError(importOptions(out, editedImages("high", 1.0001f), 1.0),
+                            "not in [0, 1]");
+  test::expectScreenAoError(importOptions(out, editedImages("low", -1e-6f), 1.0), "not in [0, 1]");
   const fs::path missing = editedImages("missing", 0.5f);
   fs::remove(missing / "spheres.exr");
-  expectImportError(importOptions(out, missing, 1.0), "no image");
-  expectImportError(importOptions(out, r.user, 0.7), "A_R0p7");
+  test::expectScreenAoError(importOptions(out, missing, 1.0), "no image");
+  test::expectScreenAoError(importOptions(out, r.user, 0.7), "A_R0p7");
   ScreenAoOptions twice = importOptions(out, r.user, 1.0);
   twice.imports.push_back(twice.imports.front());
-  expectImportError(twice, "imported twice");
+  test::expectScreenAoError(twice, "imported twice");
   ScreenAoOptions collide = importOptions(out, r.user, 1.0);
   collide.imports.front().name = "hbao";
-  expectImportError(collide, "built-in");
+  test::expectScreenAoError(collide, "built-in");
   for (const char* text : {"hbao=dir", "all=dir", "My Pass=dir", "mine", "mine=", "mine=d:radius=0",
                            "mine=d:radius=x", ".hidden=d"}) {
     EXPECT_THROW(parseImport(text), Error) << text;
