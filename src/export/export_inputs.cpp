@@ -1,6 +1,7 @@
 #include "export/export_inputs.h"
 
 #include <algorithm>
+#include <cmath>
 #include <regex>
 
 #include "common/error.h"
@@ -23,6 +24,57 @@ FitInput readFitInput(const std::filesystem::path& file) {
   }
   return in;
 }
+
+namespace {
+
+// Bounds of a shipped profile table (docs/profiles.md §8): what `gtbake fit` writes fits well
+// inside them (32 nodes × the sweep's albedos), and a file cannot make export emit a huge array.
+constexpr std::int64_t kMaxTableNodes = 256;
+constexpr std::size_t kMaxTableRhos = 16;
+
+// fit.json /profile/table into p when the fit says the table is needed: node count, ascending
+// albedos in (0, 1], every row non-decreasing in [0, 1] with G(1) = 1 (the shape the table is
+// shipped for). Throws one line otherwise.
+void readProfileTable(const nlohmann::json& fit, const std::string& where, ProfileInput* p) {
+  if (!fit.contains("profile") || !fit["profile"].is_object() ||
+      !fit["profile"].contains("table")) {
+    return;
+  }
+  const std::string at = where + " profile/table";
+  const nlohmann::json& t = fit["profile"]["table"];
+  if (!jsonMember(t, "needed", at).is_boolean()) throw Error(at + ": 'needed' must be a boolean");
+  if (!t["needed"].get<bool>()) return;
+  const int nodes = static_cast<int>(jsonInteger(t, "A_nodes", 2, kMaxTableNodes, at));
+  const nlohmann::json& rhos = jsonMember(t, "rho", at);
+  const nlohmann::json& rows = jsonMember(t, "values", at);
+  if (!rhos.is_array() || rhos.empty() || rhos.size() > kMaxTableRhos || !rows.is_array() ||
+      rows.size() != rhos.size()) {
+    throw Error(at + ": 'rho' must list 1 to " + std::to_string(kMaxTableRhos) +
+                " albedos and 'values' one row per albedo");
+  }
+  for (std::size_t j = 0; j < rhos.size(); ++j) {
+    const double rho = rhos[j].is_number() ? rhos[j].get<double>() : NAN;
+    if (!(rho > 0.0 && rho <= 1.0) || (j > 0 && !(rho > p->table_rhos.back()))) {
+      throw Error(at + ": 'rho' must be ascending albedos in (0, 1]");
+    }
+    p->table_rhos.push_back(rho);
+    if (!rows[j].is_array() || rows[j].size() != static_cast<std::size_t>(nodes)) {
+      throw Error(at + ": every row of 'values' must hold A_nodes values");
+    }
+    for (std::size_t i = 0; i < rows[j].size(); ++i) {
+      const double g = rows[j][i].is_number() ? rows[j][i].get<double>() : NAN;
+      const bool rises = i == 0 || g >= p->table_values.back();
+      if (!(g >= 0.0 && g <= 1.0) || !rises || (i + 1 == rows[j].size() && g != 1.0)) {
+        throw Error(at + ": every row must rise in [0, 1] to G(1) = 1");
+      }
+      p->table_values.push_back(g);
+    }
+  }
+  p->table_nodes = nodes;
+  p->table_held_out_rmse = shippedNumber(t, "held_out_by_scene_rmse", at, true);
+}
+
+}  // namespace
 
 std::vector<ProfileInput> readProfiles(const std::filesystem::path& dir) {
   namespace fs = std::filesystem;
@@ -64,6 +116,7 @@ std::vector<ProfileInput> readProfiles(const std::filesystem::path& dir) {
           shippedNumber(jk["band_max"], "value", where + " scene_jackknife/band_max", true);
     }
     p.gate = profileGate(shapeChecks(p.linear), p.rmse_held_out, p.rmse_paper);
+    readProfileTable(fit.json, where, &p);
     out.push_back(p);
   }
   return out;

@@ -31,6 +31,13 @@ struct ProfileInput {
   // The shipping gate (docs/profiles.md §9), recomputed here from the coefficients and the two
   // RMSEs: only a shipped profile enters the header and the includes.
   ProfileGate gate;
+  // The monotone 2D table shipped beside the cubic where the cubic is not adequate
+  // (docs/profiles.md §8; fit.json /profile/table with needed true): G at table_nodes values of Â
+  // (0 … 1) per albedo of table_rhos, row-major [albedo][node]. Empty otherwise.
+  int table_nodes = 0;
+  std::vector<double> table_rhos;
+  std::vector<double> table_values;
+  double table_held_out_rmse = 0.0;
 };
 
 // One tuned setting of a screen-space estimator (docs/tune.md), from tune.json: the value that

@@ -90,6 +90,54 @@ std::string profileFunctions(const GeneratedCodeInput& in) {
   return o.str();
 }
 
+// The profile tables (docs/profiles.md §8): per table two constant arrays and
+// multiBounceTable_<estimator>(A, albedo), the header's bilinear lookup written out.
+std::string profileTableFunctions(const GeneratedCodeInput& in, const Dialect& d) {
+  if (in.profiles == nullptr) return "";
+  const bool hlsl = std::string(d.name) == "hlsl";
+  const auto array = [&](const std::string& name, const std::vector<double>& v) {
+    std::ostringstream a;
+    a << d.constant << " float " << name << "[" << v.size()
+      << "] = " << (hlsl ? "{" : "float[" + std::to_string(v.size()) + "](");
+    for (std::size_t i = 0; i < v.size(); ++i)
+      a << (i ? "," : "") << (i % 8 == 0 ? "\n    " : " ") << lit(v[i]);
+    a << (hlsl ? "};\n" : ");\n");
+    return a.str();
+  };
+  std::ostringstream o;
+  for (const ProfileInput& p : *in.profiles) {
+    if (!p.gate.shipped || p.table_nodes == 0) continue;
+    const std::string id = profileIdentifier(p.estimator);
+    const std::string rho = "kMultiBounceTableRho_" + id, g = "kMultiBounceTable_" + id;
+    const std::string rows = std::to_string(p.table_rhos.size());
+    const std::string nodes = std::to_string(p.table_nodes);
+    o << "\n// Profile table of " << p.estimator << " (docs/profiles.md §8; gtbake_tables.h\n"
+      << "// GtbakeMultiBounceTable has the lookup): RMSE of G held out by scene "
+      << lit(p.table_held_out_rmse) << "\n"
+      << array(rho, p.table_rhos) << array(g, p.table_values) << "float gtbakeTableRow_" << id
+      << "(int row, float A) {\n"
+      << "  float x = clamp(A, 0.0, 1.0) * float(" << nodes << " - 1);\n"
+      << "  int i = min(int(x), " << nodes << " - 2);\n"
+      << "  float v0 = " << g << "[row * " << nodes << " + i];\n"
+      << "  return v0 + (x - float(i)) * (" << g << "[row * " << nodes << " + i + 1] - v0);\n"
+      << "}\n"
+      << "float multiBounceTable_" << id << "(float A, float albedo) {\n"
+      << "  int j0 = 0;\n  int j1 = 0;\n  float s = 0.0;\n"
+      << "  if (albedo >= " << rho << "[" << rows << " - 1]) {\n"
+      << "    j0 = " << rows << " - 1;\n    j1 = j0;\n"
+      << "  } else if (albedo > " << rho << "[0]) {\n"
+      << "    for (int j = 0; j < " << rows << " - 1; ++j) j0 = " << rho
+      << "[j] < albedo ? j : j0;\n"
+      << "    j1 = j0 + 1;\n"
+      << "    s = (albedo - " << rho << "[j0]) / (" << rho << "[j1] - " << rho << "[j0]);\n"
+      << "  }\n"
+      << "  float g0 = gtbakeTableRow_" << id << "(j0, A);\n"
+      << "  return g0 + s * (gtbakeTableRow_" << id << "(j1, A) - g0);\n"
+      << "}\n";
+  }
+  return o.str();
+}
+
 // One constant and one Equation 10 function per tuned setting (docs/tune.md).
 std::string tunedFunctions(const GeneratedCodeInput& in) {
   if (in.tuned == nullptr || in.tuned->empty()) return "";
@@ -163,7 +211,8 @@ std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage langu
     << "// (Filament, XeGTAO): the same cone.\n"
     << "float gtsoConeModelFromAlpha(float A, float cosBeta, float alpha) {\n"
     << "  return gtsoConeModel(A, cosBeta, sqrt(alpha));\n}\n"
-    << profileFunctions(in) << tunedFunctions(in) << "\n#endif  // GTBAKE_TABLES_INCLUDED\n";
+    << profileFunctions(in) << profileTableFunctions(in, d) << tunedFunctions(in)
+    << "\n#endif  // GTBAKE_TABLES_INCLUDED\n";
   return o.str();
 }
 

@@ -192,6 +192,75 @@ void emitProfiles(std::ostringstream& o, const GeneratedCodeInput& in) {
     << "}\n\n";
 }
 
+// The monotone 2D tables shipped beside the cubic of the profiles whose cubic is not adequate
+// (docs/profiles.md §8), as arrays and one bilinear lookup; only for shipped profiles.
+void emitProfileTables(std::ostringstream& o, const GeneratedCodeInput& in) {
+  if (in.profiles == nullptr) return;
+  std::vector<const ProfileInput*> tables;
+  for (const ProfileInput& p : *in.profiles) {
+    if (p.gate.shipped && p.table_nodes > 0) tables.push_back(&p);
+  }
+  o << "// Profile tables (docs/profiles.md §8): where an estimator's cubic is not adequate (its\n"
+    << "// RMSE more than 5% above the floor of any function of (A, albedo)), G at `nodes` values "
+       "of\n"
+    << "// A (0 ... 1) for each albedo in rho[], non-decreasing in A with G(1) = 1; linear in A\n"
+    << "// between nodes and in the albedo between rows (clamped to the rows). rmseHeldOut: RMSE "
+       "of\n"
+    << "// G with the table fitted without each scene. Use: multiBounce(kMultiBounceTables[i], A,\n"
+    << "// albedo).\n"
+    << "struct GtbakeMultiBounceTable {\n"
+    << "  const char* estimator;\n"
+    << "  int nodes, rows;\n"
+    << "  const float* rho;     // [rows], ascending\n"
+    << "  const float* values;  // [rows][nodes]\n"
+    << "  float rmseHeldOut;\n"
+    << "};\n"
+    << "inline float gtbakeTableRow(const GtbakeMultiBounceTable& t, int row, float A) {\n"
+    << "  const float x = (A < 0.0f ? 0.0f : A > 1.0f ? 1.0f : A) * float(t.nodes - 1);\n"
+    << "  const int i = int(x) < t.nodes - 2 ? int(x) : t.nodes - 2;\n"
+    << "  const float* v = t.values + row * t.nodes;\n"
+    << "  return v[i] + (x - float(i)) * (v[i + 1] - v[i]);\n"
+    << "}\n"
+    << "inline float multiBounce(const GtbakeMultiBounceTable& t, float A, float albedo) {\n"
+    << "  int j0 = 0, j1 = 0;\n"
+    << "  float s = 0.0f;\n"
+    << "  if (albedo >= t.rho[t.rows - 1]) {\n"
+    << "    j0 = j1 = t.rows - 1;\n"
+    << "  } else if (albedo > t.rho[0]) {\n"
+    << "    for (int j = 0; j < t.rows - 1; ++j) j0 = t.rho[j] < albedo ? j : j0;\n"
+    << "    j1 = j0 + 1;\n"
+    << "    s = (albedo - t.rho[j0]) / (t.rho[j1] - t.rho[j0]);\n"
+    << "  }\n"
+    << "  const float g0 = gtbakeTableRow(t, j0, A);\n"
+    << "  return g0 + s * (gtbakeTableRow(t, j1, A) - g0);\n"
+    << "}\n"
+    << "inline constexpr int kMultiBounceTableCount = " << tables.size() << ";\n";
+  for (const ProfileInput* p : tables) {
+    const std::string id = profileIdentifier(p->estimator);
+    o << "inline constexpr float kMultiBounceTableRho_" << id << "[" << p->table_rhos.size()
+      << "] = {";
+    for (std::size_t j = 0; j < p->table_rhos.size(); ++j)
+      o << (j ? ", " : "") << f(float(p->table_rhos[j]));
+    o << "};\ninline constexpr float kMultiBounceTableValues_" << id << "["
+      << p->table_values.size() << "] = {";
+    for (std::size_t i = 0; i < p->table_values.size(); ++i)
+      o << (i % 8 == 0 ? "\n    " : " ") << f(float(p->table_values[i])) << ",";
+    o << "};\n";
+  }
+  if (tables.empty()) {
+    o << "\n";
+    return;
+  }
+  o << "inline constexpr GtbakeMultiBounceTable kMultiBounceTables[" << tables.size() << "] = {\n";
+  for (const ProfileInput* p : tables) {
+    const std::string id = profileIdentifier(p->estimator);
+    o << "    {\"" << p->estimator << "\", " << p->table_nodes << ", " << p->table_rhos.size()
+      << ", kMultiBounceTableRho_" << id << ", kMultiBounceTableValues_" << id << ", "
+      << f(float(p->table_held_out_rmse)) << "},\n";
+  }
+  o << "};\n\n";
+}
+
 // The tuned settings (docs/tune.md), each with the profile refitted where it was evaluated.
 void emitTunedSettings(std::ostringstream& o, const GeneratedCodeInput& in) {
   if (in.tuned == nullptr || in.tuned->empty()) return;
@@ -484,6 +553,7 @@ std::string makeTablesHeader(const GeneratedCodeInput& in) {
   emitBlocks(o, "kGtso4DBC4", *in.bc4_4d);
   emitEntryPoints(o);
   emitProfiles(o, in);
+  emitProfileTables(o, in);
   emitTunedSettings(o, in);
   emitClosedForm(o, in);
   o << "}  // namespace gtbake\n";

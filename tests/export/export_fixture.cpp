@@ -121,6 +121,13 @@ void writeProfileFixture(const std::filesystem::path& dir, const std::string& es
   fit["errors"]["shipped"] = {{"rmse", kFixtureProfilePaperRmse}};
   fit["errors"]["held_out_by_scene"] = {{"rmse", kFixtureProfileHeldOutRmse}};
   fit["scene_jackknife"]["band_max"] = {{"value", 0.002}};
+  if (k == 1) {
+    fit["profile"]["table"] = {{"needed", true},
+                               {"A_nodes", 4},
+                               {"rho", kFixtureTableRho},
+                               {"values", kFixtureTable},
+                               {"held_out_by_scene_rmse", kFixtureTableHeldOutRmse}};
+  }
   fit["input"] = {{"A", "screen-space"},
                   {"estimator", claimed.empty() ? estimator : claimed},
                   {"screen_ao", "../screen_ao"}};

@@ -56,6 +56,24 @@ void writeFixture(const std::filesystem::path& dir);
 inline const char* const kFixtureProfiles[2] = {"gtao-runtime", "hbao"};
 std::array<double, 6> fixtureProfileCoeffs(int k);
 inline constexpr double kFixtureProfilePaperRmse = 0.05, kFixtureProfileHeldOutRmse = 0.03;
+// The monotone 2D table the second fixture profile ships (docs/profiles.md §8): 4 nodes of A
+// (0, 1/3, 2/3, 1) at two albedos, rising to 1.
+inline constexpr double kFixtureTableRho[2] = {0.2, 0.8};
+inline constexpr double kFixtureTable[2][4] = {{0.1, 0.3, 0.6, 1.0}, {0.2, 0.5, 0.7, 1.0}};
+inline constexpr double kFixtureTableHeldOutRmse = 0.025;
+// The table's lookup written out by hand: linear in A between nodes and in the albedo between the
+// rows, both clamped (docs/profiles.md §8).
+inline double fixtureTableLookup(double A, double albedo) {
+  const auto row = [A](int j) {
+    const double x = (A < 0.0 ? 0.0 : A > 1.0 ? 1.0 : A) * 3.0;
+    const int i = x < 2.0 ? static_cast<int>(x) : 2;
+    const double* v = kFixtureTable[j];
+    return v[i] + (x - i) * (v[i + 1] - v[i]);
+  };
+  const double t = (albedo - kFixtureTableRho[0]) / (kFixtureTableRho[1] - kFixtureTableRho[0]);
+  const double s = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+  return row(0) + s * (row(1) - row(0));
+}
 // Writes DIR/<estimator>/fit.json (a `gtbake fit --estimator` result with its manifest) for
 // `estimator` with profile k's values; `claimed` is the estimator its /input names.
 void writeProfileFixture(const std::filesystem::path& dir, const std::string& estimator, int k,

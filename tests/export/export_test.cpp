@@ -409,6 +409,22 @@ TEST_F(ExportTest, ProfilesShipInNameOrderAndBadOnesAreRefused) {
   fs::remove_all(dir_ / "profiles" / "bitmask-cosine");
   test::writeProfileFixture(dir_ / "profiles", "Bad\"name", 2);
   expectErrorAndNoOutput("lower-case letters, digits and '-'");
+  fs::remove_all(dir_ / "profiles" / "Bad\"name");
+  // A profile table that is not what `gtbake fit` ships: a row that falls, a row short of G(1) =
+  // 1, more nodes than the bound, albedos out of order (docs/profiles.md §8).
+  const fs::path hbao = dir_ / "profiles" / "hbao";
+  const std::pair<const char*, nlohmann::json> bad[] = {{"/profile/table/values/0/2", 0.2},
+                                                        {"/profile/table/values/1/3", 0.9},
+                                                        {"/profile/table/A_nodes", 100000},
+                                                        {"/profile/table/rho/1", 0.1}};
+  for (const auto& [pointer, value] : bad) {
+    test::writeProfileFixture(dir_ / "profiles", "hbao", 1);
+    nlohmann::json fit = nlohmann::json::parse(slurp(hbao / "fit.json"));
+    fit[nlohmann::json::json_pointer(pointer)] = value;
+    std::ofstream(hbao / "fit.json") << fit.dump();
+    resealOutputSet(hbao, "fit");
+    expectErrorAndNoOutput("profile/table");
+  }
 }
 
 TEST(FloatLiteral, RoundTripsExactly) {
@@ -510,7 +526,8 @@ TEST_F(ExportTest, ShaderIncludesCompile) {
       slurp(options_.out / "gtbake_tables.glsl") +
       "void main() {\n  result[0] = gtso3DSample(t3, 0.5, 0.7, 0.3) + "
       "gtso4DSample(t4, 0.5, 0.7, 0.3, 0.9) + multiBounce(0.5, 0.7) + "
-      "gtsoConeModel(0.5, 0.7, 0.3) + multiBounce_gtao_runtime(0.5, 0.7);\n}\n";
+      "gtsoConeModel(0.5, 0.7, 0.3) + multiBounce_gtao_runtime(0.5, 0.7) + "
+      "multiBounceTable_hbao(0.5, 0.7);\n}\n";
   std::ofstream(dir_ / "check.comp") << glsl;
   const std::string hlsl = slurp(options_.out / "gtbake_tables.hlsl") +
                            "Texture3D<float> t3 : register(t0);\nTexture3D<float> t4 : "
@@ -519,7 +536,7 @@ TEST_F(ExportTest, ShaderIncludesCompile) {
                            "[numthreads(1, 1, 1)] void main() {\n  result[0] = gtso3DSample(t3, "
                            "s, 0.5, 0.7, 0.3) + gtso4DSample(t4, s, 0.5, 0.7, 0.3, 0.9) + "
                            "multiBounce(0.5, 0.7) + gtsoConeModel(0.5, 0.7, 0.3) + "
-                           "multiBounce_hbao(0.5, 0.7);\n}\n";
+                           "multiBounce_hbao(0.5, 0.7) + multiBounceTable_hbao(0.5, 0.7);\n}\n";
   std::ofstream(dir_ / "check.hlsl") << hlsl;
   const std::string tool = GTBAKE_GLSLANG;
   const std::string g = tool + " -V -S comp -o " + (dir_ / "check_glsl.spv").string() + " " +

@@ -105,7 +105,11 @@ Exported exportFixture(gtbake::Layout4D packing) {
   e.l4 = {{axis[0].get<int>(), axis[1].get<int>(), axis[2].get<int>()},
           j["packing"]["tiles_x"].get<int>()};
   for (int k = 0; k < 3; ++k) e.volume4[k] = j["volume"][k].get<int>();
+  for (int k = 0; k < 2; ++k) {  // the second ships a profile table (export_fixture.h)
+    gtbake::test::writeProfileFixture(e.dir / "profiles", gtbake::test::kFixtureProfiles[k], k);
+  }
   gtbake::ExportOptions o;
+  o.profiles = e.dir / "profiles";
   o.fit = e.dir / "fit.json";
   o.gtso = e.dir / "gtso";
   o.out = e.dir / "out";
@@ -139,7 +143,7 @@ void main() {
   outputs[2 * i] = vec4(gtso3DSample(table3D, p.x, p.y, p.z),
                         gtso4DSample(table4D, p.x, p.y, p.z, p.w), gtsoConeModel(p.x, p.y, p.z),
                         multiBounce(p.x, p.w));
-  outputs[2 * i + 1] = vec4(gtsoS3ClosedForm(p.x, p.y, p.z), 0.0, 0.0, 0.0);
+  outputs[2 * i + 1] = vec4(gtsoS3ClosedForm(p.x, p.y, p.z), multiBounceTable_hbao(p.x, p.w), 0.0, 0.0);
 }
 )";
 
@@ -154,13 +158,14 @@ const char* kHlslMain = R"(
   outputs[2 * id.x] = float4(gtso3DSample(table3D, linearClamp, p.x, p.y, p.z),
                              gtso4DSample(table4D, linearClamp, p.x, p.y, p.z, p.w),
                              gtsoConeModel(p.x, p.y, p.z), multiBounce(p.x, p.w));
-  outputs[2 * id.x + 1] = float4(gtsoS3ClosedForm(p.x, p.y, p.z), 0.0, 0.0, 0.0);
+  outputs[2 * id.x + 1] =
+      float4(gtsoS3ClosedForm(p.x, p.y, p.z), multiBounceTable_hbao(p.x, p.w), 0.0, 0.0);
 }
 )";
 
 // ---- the C++ side ----
 struct Reference {
-  float s3, s4, cone, mb, closedForm;
+  float s3, s4, cone, mb, closedForm, table;
   float spread3, spread4;  // D of the tolerance: texel range of the trilinear footprint(s)
 };
 
@@ -228,6 +233,7 @@ Reference reference(const Exported& e, gtbake::GtsoTexelFormat format, const Inp
   r.cone = gtsoConeModel(e.u, p.A, p.cosBeta, p.rp);
   r.mb = gtsoMultiBounce(e.coeffs, e.coeffs + 2, e.coeffs + 4, p.A, p.cosThetaO);
   r.closedForm = gtsoS3ClosedForm(e.closedForm, p.A, p.cosBeta, p.rp);
+  r.table = static_cast<float>(test::fixtureTableLookup(p.A, p.cosThetaO));
   const GtsoAxisT<float> a3 = gtso3DAxes(p.A, p.cosBeta, p.rp, n3);
   float p3[3];
   int lo3[3] = {0, 0, 0}, ext3[3];
@@ -396,19 +402,21 @@ class ShaderExec : public ::testing::Test {
     const int img4 = vk.image(vkFormat, n4[0], n4[1], n4[2], bc4 ? e.bc4[1] : e.r16[1]);
     vk.run(spirv, inBuf, outBuf, img3, img4, hlsl, kPoints / kLocalSize);
     const std::vector<float> out = vk.read(outBuf);
-    float worst[5] = {0, 0, 0, 0, 0}, worstRatio = 0.0f;
+    float worst[6] = {0, 0, 0, 0, 0, 0}, worstRatio = 0.0f;
     int failures = 0;
     for (int i = 0; i < kPoints; ++i) {
       const Reference r = reference(e, format, in[i]);
-      const float got[5] = {out[8 * i], out[8 * i + 1], out[8 * i + 2], out[8 * i + 3],
-                            out[8 * i + 4]};
-      const float want[5] = {r.s3, r.s4, r.cone, r.mb, r.closedForm};
+      const float got[6] = {out[8 * i],     out[8 * i + 1], out[8 * i + 2],
+                            out[8 * i + 3], out[8 * i + 4], out[8 * i + 5]};
+      const float want[6] = {r.s3, r.s4, r.cone, r.mb, r.closedForm, r.table};
       const float decode = bc4 ? kBc4DecodeTolerance : 0.0f;
-      const float tol[5] = {r.spread3 * kFilterTolerance + decode + 2e-6f,
+      const float tol[6] = {r.spread3 * kFilterTolerance + decode + 2e-6f,
                             r.spread4 * kFilterTolerance + decode + 2e-6f,
-                            coneTolerance(in[i], e.u), 1e-5f,
-                            closedFormTolerance(in[i], e.closedForm)};
-      for (int k = 0; k < 5; ++k) {
+                            coneTolerance(in[i], e.u),
+                            1e-5f,
+                            closedFormTolerance(in[i], e.closedForm),
+                            2e-6f};
+      for (int k = 0; k < 6; ++k) {
         const float d = std::fabs(got[k] - want[k]);
         worst[k] = std::max(worst[k], d);
         worstRatio = std::max(worstRatio, d / tol[k]);
@@ -422,10 +430,12 @@ class ShaderExec : public ::testing::Test {
     }
     std::printf(
         "%s on %s, %s textures, 4D %s %dx%dx%d, %d points: max |shader - C++| S3 %.2e S4 %.2e "
-        "cone %.2e multi-bounce %.2e closed-form S3 %.2e; worst error / tolerance %.3f\n",
+        "cone %.2e multi-bounce %.2e closed-form S3 %.2e profile table %.2e; worst error / "
+        "tolerance "
+        "%.3f\n",
         hlsl ? "HLSL" : "GLSL", vk.deviceName.c_str(), bc4 ? "BC4" : "R16",
         gtbake::layout4DName(packing), n4[0], n4[1], n4[2], kPoints, worst[0], worst[1], worst[2],
-        worst[3], worst[4], worstRatio);
+        worst[3], worst[4], worst[5], worstRatio);
     EXPECT_EQ(failures, 0);
   }
 
