@@ -7,6 +7,7 @@
 #include "encode/bc4_layout.h"
 #include "export/generated_code.h"
 #include "export/runtime_sources.h"
+#include "fit/multibounce_coeffs.h"
 #include "runtime/gtso_runtime.h"
 
 namespace gtbake {
@@ -68,6 +69,16 @@ std::string closedFormConstants(const GeneratedCodeInput& in, const Dialect& d) 
 std::string upper(std::string s) {
   for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   return s;
+}
+
+// Equation 10 with the paper's constants under their own name, for comparison with the refit.
+std::string paperFunction() {
+  const auto& c = kPaperCoeffs;
+  return "\n// Multi-bounce G(A, rho) with the paper's constants (Jimenez et al. 2016, Eq. 10),\n"
+         "// unclamped; multiBounce uses gtbake's refit on path-traced A (docs/fit.md).\n"
+         "float multiBouncePaper(float A, float albedo) {\n  return gtsoMultiBounce(" +
+         lit(c[0]) + ", " + lit(c[1]) + ", " + lit(c[2]) + ", " + lit(c[3]) + ", " + lit(c[4]) +
+         ", " + lit(c[5]) + ", A, albedo);\n}\n";
 }
 
 // One function per engine profile (docs/profiles.md), after the runtime template.
@@ -211,7 +222,7 @@ std::string makeShaderInclude(const GeneratedCodeInput& in, ShaderLanguage langu
     << "// (Filament, XeGTAO): the same cone.\n"
     << "float gtsoConeModelFromAlpha(float A, float cosBeta, float alpha) {\n"
     << "  return gtsoConeModel(A, cosBeta, sqrt(alpha));\n}\n"
-    << profileFunctions(in) << profileTableFunctions(in, d) << tunedFunctions(in)
+    << paperFunction() << profileFunctions(in) << profileTableFunctions(in, d) << tunedFunctions(in)
     << "\n#endif  // GTBAKE_TABLES_INCLUDED\n";
   return o.str();
 }

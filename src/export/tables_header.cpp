@@ -9,6 +9,7 @@
 #include "encode/bc4_layout.h"
 #include "export/generated_code.h"
 #include "export/runtime_sources.h"
+#include "fit/multibounce_coeffs.h"
 #include "runtime/gtso_runtime.h"
 
 namespace gtbake {
@@ -127,7 +128,16 @@ void emitConstants(std::ostringstream& o, const GeneratedCodeInput& in) {
     << "inline constexpr float kMultiBounceB[2] = {" << f(float(c[2])) << ", " << f(float(c[3]))
     << "};\n"
     << "inline constexpr float kMultiBounceC[2] = {" << f(float(c[4])) << ", " << f(float(c[5]))
-    << "};\n\n"
+    << "};\n"
+    << "// The paper's constants (Jimenez et al. 2016, Eq. 10) under their own name, for "
+       "comparison:\n"
+    << "// the constants above are gtbake's refit on path-traced A (docs/fit.md).\n"
+    << "inline constexpr float kMultiBouncePaperA[2] = {" << f(float(kPaperCoeffs[0])) << ", "
+    << f(float(kPaperCoeffs[1])) << "};\n"
+    << "inline constexpr float kMultiBouncePaperB[2] = {" << f(float(kPaperCoeffs[2])) << ", "
+    << f(float(kPaperCoeffs[3])) << "};\n"
+    << "inline constexpr float kMultiBouncePaperC[2] = {" << f(float(kPaperCoeffs[4])) << ", "
+    << f(float(kPaperCoeffs[5])) << "};\n\n"
     << "// Cone-to-cone model: cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2 (paper Eq. 26).\n"
     << "inline constexpr float kConeApertureU = " << f(float(in.gtso->u)) << ";\n"
     << "inline constexpr float kConeApertureUStdError = " << f(float(in.gtso->u_se)) << ";\n\n"
@@ -552,6 +562,10 @@ std::string makeTablesHeader(const GeneratedCodeInput& in) {
   emitBlocks(o, "kGtso3DBC4", *in.bc4_3d);
   emitBlocks(o, "kGtso4DBC4", *in.bc4_4d);
   emitEntryPoints(o);
+  o << "// Multi-bounce G(A, rho) with the paper's constants (kMultiBouncePaperA/B/C), unclamped.\n"
+    << "inline float multiBouncePaper(float A, float albedo) {\n"
+    << "  return gtsoMultiBounce(kMultiBouncePaperA, kMultiBouncePaperB, kMultiBouncePaperC, A, "
+       "albedo);\n}\n\n";
   emitProfiles(o, in);
   emitProfileTables(o, in);
   emitTunedSettings(o, in);

@@ -527,7 +527,7 @@ TEST_F(ExportTest, ShaderIncludesCompile) {
       "void main() {\n  result[0] = gtso3DSample(t3, 0.5, 0.7, 0.3) + "
       "gtso4DSample(t4, 0.5, 0.7, 0.3, 0.9) + multiBounce(0.5, 0.7) + "
       "gtsoConeModel(0.5, 0.7, 0.3) + multiBounce_gtao_runtime(0.5, 0.7) + "
-      "multiBounceTable_hbao(0.5, 0.7);\n}\n";
+      "multiBounceTable_hbao(0.5, 0.7) + multiBouncePaper(0.5, 0.7);\n}\n";
   std::ofstream(dir_ / "check.comp") << glsl;
   const std::string hlsl = slurp(options_.out / "gtbake_tables.hlsl") +
                            "Texture3D<float> t3 : register(t0);\nTexture3D<float> t4 : "
@@ -536,7 +536,8 @@ TEST_F(ExportTest, ShaderIncludesCompile) {
                            "[numthreads(1, 1, 1)] void main() {\n  result[0] = gtso3DSample(t3, "
                            "s, 0.5, 0.7, 0.3) + gtso4DSample(t4, s, 0.5, 0.7, 0.3, 0.9) + "
                            "multiBounce(0.5, 0.7) + gtsoConeModel(0.5, 0.7, 0.3) + "
-                           "multiBounce_hbao(0.5, 0.7) + multiBounceTable_hbao(0.5, 0.7);\n}\n";
+                           "multiBounce_hbao(0.5, 0.7) + multiBounceTable_hbao(0.5, 0.7) + "
+                           "multiBouncePaper(0.5, 0.7);\n}\n";
   std::ofstream(dir_ / "check.hlsl") << hlsl;
   const std::string tool = GTBAKE_GLSLANG;
   const std::string g = tool + " -V -S comp -o " + (dir_ / "check_glsl.spv").string() + " " +

@@ -235,6 +235,17 @@ TEST(GeneratedHeader, ProfilesAreEquation10WithTheirOwnConstants) {
   }
 }
 
+// The paper's constants under their own name (Jimenez et al. 2016, Eq. 10, as printed there).
+TEST(GeneratedHeader, PaperConstantsKeepTheirOwnName) {
+  const double k[6] = {2.0404, -0.3324, 4.7951, -0.6417, 2.7552, 0.6903};
+  for (double rho = 0.1; rho < 0.95; rho += 0.2)
+    for (double A = 0.0; A <= 1.0; A += 0.125) {
+      const double a = k[0] * rho + k[1], b = k[2] * rho + k[3], c = k[4] * rho + k[5];
+      EXPECT_NEAR(gtbake::multiBouncePaper(float(A), float(rho)), a * A * A * A - b * A * A + c * A,
+                  2e-6);
+    }
+}
+
 // The profile table: shipped for the second fixture profile only, and its lookup is linear in A
 // between nodes and in the albedo between rows, clamped to the rows (fixtureTableLookup).
 TEST(GeneratedHeader, ProfileTableIsBilinearInAAndAlbedo) {
