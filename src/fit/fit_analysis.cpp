@@ -136,8 +136,9 @@ FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& 
   a.input = input;
   a.truth_radius = radius;
   if (radius) {
+    // The same views and pixels with the unbounded G; the Â already read serves both.
     SweepData unbounded = loadSweep(sweep);
-    useScreenEstimate(&unbounded, input);
+    unbounded.full.A = a.data.full.A;
     a.unbounded = UnboundedComparison{errorTable(unbounded, shipped).rmse,
                                       errorTable(unbounded, a.fit.linear.coeffs).rmse};
   }

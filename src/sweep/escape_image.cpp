@@ -11,6 +11,7 @@
 
 #include "common/progress.h"
 #include "common/text_format.h"
+#include "sweep/sweep_set.h"
 
 namespace gtbake {
 
@@ -146,9 +147,7 @@ std::string albedoChannelName(double albedo) {
 }
 
 std::string nearFieldChannelName(const std::string& name, double radius) {
-  std::string suffix = "_R" + formatNumber(radius, "%g");
-  std::replace(suffix.begin(), suffix.end(), '.', 'p');
-  return name + suffix;
+  return name + nearFieldSuffix(radius);
 }
 
 std::string gbufferRadiusChannelName(double radius) {

@@ -58,7 +58,7 @@ struct SweepSet {
 SweepSet readSweepSet(const std::filesystem::path& dir);
 
 // The suffix of the near-field channels at radius R: "_R" and R as %g with '.' written 'p'
-// (escape_image.h nearFieldChannelName), e.g. 1 -> "_R1".
+// (escape_image.h nearFieldChannelName appends it to a channel's name), e.g. 1 -> "_R1".
 std::string nearFieldSuffix(double radius);
 
 // The suffix of the channels holding the truth at `radius` (none: "", the unbounded truth), after
