@@ -13,11 +13,16 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <unordered_map>
 
 #include "common/atomic_file.h"
 #include "common/checked_math.h"
 #include "common/error.h"
 #include "common/input_limits.h"
+#include "common/sha256.h"
 
 namespace gtbake {
 
@@ -172,7 +177,62 @@ void writeExr(const fs::path& path, int width, int height, const std::vector<Exr
   writeFileAtomically(path, bytes);
 }
 
-ExrImage decodeExr(const std::string& bytes, const std::string& name, const ExrExpect& expect) {
+namespace {
+
+// Refuses an image whose size is not `expect`'s (0 = not known).
+void checkExpectedSize(int width, int height, const std::string& name, const ExrExpect& expect) {
+  if ((expect.width > 0 && width != expect.width) ||
+      (expect.height > 0 && height != expect.height)) {
+    throw Error(name + ": size " + std::to_string(width) + "x" + std::to_string(height) +
+                " does not match " + expect.source + " (" + std::to_string(expect.width) + "x" +
+                std::to_string(expect.height) + ")");
+  }
+}
+
+// The decoded images of the files this process read, by the SHA-256 of their bytes: in `gtbake
+// all` every stage reads the sweep's EXRs again (each stage reads only files,
+// docs/architecture.md), and decoding them is most of what a profile's fit costs. Identical bytes
+// decode to the identical image, so a hit returns exactly what decoding would; only successful
+// decodes are kept, oldest dropped first beyond kExrCacheBytes of pixels (docs/performance.md
+// "Decoded images").
+constexpr std::size_t kExrCacheBytes = std::size_t{1} << 30;
+
+class DecodedExrCache {
+ public:
+  std::shared_ptr<const ExrImage> find(const std::string& key) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = images_.find(key);
+    return it == images_.end() ? nullptr : it->second;
+  }
+  void add(const std::string& key, std::shared_ptr<const ExrImage> image) {
+    std::size_t bytes = 0;
+    for (const auto& [name, pixels] : image->channels) bytes += pixels.size() * sizeof(float);
+    if (bytes > kExrCacheBytes) return;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (!images_.emplace(key, std::move(image)).second) return;
+    order_.emplace_back(key, bytes);
+    total_ += bytes;
+    while (total_ > kExrCacheBytes) {
+      total_ -= order_.front().second;
+      images_.erase(order_.front().first);
+      order_.pop_front();
+    }
+  }
+
+ private:
+  std::mutex mutex_;
+  std::unordered_map<std::string, std::shared_ptr<const ExrImage>> images_;
+  std::deque<std::pair<std::string, std::size_t>> order_;
+  std::size_t total_ = 0;
+};
+
+DecodedExrCache& decodedExrCache() {
+  static DecodedExrCache cache;
+  return cache;
+}
+
+ExrImage decodeExrBytes(const std::string& bytes, const std::string& name,
+                        const ExrExpect& expect) {
   setExrLimits();
   ExrImage image;
   checkExrHeader(bytes, name);
@@ -186,12 +246,7 @@ ExrImage decodeExr(const std::string& bytes, const std::string& name, const ExrE
     }
     image.width = window.max.x + 1;
     image.height = window.max.y + 1;
-    if ((expect.width > 0 && image.width != expect.width) ||
-        (expect.height > 0 && image.height != expect.height)) {
-      throw Error(name + ": size " + std::to_string(image.width) + "x" +
-                  std::to_string(image.height) + " does not match " + expect.source + " (" +
-                  std::to_string(expect.width) + "x" + std::to_string(expect.height) + ")");
-    }
+    checkExpectedSize(image.width, image.height, name, expect);
     std::size_t channel_count = 0;
     for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it) {
       ++channel_count;
@@ -230,6 +285,19 @@ ExrImage decodeExr(const std::string& bytes, const std::string& name, const ExrE
     throw Error("cannot read EXR " + name + ": " + what.substr(0, what.find('\n')));
   }
   return image;
+}
+
+}  // namespace
+
+ExrImage decodeExr(const std::string& bytes, const std::string& name, const ExrExpect& expect) {
+  const std::string key = sha256Hex(bytes);
+  if (const std::shared_ptr<const ExrImage> known = decodedExrCache().find(key)) {
+    checkExpectedSize(known->width, known->height, name, expect);
+    return *known;
+  }
+  auto image = std::make_shared<const ExrImage>(decodeExrBytes(bytes, name, expect));
+  decodedExrCache().add(key, image);
+  return *image;
 }
 
 ExrImage readExr(const fs::path& path, const ExrExpect& expect) {

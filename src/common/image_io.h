@@ -46,7 +46,10 @@ std::string encodeExr(int width, int height, const std::vector<ExrChannel>& chan
 
 // Reads every channel as float. Refuses, before allocating pixels: a data window not starting at
 // (0, 0), sides over 8192, a size other than `expect`, or a window far larger than the file's
-// bytes could encode. Throws gtbake::Error with a one-line reason on any failure.
+// bytes could encode. Throws gtbake::Error with a one-line reason on any failure. Bytes this
+// process decoded before are not decoded again: their image is kept by SHA-256 (up to 1 GiB of
+// pixels, oldest dropped first), which in `gtbake all` saves every later stage's decoding of the
+// sweep.
 ExrImage decodeExr(const std::string& bytes, const std::string& name, const ExrExpect& expect = {});
 ExrImage readExr(const std::filesystem::path& path, const ExrExpect& expect = {});
 

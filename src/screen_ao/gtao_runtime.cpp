@@ -19,6 +19,7 @@ double fract(double x) {
 
 constexpr int kMaxDirections = 64;  // validate's bounds
 constexpr int kMaxSteps = 256;
+constexpr std::size_t kMaxThins = 8;  // thin compensations sharing one group's samples
 
 std::uint8_t unorm8(double x) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0));
@@ -44,15 +45,17 @@ void stepOffsets(int steps, double step_noise, double radius_px, double* offsets
   }
 }
 
-// One side's horizon cosine: the samples at `offsets` (stepOffsets), each sample's cos blended
-// towards the tangent plane's (low) horizon by the falloff weight, the falloff distance taken with
-// the view-z part of the offset stretched by 1 + thin_compensation.
-double sideHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
-                      const Eigen::Vector3d& v, const Eigen::Vector2d& omega, double sign,
-                      double low_cos, const double* offsets, double reach,
-                      const GtaoRuntimeSettings& s) {
-  double horizon_cos = low_cos;
-  for (int k = 0; k < s.steps; ++k) {
+// One side's horizon cosine for each thin compensation of `thins`, into horizon_cos[t]: the samples
+// at `offsets` (stepOffsets), each sample's cos blended towards the tangent plane's (low) horizon
+// by the falloff weight, the falloff distance taken with the view-z part of the offset stretched by
+// 1 + thin_compensation. The samples are shared; each value's maximum is the one a run at that
+// value alone computes.
+void sideHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
+                    const Eigen::Vector3d& v, const Eigen::Vector2d& omega, double sign,
+                    double low_cos, const double* offsets, double reach, int steps, double radius,
+                    const std::vector<double>& thins, double* horizon_cos) {
+  for (std::size_t t = 0; t < thins.size(); ++t) horizon_cos[t] = low_cos;
+  for (int k = 0; k < steps; ++k) {
     const double offset = offsets[k];
     Eigen::Vector3d sample;
     if (!texelPlanePoint(g, i + 0.5 + sign * offset * omega.x(),
@@ -62,18 +65,17 @@ double sideHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
     const Eigen::Vector3d d = sample - x;
     const double length = d.norm();
     if (!(length > 0.0)) continue;
-    // Without thin compensation the stretched offset is d itself (z·1 is exact).
-    const double stretched =
-        s.thin_compensation == 0.0
-            ? length
-            : Eigen::Vector3d(d.x(), d.y(), d.z() * (1.0 + s.thin_compensation)).norm();
-    const double weight = falloffWeight(stretched, s.radius);
-    // At weight 0 the blend is low_cos, which never raises the running maximum.
-    if (!(weight > 0.0)) continue;
     const double sample_cos = d.dot(v) / length;
-    horizon_cos = std::max(horizon_cos, low_cos + (sample_cos - low_cos) * weight);
+    for (std::size_t t = 0; t < thins.size(); ++t) {
+      // Without thin compensation the stretched offset is d itself (z·1 is exact).
+      const double stretched =
+          thins[t] == 0.0 ? length : Eigen::Vector3d(d.x(), d.y(), d.z() * (1.0 + thins[t])).norm();
+      const double weight = falloffWeight(stretched, radius);
+      // At weight 0 the blend is low_cos, which never raises the running maximum.
+      if (!(weight > 0.0)) continue;
+      horizon_cos[t] = std::max(horizon_cos[t], low_cos + (sample_cos - low_cos) * weight);
+    }
   }
-  return horizon_cos;
 }
 
 // What a pixel's pass reads that neither the frame nor the run changes: P, V, the normal through
@@ -96,33 +98,71 @@ std::vector<PixelSetup> pixelSetup(const GBuffer& g) {
   return out;
 }
 
-// Runs whose horizons are the same: equal radius, steps and thin compensation (`settings` is the
-// first such run's).
+// Runs whose samples are the same: equal radius and steps. Each distinct thin compensation of them
+// has its own horizons (thins[t]), shared by its runs (runs[t]: intensity only raises their sum to
+// a power); a ninth thin compensation starts another group of the same radius.
 struct HorizonGroup {
-  const GtaoRuntimeSettings* settings = nullptr;
-  std::vector<std::size_t> runs;
+  double radius = 0.0;
+  int steps = 0;
+  std::vector<double> thins;
+  std::vector<std::vector<std::size_t>> runs;
 };
 
 std::vector<HorizonGroup> horizonGroups(const std::vector<GtaoRuntimeSettings>& runs) {
   std::vector<HorizonGroup> groups;
   for (std::size_t r = 0; r < runs.size(); ++r) {
-    const auto same = [&](const HorizonGroup& h) {
-      return h.settings->radius == runs[r].radius && h.settings->steps == runs[r].steps &&
-             h.settings->thin_compensation == runs[r].thin_compensation;
-    };
-    const auto it = std::find_if(groups.begin(), groups.end(), same);
-    if (it == groups.end()) {
-      groups.push_back({&runs[r], {r}});
+    const GtaoRuntimeSettings& s = runs[r];
+    auto it = std::find_if(groups.begin(), groups.end(), [&](const HorizonGroup& h) {
+      return h.radius == s.radius && h.steps == s.steps &&
+             (h.thins.size() < kMaxThins ||
+              std::find(h.thins.begin(), h.thins.end(), s.thin_compensation) != h.thins.end());
+    });
+    if (it == groups.end())
+      it = groups.insert(groups.end(), HorizonGroup{s.radius, s.steps, {}, {}});
+    const auto t = std::find(it->thins.begin(), it->thins.end(), s.thin_compensation);
+    if (t == it->thins.end()) {
+      it->thins.push_back(s.thin_compensation);
+      it->runs.push_back({r});
     } else {
-      it->runs.push_back(r);
+      it->runs[static_cast<std::size_t>(t - it->thins.begin())].push_back(r);
     }
   }
   return groups;
 }
 
+// One group's horizons at pixel p for every thin compensation of it: visibility[t] and, unless
+// sum is null, the unnormalised view-space bent normal sum[t].
+void groupHorizons(const GBuffer& g, int i, int j, std::size_t p, const PixelSetup& px,
+                   const Slice* slices, int directions, double step_noise,
+                   const HorizonGroup& group, double* visibility, Eigen::Vector3d* sum) {
+  const std::size_t thins = group.thins.size();
+  const double reach = slabReach(g);
+  std::array<double, kMaxSteps> offsets;
+  stepOffsets(group.steps, step_noise, group.radius * g.pixelsPerMetre(g.depth[p]), offsets.data());
+  for (std::size_t t = 0; t < thins; ++t) {
+    visibility[t] = 0.0;
+    if (sum) sum[t] = Eigen::Vector3d::Zero();
+  }
+  for (int d = 0; d < directions; ++d) {
+    const Slice& slice = slices[d];
+    std::array<std::array<double, kMaxThins>, 2> c;
+    for (int side = 0; side < 2; ++side) {
+      const double sign = side == 0 ? -1.0 : 1.0;
+      const double low_cos = side == 0 ? slice.sin_n : -slice.sin_n;  // cos(n ± π/2)
+      sideHorizonCos(g, i, j, px.x, px.v, slice.omega, sign, low_cos, offsets.data(), reach,
+                     group.steps, group.radius, group.thins, c[side].data());
+    }
+    for (std::size_t t = 0; t < thins; ++t) {
+      const Angle h[2] = {horizonOf(c[0][t], 0, slice), horizonOf(c[1][t], 1, slice)};
+      accumulateSlice(slice, h, px.v, &visibility[t], sum ? &sum[t] : nullptr);
+    }
+  }
+}
+
 // Pass 1 of one frame at pixel p for every run, stored as RGBA8 into (*out)[run][p]: the slices
-// once, each group's horizons and their sum (visibility and, unless kAoOnly leaves RGB 0, the
-// unnormalised view-space bent normal), then each run's intensity power.
+// once, each group's samples once and each of its thin compensations' horizons and their sum
+// (visibility and, unless kAoOnly leaves RGB 0, the unnormalised view-space bent normal), then
+// each run's intensity power.
 void framePixel(const GBuffer& g, int i, int j, std::size_t p, const PixelSetup& px, int frame,
                 const std::vector<GtaoRuntimeSettings>& runs,
                 const std::vector<HorizonGroup>& groups, EstimateParts parts,
@@ -131,41 +171,29 @@ void framePixel(const GBuffer& g, int i, int j, std::size_t p, const PixelSetup&
   const int directions = runs.front().directions;
   const double base_noise = frameNoise(px.ign, frame);
   const double step_noise = fract(base_noise * 0.7 + 0.15);
-  const double reach = slabReach(g);
   std::array<Slice, kMaxDirections> slices;
   for (int d = 0; d < directions; ++d) {
     slices[d] = sliceAlong(g, px.x, px.v, px.normal,
                            tangentDirection(px.v, kPi * (d + base_noise) / directions));
   }
   for (const HorizonGroup& group : groups) {
-    const GtaoRuntimeSettings& s = *group.settings;
-    std::array<double, kMaxSteps> offsets;
-    stepOffsets(s.steps, step_noise, s.radius * g.pixelsPerMetre(g.depth[p]), offsets.data());
-    double visibility = 0.0;
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (int d = 0; d < directions; ++d) {
-      const Slice& slice = slices[d];
-      Angle h[2];
-      for (int side = 0; side < 2; ++side) {
-        const double sign = side == 0 ? -1.0 : 1.0;
-        const double low_cos = side == 0 ? slice.sin_n : -slice.sin_n;  // cos(n ± π/2)
-        const double c = sideHorizonCos(g, i, j, px.x, px.v, slice.omega, sign, low_cos,
-                                        offsets.data(), reach, s);
-        h[side] = horizonOf(c, side, slice);
+    std::array<double, kMaxThins> visibility;
+    std::array<Eigen::Vector3d, kMaxThins> sum;
+    groupHorizons(g, i, j, p, px, slices.data(), directions, step_noise, group, visibility.data(),
+                  with_bent ? sum.data() : nullptr);
+    for (std::size_t t = 0; t < group.thins.size(); ++t) {
+      std::array<std::uint8_t, 4> bytes = {0, 0, 0, 0};
+      if (with_bent) {
+        Eigen::Vector3d bent = sum[t].norm() > 1e-12 ? sum[t] : px.normal;  // degenerate: N
+        bent.normalize();
+        bytes = {unorm8(bent.x() * 0.5 + 0.5), unorm8(bent.y() * 0.5 + 0.5),
+                 unorm8(bent.z() * 0.5 + 0.5), 0};
       }
-      accumulateSlice(slice, h, px.v, &visibility, with_bent ? &sum : nullptr);
-    }
-    std::array<std::uint8_t, 4> bytes = {0, 0, 0, 0};
-    if (with_bent) {
-      Eigen::Vector3d bent = sum.norm() > 1e-12 ? sum : px.normal;  // degenerate: the normal
-      bent.normalize();
-      bytes = {unorm8(bent.x() * 0.5 + 0.5), unorm8(bent.y() * 0.5 + 0.5),
-               unorm8(bent.z() * 0.5 + 0.5), 0};
-    }
-    const double open = std::clamp(visibility / directions, 0.0, 1.0);
-    for (std::size_t r : group.runs) {
-      bytes[3] = unorm8(std::pow(open, runs[r].intensity));
-      (*out)[r][p] = bytes;
+      const double open = std::clamp(visibility[t] / directions, 0.0, 1.0);
+      for (std::size_t r : group.runs[t]) {
+        bytes[3] = unorm8(std::pow(open, runs[r].intensity));
+        (*out)[r][p] = bytes;
+      }
     }
   }
 }

@@ -50,12 +50,12 @@ AoEstimate gtaoRuntime(const GBuffer& g, const GtaoRuntimeSettings& s);
 
 // gtaoRuntime at each of several settings in one pass over the frames (docs/tune.md §7): the
 // runs must share `directions` and `frames` (a one-line gtbake::Error otherwise). Each pixel's
-// slices are shared by every run, its horizons by the runs with the same radius, steps and
-// thin_compensation (intensity only raises their sum to a power), and the filters' depth weights
-// and reprojection by every frame and run; each result has the bytes gtaoRuntime gives at its
-// settings.
-// With kAoOnly the bent normal is neither computed, stored in RGB nor filtered: no stage's A reads
-// it, so Â keeps its bytes.
+// slices are shared by every run, its horizon samples by the runs with the same radius and steps
+// (thin_compensation only changes each sample's falloff weight), its horizons by those with the
+// same thin_compensation too (intensity only raises their sum to a power), and the filters' depth
+// weights and reprojection by every frame and run; each result has the bytes gtaoRuntime gives at
+// its settings. With kAoOnly the bent normal is neither computed, stored in RGB nor filtered: no
+// stage's A reads it, so Â keeps its bytes.
 std::vector<AoEstimate> gtaoRuntimeRuns(const GBuffer& g,
                                         const std::vector<GtaoRuntimeSettings>& runs,
                                         EstimateParts parts = EstimateParts::kAoAndBent);

@@ -297,5 +297,21 @@ TEST(Estimators, RuntimeRunsInOnePassMatchOneRunEach) {
   EXPECT_THROW(gtaoRuntimeRuns(image.gbuffer, {runs[0], other}), Error);
 }
 
+// More thin compensations at one radius than one group's samples serve (eight): the ninth and
+// tenth start a second group, and every run keeps the bytes of a run of its own.
+TEST(Estimators, RuntimeManyThinCompensationsShareSamplesAndMatchOneRunEach) {
+  const SweepImage image = test::traceImage(test::cornerField(0.3), 24, 24, 2, 0.3, 1);
+  std::vector<GtaoRuntimeSettings> runs(10);
+  for (std::size_t k = 0; k < runs.size(); ++k) runs[k].thin_compensation = 0.25 * k;
+  const std::vector<AoEstimate> shared = gtaoRuntimeRuns(image.gbuffer, runs);
+  ASSERT_EQ(shared.size(), runs.size());
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    const AoEstimate one = gtaoRuntime(image.gbuffer, runs[k]);
+    EXPECT_EQ(shared[k].a, one.a) << k;
+    EXPECT_EQ(shared[k].bent, one.bent) << k;
+  }
+  EXPECT_NE(shared[0].a, shared[9].a);  // the thin compensation matters
+}
+
 }  // namespace
 }  // namespace gtbake
