@@ -66,8 +66,10 @@ double specularRmse(const ValidateGtsoResult& r, const char* method) {
 double specularProfiles(const AllOptions& options, std::vector<Profile>* profiles) {
   banner("validate-gtso per estimator", options.progress);
   const auto t = std::chrono::steady_clock::now();
-  // Once for every estimator of the same radius (all of them with the defaults): S_R at it.
+  // Once for every estimator of the same radius (all of them with the defaults): S_R at it, and
+  // the unbounded S scored beside it.
   std::optional<SpecularSweep> sweep;
+  std::optional<SpecularSweep> unbounded;
   for (Profile& p : *profiles) {
     ValidateGtsoOptions v;
     v.sweep = options.out;
@@ -77,6 +79,8 @@ double specularProfiles(const AllOptions& options, std::vector<Profile>* profile
     const std::optional<double> radius = truthRadius(v.input);
     if (!sweep || sweep->radius != radius) sweep = readSpecularSweep(options.out, radius);
     v.sweep_data = &*sweep;
+    if (radius && !unbounded) unbounded = readSpecularSweep(options.out);
+    v.unbounded_sweep_data = unbounded ? &*unbounded : nullptr;
     v.write_images = false;  // 72 PNGs per estimator; `gtbake validate-gtso --estimator` draws them
     v.print_summary = false;
     v.progress = options.progress;

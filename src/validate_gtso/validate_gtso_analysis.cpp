@@ -33,9 +33,11 @@ bool scores(const std::vector<Method>& methods, Method m) {
   return std::find(methods.begin(), methods.end(), m) != methods.end();
 }
 
+// The error tables of `values` against the samples' truth, or, with `truth` given, against that
+// sweep's S at the same scene, roughness and pixel (the unbounded S beside the near-field one).
 Tables tabulate(const std::vector<SpecularSample>& samples,
                 const std::vector<std::vector<float>>& values, const std::vector<Method>& methods,
-                std::size_t scenes, std::size_t roughness) {
+                std::size_t scenes, std::size_t roughness, const SpecularSweep* truth = nullptr) {
   const bool formats = scores(methods, Method::kS3Float);
   Tables t;
   t.cell.assign(kMethodCount,
@@ -43,7 +45,14 @@ Tables tabulate(const std::vector<SpecularSample>& samples,
   t.per_roughness.assign(kMethodCount, std::vector<ErrorStats>(roughness));
   t.overall.assign(kMethodCount, ErrorStats{});
   for (std::size_t i = 0; i < samples.size(); ++i) {
-    const SpecularSample& s = samples[i];
+    SpecularSample s = samples[i];
+    if (truth) {
+      const SpecularScene& scene = truth->scenes[static_cast<std::size_t>(s.scene)];
+      const auto j = static_cast<std::size_t>(s.roughness);
+      s.truth = scene.S[j][s.pixel];
+      const double d = static_cast<double>(scene.H0[j][s.pixel]) - scene.H1[j][s.pixel];
+      s.noise_var = 0.25 * d * d;
+    }
     for (Method method : methods) {
       const int m = static_cast<int>(method);
       t.cell[m][s.scene][s.roughness].add(values[m][i] - s.truth, s.noise_var);
@@ -108,6 +117,20 @@ void readInputs(const ValidateGtsoOptions& options, StageParts& parts, Analysis&
   a.samples = parts.run("gathering samples", 1, [&](Progress&) { return gatherSamples(a.sweep); });
 }
 
+// The unbounded S of the same sweep, for the comparison kept beside the near-field one; its views
+// must be those of the near-field read (the same sweep.json, so a mismatch is internal).
+SpecularSweep readUnboundedTruth(const ValidateGtsoOptions& options, const SpecularSweep& near) {
+  SpecularSweep sweep = options.unbounded_sweep_data && !options.unbounded_sweep_data->radius
+                            ? *options.unbounded_sweep_data
+                            : readSpecularSweep(options.sweep);
+  bool same = sweep.scenes.size() == near.scenes.size() && sweep.roughness == near.roughness;
+  for (std::size_t k = 0; same && k < sweep.scenes.size(); ++k) {
+    same = sweep.scenes[k].mask == near.scenes[k].mask;
+  }
+  if (!same) throw Error("internal: the sweep's unbounded and near-field S differ in their views");
+  return sweep;
+}
+
 }  // namespace
 
 Analysis analyse(const ValidateGtsoOptions& options) {
@@ -147,6 +170,13 @@ Analysis analyse(const ValidateGtsoOptions& options) {
                     a.sweep.roughness.size());
   });
   a.ranking = rank(a.t, a.methods, a.sweep.roughness.size());
+  if (a.sweep.radius) {
+    a.unbounded = parts.run("error tables against the unbounded S", 1, [&](Progress&) {
+      const SpecularSweep unbounded = readUnboundedTruth(options, a.sweep);
+      return tabulate(a.samples, a.values, a.methods, a.sweep.scenes.size(),
+                      a.sweep.roughness.size(), &unbounded);
+    });
+  }
   if (a.rayTraced()) {
     a.scene_stats = sceneStatistics(a.sweep, a.samples, a.values, a.methods, table, parts);
   } else {

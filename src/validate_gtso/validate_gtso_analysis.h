@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -52,7 +53,9 @@ struct Analysis {
   UFits spec, perceptual;
   std::vector<std::vector<float>> values;
   std::vector<Method> methods;
-  Tables t;
+  Tables t;  // against the sweep's truth at the estimator's radius (near-field), else unbounded
+  // With a near-field truth: the same values against the unbounded S (docs/validate_gtso.md §6).
+  std::optional<Tables> unbounded;
   std::vector<std::vector<Method>> ranking;
   SceneStatistics
       scene_stats;  // scene-level u interval, paired rankings, floor (scene_statistics.h)

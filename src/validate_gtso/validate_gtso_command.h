@@ -24,6 +24,8 @@ struct ValidateGtsoOptions {
   // The sweep already read from `sweep` (gtbake all reads it once for every estimator); null:
   // read here.
   const SpecularSweep* sweep_data = nullptr;
+  // Its unbounded S, for the comparison beside a near-field truth (the same); null: read here.
+  const SpecularSweep* unbounded_sweep_data = nullptr;
   bool write_images = true;   // the per-scene PNGs of the report
   bool print_summary = true;  // the one-screen summary on stdout
   bool progress = true;

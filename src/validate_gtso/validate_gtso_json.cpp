@@ -189,6 +189,30 @@ void addEstimatorSettingsJson(const ValidateGtsoOptions& options, const fs::path
       "compensation' (docs/validate_gtso.md section 1)";
 }
 
+// Which truth the errors are against and, beside a near-field one, the same methods' errors
+// against the unbounded S, named as such (docs/validate_gtso.md §6).
+void addTruthJson(const Analysis& a, Json& json) {
+  json["truth"] = a.sweep.radius ? Json{{"kind", "near-field"}, {"radius", *a.sweep.radius}}
+                                 : Json{{"kind", "unbounded"}, {"radius", nullptr}};
+  if (!a.unbounded) return;
+  Json overall = Json::object();
+  for (Method m : a.methods) {
+    overall[methodName(m)] = statsJson(a.unbounded->overall[static_cast<int>(m)]);
+  }
+  Json by_roughness = Json::object();
+  for (std::size_t j = 0; j < a.sweep.roughness.size(); ++j) {
+    Json row = Json::object();
+    for (Method m : a.methods) {
+      row[methodName(m)] = statsJson(a.unbounded->per_roughness[static_cast<int>(m)][j]);
+    }
+    by_roughness[specularChannelName(a.sweep.roughness[j])] = row;
+  }
+  json["unbounded_truth"] = {
+      {"note", "the same values against the sweep's unbounded S, which no screen-space input sees"},
+      {"overall", overall},
+      {"per_roughness", by_roughness}};
+}
+
 }  // namespace
 
 nlohmann::ordered_json validateGtsoJson(const ValidateGtsoOptions& options, const fs::path& out,
@@ -200,6 +224,7 @@ nlohmann::ordered_json validateGtsoJson(const ValidateGtsoOptions& options, cons
     addEstimatorSettingsJson(options, out, a, json);
   }
   addMethodsJson(a, json);
+  addTruthJson(a, json);
   addBreakdownJson(a, json);
   if (a.rayTraced()) {
     addSceneStatisticsJson(a.sweep, a.scene_stats, json);

@@ -65,7 +65,7 @@ struct EstimatorFixture {
     v.sweep = sweep;
     v.luts = luts;
     v.input.estimator = estimator;
-    v.input.unbounded_truth = true;  // the synthetic sweep has no near-field truth
+    v.input.unbounded_truth = true;  // the brute force below reads the unbounded S channels
     v.input.screen_ao = screen_ao;
     v.write_images = false;
     v.print_summary = false;
@@ -158,6 +158,34 @@ TEST(ValidateGtsoEstimator, MethodsReadTheEstimatesAsStored) {
     const nlohmann::json traced = readJson(f.luts / "validate_gtso.json");
     EXPECT_NE(overall["S_A"]["rmse"], traced["overall"]["S_A"]["rmse"]);
   }
+}
+
+// Against the near-field S_R (the default) the unbounded comparison sits beside it: the same
+// values scored against the unbounded S, so exactly what a run with --truth unbounded reports; and
+// since S_R ≥ S sample by sample (the same walks, the sky beyond R), "no occlusion" (S = 1) is
+// never further from S_R than from S.
+TEST(ValidateGtsoEstimator, NearFieldTruthKeepsTheUnboundedComparisonBesideIt) {
+  const EstimatorFixture& f = fixture();
+  ValidateGtsoOptions near = f.options("hbao");
+  near.input.unbounded_truth = false;
+  near.out = f.dir.path() / "near_hbao";
+  const nlohmann::json n = readJson(runValidateGtso(near).json);
+  ValidateGtsoOptions far = f.options("hbao");
+  far.out = f.dir.path() / "far_hbao";
+  const nlohmann::json u = readJson(runValidateGtso(far).json);
+  EXPECT_EQ(n["truth"]["kind"], "near-field");
+  EXPECT_EQ(n["truth"]["radius"], 1.0);
+  EXPECT_EQ(u["truth"]["kind"], "unbounded");
+  EXPECT_FALSE(u.contains("unbounded_truth"));
+  ASSERT_TRUE(n.contains("unbounded_truth"));
+  for (const auto& [method, stats] : u["overall"].items()) {
+    EXPECT_EQ(n["unbounded_truth"]["overall"][method]["rmse"], stats["rmse"]) << method;
+    EXPECT_EQ(n["unbounded_truth"]["per_roughness"]["S025"][method]["rmse"],
+              u["per_roughness"]["S025"][method]["rmse"])
+        << method;
+  }
+  EXPECT_LT(n["overall"]["S_1"]["rmse"].get<double>(),
+            n["unbounded_truth"]["overall"]["S_1"]["rmse"].get<double>());
 }
 
 TEST(ValidateGtsoEstimator, AoSquaredFloorByHand) {
