@@ -13,6 +13,7 @@ namespace gtbake {
 
 extern const char* const kRuntimeLookupHeader;  // src/runtime/gtso_runtime.h
 extern const char* const kRuntimeLookupShader;  // src/runtime/gtso_runtime.shader
+extern const char* const kRuntimeTableShader;   // src/runtime/multibounce_table.shader
 // src/export/templates/:
 extern const char* const kTablesHeaderTemplate;         // gtbake_tables.h.in
 extern const char* const kProfilesHeaderTemplate;       // profiles.h.in
@@ -20,6 +21,9 @@ extern const char* const kProfileTablesHeaderTemplate;  // profile_tables.h.in
 extern const char* const kTunedSettingsHeaderTemplate;  // tuned_settings.h.in
 extern const char* const kShaderIncludeTemplate;        // gtbake_tables.shader.in
 extern const char* const kMultiBounceShaderTemplate;    // multibounce.shader.in
+// profile_tables.shader.in has no final line break: its last placeholder ends the last line.
+extern const char* const kProfileTablesShaderTemplate;     // profile_tables.shader.in
+extern const char* const kMultiBounceTableShaderTemplate;  // multibounce_table.shader.in
 
 // A placeholder's name (without the @s) and the text that replaces it.
 using TemplateValues = std::vector<std::pair<std::string, std::string>>;

@@ -96,45 +96,32 @@ std::string profileFunctions(const GeneratedCodeInput& in) {
   return o;
 }
 
-// The profile tables (docs/profiles.md §8): per table two constant arrays and
-// multiBounceTable_<estimator>(A, albedo), the header's bilinear lookup written out.
+// The profile tables (docs/profiles.md §8): every shipped table's albedos and values in two
+// arrays, the one lookup of src/runtime/multibounce_table.shader, and per table
+// multiBounceTable_<estimator>(A, albedo) naming its place in the arrays.
 std::string profileTableFunctions(const GeneratedCodeInput& in, const Dialect& d) {
   if (in.profiles == nullptr) return "";
-  const auto array = [&](const std::string& name, const std::vector<double>& v) {
-    return shaderArray(d, name, v, 8);
-  };
-  std::ostringstream o;
+  std::vector<double> rhos, values;
+  std::string functions;
   for (const ProfileInput& p : *in.profiles) {
     if (!p.gate.shipped || p.table_nodes == 0) continue;
-    const std::string id = profileIdentifier(p.estimator);
-    const std::string rho = "kMultiBounceTableRho_" + id, g = "kMultiBounceTable_" + id;
-    const std::string rows = std::to_string(p.table_rhos.size());
-    const std::string nodes = std::to_string(p.table_nodes);
-    o << "\n// Profile table of " << p.estimator << " (docs/profiles.md §8; gtbake_tables.h\n"
-      << "// GtbakeMultiBounceTable has the lookup): RMSE of G held out by scene "
-      << lit(p.table_held_out_rmse) << "\n"
-      << array(rho, p.table_rhos) << array(g, p.table_values) << "float gtbakeTableRow_" << id
-      << "(int row, float A) {\n"
-      << "  float x = clamp(A, 0.0, 1.0) * float(" << nodes << " - 1);\n"
-      << "  int i = min(int(x), " << nodes << " - 2);\n"
-      << "  float v0 = " << g << "[row * " << nodes << " + i];\n"
-      << "  return v0 + (x - float(i)) * (" << g << "[row * " << nodes << " + i + 1] - v0);\n"
-      << "}\n"
-      << "float multiBounceTable_" << id << "(float A, float albedo) {\n"
-      << "  int j0 = 0;\n  int j1 = 0;\n  float s = 0.0;\n"
-      << "  if (albedo >= " << rho << "[" << rows << " - 1]) {\n"
-      << "    j0 = " << rows << " - 1;\n    j1 = j0;\n"
-      << "  } else if (albedo > " << rho << "[0]) {\n"
-      << "    for (int j = 0; j < " << rows << " - 1; ++j) j0 = " << rho
-      << "[j] < albedo ? j : j0;\n"
-      << "    j1 = j0 + 1;\n"
-      << "    s = (albedo - " << rho << "[j0]) / (" << rho << "[j1] - " << rho << "[j0]);\n"
-      << "  }\n"
-      << "  float g0 = gtbakeTableRow_" << id << "(j0, A);\n"
-      << "  return g0 + s * (gtbakeTableRow_" << id << "(j1, A) - g0);\n"
-      << "}\n";
+    functions += fillTemplate(kMultiBounceTableShaderTemplate,
+                              {{"ESTIMATOR", p.estimator},
+                               {"RMSE_HELD_OUT", lit(p.table_held_out_rmse)},
+                               {"ID", profileIdentifier(p.estimator)},
+                               {"RHO_OFFSET", std::to_string(rhos.size())},
+                               {"ROWS", std::to_string(p.table_rhos.size())},
+                               {"VALUES_OFFSET", std::to_string(values.size())},
+                               {"NODES", std::to_string(p.table_nodes)}});
+    rhos.insert(rhos.end(), p.table_rhos.begin(), p.table_rhos.end());
+    values.insert(values.end(), p.table_values.begin(), p.table_values.end());
   }
-  return o.str();
+  if (functions.empty()) return "";
+  return fillTemplate(kProfileTablesShaderTemplate,
+                      {{"RHO_ARRAY", shaderArray(d, "kMultiBounceTableRho", rhos, 8)},
+                       {"VALUES_ARRAY", shaderArray(d, "kMultiBounceTableValues", values, 8)},
+                       {"LOOKUP", kRuntimeTableShader},
+                       {"FUNCTIONS", functions}});
 }
 
 // One constant and one Equation 10 function per tuned setting (docs/tune.md).

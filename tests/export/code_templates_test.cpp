@@ -30,11 +30,13 @@ TEST(CodeTemplates, EmbeddedTemplatesHavePlaceholdersRuntimeHasNone) {
   const std::regex placeholder("@[A-Z0-9_]+@");
   for (const char* text :
        {kTablesHeaderTemplate, kProfilesHeaderTemplate, kProfileTablesHeaderTemplate,
-        kTunedSettingsHeaderTemplate, kShaderIncludeTemplate, kMultiBounceShaderTemplate}) {
+        kTunedSettingsHeaderTemplate, kShaderIncludeTemplate, kMultiBounceShaderTemplate,
+        kProfileTablesShaderTemplate, kMultiBounceTableShaderTemplate}) {
     EXPECT_TRUE(std::regex_search(text, placeholder)) << text;
   }
   EXPECT_FALSE(std::regex_search(kRuntimeLookupHeader, placeholder));
   EXPECT_FALSE(std::regex_search(kRuntimeLookupShader, placeholder));
+  EXPECT_FALSE(std::regex_search(kRuntimeTableShader, placeholder));
 }
 
 }  // namespace
