@@ -14,6 +14,9 @@ namespace gtbake {
 extern const char* const kRuntimeLookupHeader;  // src/runtime/gtso_runtime.h
 extern const char* const kRuntimeLookupShader;  // src/runtime/gtso_runtime.shader
 extern const char* const kRuntimeTableShader;   // src/runtime/multibounce_table.shader
+// src/runtime/gtso_language.hlsl / .glsl: the language macros gtso_runtime.shader needs.
+extern const char* const kRuntimeHlslMacros;
+extern const char* const kRuntimeGlslMacros;
 // src/export/templates/:
 extern const char* const kTablesHeaderTemplate;         // gtbake_tables.h.in
 extern const char* const kProfilesHeaderTemplate;       // profiles.h.in

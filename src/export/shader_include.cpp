@@ -20,29 +20,11 @@ struct Dialect {
   const char* float3;
   const char* float4;
   const char* constant;  // storage qualifier of a file-scope constant
-  const char* macros;    // GTSO_VEC3, GTSO_VEC4, GTSO_ATAN2, GTSO_TEXTURE, GTSO_SAMPLE
+  const char* macros;    // src/runtime/gtso_language.<name>: what gtso_runtime.shader needs
 };
 
-constexpr Dialect kHlsl = {"hlsl",
-                           "float2",
-                           "float3",
-                           "float4",
-                           "static const",
-                           "#define GTSO_VEC3 float3\n"
-                           "#define GTSO_VEC4 float4\n"
-                           "#define GTSO_ATAN2(y, x) atan2(y, x)\n"
-                           "#define GTSO_TEXTURE Texture3D<float> tex, SamplerState linearClamp\n"
-                           "#define GTSO_SAMPLE(c) tex.SampleLevel(linearClamp, c, 0.0)\n"};
-constexpr Dialect kGlsl = {"glsl",
-                           "vec2",
-                           "vec3",
-                           "vec4",
-                           "const",
-                           "#define GTSO_VEC3 vec3\n"
-                           "#define GTSO_VEC4 vec4\n"
-                           "#define GTSO_ATAN2(y, x) atan(y, x)\n"
-                           "#define GTSO_TEXTURE sampler3D tex\n"
-                           "#define GTSO_SAMPLE(c) textureLod(tex, c, 0.0).r\n"};
+const Dialect kHlsl = {"hlsl", "float2", "float3", "float4", "static const", kRuntimeHlslMacros};
+const Dialect kGlsl = {"glsl", "vec2", "vec3", "vec4", "const", kRuntimeGlslMacros};
 
 // A float literal both languages read as a 32-bit float (no suffix: HLSL and GLSL both take
 // "1.5" as float).

@@ -37,6 +37,8 @@ TEST(CodeTemplates, EmbeddedTemplatesHavePlaceholdersRuntimeHasNone) {
   EXPECT_FALSE(std::regex_search(kRuntimeLookupHeader, placeholder));
   EXPECT_FALSE(std::regex_search(kRuntimeLookupShader, placeholder));
   EXPECT_FALSE(std::regex_search(kRuntimeTableShader, placeholder));
+  EXPECT_FALSE(std::regex_search(kRuntimeHlslMacros, placeholder));
+  EXPECT_FALSE(std::regex_search(kRuntimeGlslMacros, placeholder));
 }
 
 }  // namespace
