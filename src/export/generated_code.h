@@ -1,7 +1,8 @@
 // The generated C++ header (gtbake_tables.h) and shader includes (gtbake_tables.hlsl/.glsl).
 //
-// All three carry the runtime source templates of src/runtime/ verbatim (gtso_runtime.h for
-// C++, gtso_runtime.shader for HLSL/GLSL) after the provenance and the data: multi-bounce
+// All three are the templates of src/export/templates/ filled with data (docs/export.md §5a),
+// carrying the runtime sources of src/runtime/ verbatim (gtso_runtime.h for C++,
+// gtso_runtime.shader for HLSL/GLSL) after the provenance and the data: multi-bounce
 // coefficients (paper Eq. 10, {slope, intercept}), the cone constant u, the table sizes and, in
 // C++, the BC4 blocks. docs/export.md "Header contents".
 #pragma once

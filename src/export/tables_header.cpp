@@ -1,3 +1,5 @@
+// The C++ header: templates/gtbake_tables.h.in and its sections filled with the provenance, the
+// constants, the BC4 blocks and src/runtime/gtso_runtime.h verbatim (docs/export.md §5a).
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>
@@ -7,8 +9,8 @@
 
 #include "common/error.h"
 #include "encode/bc4_layout.h"
+#include "export/code_templates.h"
 #include "export/generated_code.h"
-#include "export/runtime_sources.h"
 #include "fit/multibounce_coeffs.h"
 #include "runtime/gtso_runtime.h"
 
@@ -65,7 +67,9 @@ std::string f(float v) {
   return floatLiteral(v) + "f";
 }
 
-void emitBlocks(std::ostringstream& o, const char* name, const Bc4Volume& volume) {
+// "kGtso3DBC4[2048] = {...};" and its static_assert: the blocks as little-endian uint64 literals.
+std::string blocksArray(const char* name, const Bc4Volume& volume) {
+  std::ostringstream o;
   const std::size_t blocks = volume.bytes.size() / 8;
   o << "inline constexpr std::uint64_t " << name << "[" << blocks << "] = {\n";
   for (std::size_t b = 0; b < blocks; ++b) {
@@ -79,6 +83,26 @@ void emitBlocks(std::ostringstream& o, const char* name, const Bc4Volume& volume
   o << "};\n";
   o << "static_assert(sizeof(" << name << ") == " << blocks * 8 << ", \"" << name
     << ": one uint64 per 4x4 block\");\n\n";
+  return o.str();
+}
+
+// "a, b, c" of the values.
+template <class T, class Format>
+std::string joined(const T& values, Format format) {
+  std::string s;
+  for (const auto& v : values) s += (s.empty() ? "" : ", ") + format(v);
+  return s;
+}
+std::string intList(const int* values, int n) {
+  return joined(std::vector<int>(values, values + n), [](int v) { return std::to_string(v); });
+}
+
+// Equation 10's six coefficients as the placeholders A1, A0, B1, B0, C1, C0 (float literals).
+TemplateValues coeffValues(const std::string& prefix, const std::array<double, 6>& c) {
+  const char* names[6] = {"A1", "A0", "B1", "B0", "C1", "C0"};
+  TemplateValues values;
+  for (int i = 0; i < 6; ++i) values.emplace_back(prefix + names[i], f(float(c[i])));
+  return values;
 }
 
 // The end-to-end error of one format, as "uniform max/RMS, stress max/RMS", from an end_to_end
@@ -116,304 +140,123 @@ std::string layoutText(int dims, const GtsoLayout& l) {
          ", z = " + names[l.axis[2]];
 }
 
-void emitConstants(std::ostringstream& o, const GeneratedCodeInput& in) {
-  const GtsoTable& t3 = in.gtso->table3d;
-  const GtsoTable& t4 = in.gtso->table4d;
-  const auto& c = in.fit->linear;
-  o << "inline constexpr char kGtbakeTablesVersion[] = \"" << in.version << "\";\n\n"
-    << "// Multi-bounce (paper Eq. 10), {slope, intercept}: a(rho) = kMultiBounceA[0]*rho +\n"
-    << "// kMultiBounceA[1], same for b and c; G = a*A^3 - b*A^2 + c*A.\n"
-    << "inline constexpr float kMultiBounceA[2] = {" << f(float(c[0])) << ", " << f(float(c[1]))
-    << "};\n"
-    << "inline constexpr float kMultiBounceB[2] = {" << f(float(c[2])) << ", " << f(float(c[3]))
-    << "};\n"
-    << "inline constexpr float kMultiBounceC[2] = {" << f(float(c[4])) << ", " << f(float(c[5]))
-    << "};\n"
-    << "// The paper's constants (Jimenez et al. 2016, Eq. 10) under their own name, for "
-       "comparison:\n"
-    << "// the constants above are gtbake's refit on path-traced A (docs/fit.md).\n"
-    << "inline constexpr float kMultiBouncePaperA[2] = {" << f(float(kPaperCoeffs[0])) << ", "
-    << f(float(kPaperCoeffs[1])) << "};\n"
-    << "inline constexpr float kMultiBouncePaperB[2] = {" << f(float(kPaperCoeffs[2])) << ", "
-    << f(float(kPaperCoeffs[3])) << "};\n"
-    << "inline constexpr float kMultiBouncePaperC[2] = {" << f(float(kPaperCoeffs[4])) << ", "
-    << f(float(kPaperCoeffs[5])) << "};\n\n"
-    << "// Cone-to-cone model: cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2 (paper Eq. 26).\n"
-    << "inline constexpr float kConeApertureU = " << f(float(in.gtso->u)) << ";\n"
-    << "inline constexpr float kConeApertureUStdError = " << f(float(in.gtso->u_se)) << ";\n\n"
-    << "// Texels per axis: 3D x = A (step-warped), y = theta_o, z = r_p; 4D x = A, y = beta,\n"
-    << "// z = r_p, w = theta_o (axis maps: gtso3DAxes / gtso4DAxes above).\n"
-    << "inline constexpr int kGtso3DSize[3] = {" << t3.dims[0] << ", " << t3.dims[1] << ", "
-    << t3.dims[2] << "};\n"
-    << "inline constexpr int kGtso4DSize[4] = {" << t4.dims[0] << ", " << t4.dims[1] << ", "
-    << t4.dims[2] << ", " << t4.dims[3] << "};\n"
-    << "// Texture layouts (chosen by encode with the BC4 encoder, docs/export.md): texture x, y, "
-       "z\n"
-    << "// hold table axes axis[0..2] of (0 = A, 1 = theta_o / beta, 2 = r_p); the 4D theta_o\n"
-    << "// slices are tiles, tilesX across x. 3D: " << layoutText(3, in.layout_3d)
-    << "; 4D: " << layoutText(4, in.layout_4d) << ";\n// 4D " << tilingText(in) << ".\n"
-    << "inline constexpr GtsoLayout kGtso3DLayout = {{" << in.layout_3d.axis[0] << ", "
-    << in.layout_3d.axis[1] << ", " << in.layout_3d.axis[2] << "}, 1};\n"
-    << "inline constexpr GtsoLayout kGtso4DLayout = {{" << in.layout_4d.axis[0] << ", "
-    << in.layout_4d.axis[1] << ", " << in.layout_4d.axis[2] << "}, " << in.layout_4d.tilesX
-    << "};\n"
-    << "// The volumes' texture extents in those layouts.\n"
-    << "inline constexpr int kGtso3DVolumeSize[3] = {" << in.volume_3d[0] << ", " << in.volume_3d[1]
-    << ", " << in.volume_3d[2] << "};\n"
-    << "inline constexpr int kGtso4DVolumeSize[3] = {" << in.volume_4d[0] << ", " << in.volume_4d[1]
-    << ", " << in.volume_4d[2] << "};\n"
-    << "// Largest |decoded BC4 texel - float table texel| and the RMSE over all texels.\n"
-    << "inline constexpr float kGtso3DBC4MaxAbsError = " << f(float(in.bc4_3d->max_abs)) << ";\n"
-    << "inline constexpr float kGtso3DBC4Rmse = " << f(float(in.bc4_3d->rmse)) << ";\n"
-    << "inline constexpr float kGtso4DBC4MaxAbsError = " << f(float(in.bc4_4d->max_abs)) << ";\n"
-    << "inline constexpr float kGtso4DBC4Rmse = " << f(float(in.bc4_4d->rmse)) << ";\n\n";
+// The placeholders of gtbake_tables.h.in that hold fit's, gtso's and encode's numbers.
+TemplateValues constantValues(const GeneratedCodeInput& in) {
+  const GtsoLayout &l3 = in.layout_3d, &l4 = in.layout_4d;
+  TemplateValues v = coeffValues("", in.fit->linear);
+  for (auto& paper : coeffValues("PAPER_", kPaperCoeffs)) v.push_back(std::move(paper));
+  const TemplateValues rest = {{"VERSION", in.version},
+                               {"CONE_U", f(float(in.gtso->u))},
+                               {"CONE_U_SE", f(float(in.gtso->u_se))},
+                               {"SIZE_3D", intList(in.gtso->table3d.dims.data(), 3)},
+                               {"SIZE_4D", intList(in.gtso->table4d.dims.data(), 4)},
+                               {"LAYOUT_TEXT_3D", layoutText(3, l3)},
+                               {"LAYOUT_TEXT_4D", layoutText(4, l4)},
+                               {"TILING_TEXT", tilingText(in)},
+                               {"LAYOUT_AXES_3D", intList(l3.axis, 3)},
+                               {"LAYOUT_AXES_4D", intList(l4.axis, 3)},
+                               {"TILES_X", std::to_string(l4.tilesX)},
+                               {"VOLUME_3D", intList(in.volume_3d.data(), 3)},
+                               {"VOLUME_4D", intList(in.volume_4d.data(), 3)},
+                               {"BC4_MAX_3D", f(float(in.bc4_3d->max_abs))},
+                               {"BC4_RMSE_3D", f(float(in.bc4_3d->rmse))},
+                               {"BC4_MAX_4D", f(float(in.bc4_4d->max_abs))},
+                               {"BC4_RMSE_4D", f(float(in.bc4_4d->rmse))},
+                               {"BLOCKS_3D", blocksArray("kGtso3DBC4", *in.bc4_3d)},
+                               {"BLOCKS_4D", blocksArray("kGtso4DBC4", *in.bc4_4d)}};
+  v.insert(v.end(), rest.begin(), rest.end());
+  return v;
+}
+
+// "{a1, a0}, {b1, b0}, {c1, c0}" of a profile's or tuned setting's struct row.
+std::string coeffPairs(const std::array<double, 6>& c) {
+  return "{" + f(float(c[0])) + ", " + f(float(c[1])) + "}, {" + f(float(c[2])) + ", " +
+         f(float(c[3])) + "}, {" + f(float(c[4])) + ", " + f(float(c[5])) + "}";
 }
 
 // The engine profiles (docs/profiles.md): Equation 10 refitted on each estimator's Â.
-void emitProfiles(std::ostringstream& o, const GeneratedCodeInput& in) {
-  if (in.profiles == nullptr || in.profiles->empty()) return;
-  o << profileGateComment(*in.profiles);
+std::string profilesSection(const GeneratedCodeInput& in) {
+  if (in.profiles == nullptr || in.profiles->empty()) return "";
   const std::size_t shipped = shippedProfileCount(*in.profiles);
-  if (shipped == 0) return;
-  o << "// Engine profiles (docs/profiles.md): Equation 10 refitted on the A each screen-space\n"
-    << "// estimator computes, path-traced G as the target. Feed an engine's own estimate through\n"
-    << "// its estimator's profile: multiBounce(kMultiBounceProfiles[i], A, albedo). RMSE of G on\n"
-    << "// that estimator's A with the paper's constants and with the profile held out by scene\n"
-    << "// (each scene scored by the profile fitted without it); bandMax: the largest\n"
-    << "// scene-jackknife SE of the profile's G.\n"
-    << "struct GtbakeMultiBounceProfile {\n"
-    << "  const char* estimator;\n"
-    << "  float a[2], b[2], c[2];  // {slope, intercept} in rho, as kMultiBounceA/B/C\n"
-    << "  float rmsePaper, rmseHeldOut, bandMax;\n"
-    << "};\n"
-    << "inline constexpr int kMultiBounceProfileCount = " << shipped << ";\n"
-    << "inline constexpr GtbakeMultiBounceProfile kMultiBounceProfiles[" << shipped << "] = {\n";
+  if (shipped == 0) return profileGateComment(*in.profiles);
+  std::string rows;
   for (const ProfileInput& p : *in.profiles) {
     if (!p.gate.shipped) continue;
-    const auto& c = p.linear;
-    o << "    {\"" << p.estimator << "\", {" << f(float(c[0])) << ", " << f(float(c[1])) << "}, {"
-      << f(float(c[2])) << ", " << f(float(c[3])) << "}, {" << f(float(c[4])) << ", "
-      << f(float(c[5])) << "}, " << f(float(p.rmse_paper)) << ", " << f(float(p.rmse_held_out))
-      << ", " << f(float(p.band_max)) << "},\n";
+    rows += "    {\"" + p.estimator + "\", " + coeffPairs(p.linear) + ", " +
+            f(float(p.rmse_paper)) + ", " + f(float(p.rmse_held_out)) + ", " +
+            f(float(p.band_max)) + "},\n";
   }
-  o << "};\n"
-    << "inline float multiBounce(const GtbakeMultiBounceProfile& p, float A, float albedo) {\n"
-    << "  return gtsoMultiBounce(p.a, p.b, p.c, A, albedo);\n"
-    << "}\n\n";
+  return profileGateComment(*in.profiles) +
+         fillTemplate(kProfilesHeaderTemplate,
+                      {{"PROFILE_COUNT", std::to_string(shipped)}, {"PROFILE_ROWS", rows}});
 }
 
 // The monotone 2D tables shipped beside the cubic of the profiles whose cubic is not adequate
 // (docs/profiles.md §8), as arrays and one bilinear lookup; only for shipped profiles.
-void emitProfileTables(std::ostringstream& o, const GeneratedCodeInput& in) {
-  if (in.profiles == nullptr) return;
-  std::vector<const ProfileInput*> tables;
+std::string profileTablesSection(const GeneratedCodeInput& in) {
+  if (in.profiles == nullptr) return "";
+  std::ostringstream arrays, list;
+  std::size_t count = 0;
   for (const ProfileInput& p : *in.profiles) {
-    if (p.gate.shipped && p.table_nodes > 0) tables.push_back(&p);
+    if (!p.gate.shipped || p.table_nodes == 0) continue;
+    ++count;
+    const std::string id = profileIdentifier(p.estimator);
+    arrays << "inline constexpr float kMultiBounceTableRho_" << id << "[" << p.table_rhos.size()
+           << "] = {" << joined(p.table_rhos, [](double r) { return f(float(r)); })
+           << "};\ninline constexpr float kMultiBounceTableValues_" << id << "["
+           << p.table_values.size() << "] = {";
+    for (std::size_t i = 0; i < p.table_values.size(); ++i)
+      arrays << (i % 8 == 0 ? "\n    " : " ") << f(float(p.table_values[i])) << ",";
+    arrays << "};\n";
+    list << "    {\"" << p.estimator << "\", " << p.table_nodes << ", " << p.table_rhos.size()
+         << ", kMultiBounceTableRho_" << id << ", kMultiBounceTableValues_" << id << ", "
+         << f(float(p.table_held_out_rmse)) << "},\n";
   }
-  o << "// Profile tables (docs/profiles.md §8): where an estimator's cubic is not adequate (its\n"
-    << "// RMSE more than 5% above the floor of any function of (A, albedo)), G at `nodes` values "
-       "of\n"
-    << "// A (0 ... 1) for each albedo in rho[], non-decreasing in A with G(1) = 1; linear in A\n"
-    << "// between nodes and in the albedo between rows (clamped to the rows). rmseHeldOut: RMSE "
-       "of\n"
-    << "// G with the table fitted without each scene. Use: multiBounce(kMultiBounceTables[i], A,\n"
-    << "// albedo).\n"
-    << "struct GtbakeMultiBounceTable {\n"
-    << "  const char* estimator;\n"
-    << "  int nodes, rows;\n"
-    << "  const float* rho;     // [rows], ascending\n"
-    << "  const float* values;  // [rows][nodes]\n"
-    << "  float rmseHeldOut;\n"
-    << "};\n"
-    << "inline float gtbakeTableRow(const GtbakeMultiBounceTable& t, int row, float A) {\n"
-    << "  const float x = (A < 0.0f ? 0.0f : A > 1.0f ? 1.0f : A) * float(t.nodes - 1);\n"
-    << "  const int i = int(x) < t.nodes - 2 ? int(x) : t.nodes - 2;\n"
-    << "  const float* v = t.values + row * t.nodes;\n"
-    << "  return v[i] + (x - float(i)) * (v[i + 1] - v[i]);\n"
-    << "}\n"
-    << "inline float multiBounce(const GtbakeMultiBounceTable& t, float A, float albedo) {\n"
-    << "  int j0 = 0, j1 = 0;\n"
-    << "  float s = 0.0f;\n"
-    << "  if (albedo >= t.rho[t.rows - 1]) {\n"
-    << "    j0 = j1 = t.rows - 1;\n"
-    << "  } else if (albedo > t.rho[0]) {\n"
-    << "    for (int j = 0; j < t.rows - 1; ++j) j0 = t.rho[j] < albedo ? j : j0;\n"
-    << "    j1 = j0 + 1;\n"
-    << "    s = (albedo - t.rho[j0]) / (t.rho[j1] - t.rho[j0]);\n"
-    << "  }\n"
-    << "  const float g0 = gtbakeTableRow(t, j0, A);\n"
-    << "  return g0 + s * (gtbakeTableRow(t, j1, A) - g0);\n"
-    << "}\n"
-    << "inline constexpr int kMultiBounceTableCount = " << tables.size() << ";\n";
-  for (const ProfileInput* p : tables) {
-    const std::string id = profileIdentifier(p->estimator);
-    o << "inline constexpr float kMultiBounceTableRho_" << id << "[" << p->table_rhos.size()
-      << "] = {";
-    for (std::size_t j = 0; j < p->table_rhos.size(); ++j)
-      o << (j ? ", " : "") << f(float(p->table_rhos[j]));
-    o << "};\ninline constexpr float kMultiBounceTableValues_" << id << "["
-      << p->table_values.size() << "] = {";
-    for (std::size_t i = 0; i < p->table_values.size(); ++i)
-      o << (i % 8 == 0 ? "\n    " : " ") << f(float(p->table_values[i])) << ",";
-    o << "};\n";
-  }
-  if (tables.empty()) {
-    o << "\n";
-    return;
-  }
-  o << "inline constexpr GtbakeMultiBounceTable kMultiBounceTables[" << tables.size() << "] = {\n";
-  for (const ProfileInput* p : tables) {
-    const std::string id = profileIdentifier(p->estimator);
-    o << "    {\"" << p->estimator << "\", " << p->table_nodes << ", " << p->table_rhos.size()
-      << ", kMultiBounceTableRho_" << id << ", kMultiBounceTableValues_" << id << ", "
-      << f(float(p->table_held_out_rmse)) << "},\n";
-  }
-  o << "};\n\n";
+  const std::string declaration =
+      count == 0 ? ""
+                 : "inline constexpr GtbakeMultiBounceTable kMultiBounceTables[" +
+                       std::to_string(count) + "] = {\n" + list.str() + "};\n";
+  return fillTemplate(kProfileTablesHeaderTemplate, {{"TABLE_COUNT", std::to_string(count)},
+                                                     {"TABLE_ARRAYS", arrays.str()},
+                                                     {"TABLE_LIST", declaration}});
 }
 
 // The tuned settings (docs/tune.md), each with the profile refitted where it was evaluated.
-void emitTunedSettings(std::ostringstream& o, const GeneratedCodeInput& in) {
-  if (in.tuned == nullptr || in.tuned->empty()) return;
-  o << "// Tuned settings (docs/tune.md, tune/tune.json): per screen-space estimator and setting,\n"
-    << "// one at a time with the others at their defaults, the value minimising the RMSE of G\n"
-    << "// against path tracing with the paper's constants (paperBest) and with Equation 10\n"
-    << "// refitted at each value (profileBest, its 95% scene-level interval [profileLow,\n"
-    << "// profileHigh]; atBound: at the grid's end, the data want a value beyond it). gridValue "
-       "is\n"
-    << "// the evaluated value with the lowest RMSE under the refit, a/b/c the profile refitted "
-       "there: run the\n"
-    << "// pass at gridValue and feed its A to multiBounce(setting, A, albedo); rmseHeldOut is\n"
-    << "// that pair's RMSE of G, each scene scored by the refit without it. The profiles above\n"
-    << "// are fitted at the defaults.\n"
-    << "struct GtbakeTunedSetting {\n"
-    << "  const char* estimator;\n"
-    << "  const char* setting;\n"
-    << "  float defaultValue, paperBest, profileBest, profileLow, profileHigh;\n"
-    << "  bool atBound;\n"
-    << "  float gridValue;\n"
-    << "  float a[2], b[2], c[2];  // {slope, intercept} in rho, as kMultiBounceA/B/C\n"
-    << "  float rmseHeldOut;\n"
-    << "};\n"
-    << "inline constexpr int kTunedSettingCount = " << in.tuned->size() << ";\n"
-    << "inline constexpr GtbakeTunedSetting kTunedSettings[" << in.tuned->size() << "] = {\n";
+std::string tunedSettingsSection(const GeneratedCodeInput& in) {
+  if (in.tuned == nullptr || in.tuned->empty()) return "";
+  std::string rows;
   for (const TunedSettingInput& t : *in.tuned) {
-    const auto& c = t.linear;
-    o << "    {\"" << t.estimator << "\", \"" << t.setting << "\", " << f(float(t.default_value))
-      << ", " << f(float(t.paper_best)) << ", " << f(float(t.profile_best)) << ", "
-      << f(float(t.profile_low)) << ", " << f(float(t.profile_high)) << ", "
-      << (t.at_bound ? "true" : "false") << ", " << f(float(t.grid_value)) << ", {"
-      << f(float(c[0])) << ", " << f(float(c[1])) << "}, {" << f(float(c[2])) << ", "
-      << f(float(c[3])) << "}, {" << f(float(c[4])) << ", " << f(float(c[5])) << "}, "
-      << f(float(t.rmse_held_out)) << "},\n";
+    rows += "    {\"" + t.estimator + "\", \"" + t.setting + "\", " + f(float(t.default_value)) +
+            ", " + f(float(t.paper_best)) + ", " + f(float(t.profile_best)) + ", " +
+            f(float(t.profile_low)) + ", " + f(float(t.profile_high)) + ", " +
+            (t.at_bound ? "true" : "false") + ", " + f(float(t.grid_value)) + ", " +
+            coeffPairs(t.linear) + ", " + f(float(t.rmse_held_out)) + "},\n";
   }
-  o << "};\n"
-    << "inline float multiBounce(const GtbakeTunedSetting& s, float A, float albedo) {\n"
-    << "  return gtsoMultiBounce(s.a, s.b, s.c, A, albedo);\n"
-    << "}\n\n";
+  return fillTemplate(kTunedSettingsHeaderTemplate,
+                      {{"TUNED_COUNT", std::to_string(in.tuned->size())}, {"TUNED_ROWS", rows}});
 }
 
-// The physical-input entry points: BC4 from the arrays above, and per-format variants reading
-// texels the caller loaded (gtso3d_r16.dds etc., x fastest) in the same layout.
-void emitEntryPoints(std::ostringstream& o) {
-  o << R"(// S3(A, beta, r_p): specular occlusion with bent normal = n, from the BC4 table above.
-inline float gtso3DLookup(float A, float cosBeta, float rp) {
-  const GtsoVolume v{GtsoTexelFormat::kBc4, kGtso3DBC4, kGtso3DVolumeSize[0],
-                     kGtso3DVolumeSize[1], kGtso3DVolumeSize[2]};
-  return gtso3DLookup(v, kGtso3DSize, A, cosBeta, rp, kGtso3DLayout);
-}
-// S4(A, beta, r_p, theta_o) from the tiled BC4 table: two trilinear fetches and a lerp.
-inline float gtso4DLookup(float A, float cosBeta, float rp, float cosThetaO) {
-  const GtsoVolume v{GtsoTexelFormat::kBc4, kGtso4DBC4, kGtso4DVolumeSize[0],
-                     kGtso4DVolumeSize[1], kGtso4DVolumeSize[2]};
-  return gtso4DLookup(v, kGtso4DSize, A, cosBeta, rp, cosThetaO, kGtso4DLayout);
-}
-// The same lookups on R16_UNORM or R8_UNORM texels in texture order (the payloads of
-// gtso3d_r16.dds, gtso3d_r8.dds, ..., kGtso3DVolumeSize / kGtso4DVolumeSize texels, x fastest,
-// in kGtso3DLayout / kGtso4DLayout like the BC4 volumes).
-template <class Texel>
-inline float gtso3DLookupAs(GtsoTexelFormat format, const Texel* texels, float A, float cosBeta,
-                            float rp) {
-  const GtsoVolume v{format, texels, kGtso3DVolumeSize[0], kGtso3DVolumeSize[1],
-                     kGtso3DVolumeSize[2]};
-  return gtso3DLookup(v, kGtso3DSize, A, cosBeta, rp, kGtso3DLayout);
-}
-template <class Texel>
-inline float gtso4DLookupAs(GtsoTexelFormat format, const Texel* texels, float A, float cosBeta,
-                            float rp, float cosThetaO) {
-  const GtsoVolume v{format, texels, kGtso4DVolumeSize[0], kGtso4DVolumeSize[1],
-                     kGtso4DVolumeSize[2]};
-  return gtso4DLookup(v, kGtso4DSize, A, cosBeta, rp, cosThetaO, kGtso4DLayout);
-}
-inline float gtso3DLookupR16(const std::uint16_t* texels, float A, float cosBeta, float rp) {
-  return gtso3DLookupAs(GtsoTexelFormat::kR16, texels, A, cosBeta, rp);
-}
-inline float gtso3DLookupR8(const std::uint8_t* texels, float A, float cosBeta, float rp) {
-  return gtso3DLookupAs(GtsoTexelFormat::kR8, texels, A, cosBeta, rp);
-}
-// float32: the tables of `gtbake gtso` (gtso3d.f32, gtso4d.f32), which stay in table order
-// (x = A, y = theta_o / beta, z = r_p, 4D w = theta_o folded: tilesX 1), whatever the layout
-// above.
-inline float gtso3DLookupFloat(const float* texels, float A, float cosBeta, float rp) {
-  const GtsoVolume v{GtsoTexelFormat::kFloat32, texels, kGtso3DSize[0], kGtso3DSize[1],
-                     kGtso3DSize[2]};
-  return gtso3DLookup(v, kGtso3DSize, A, cosBeta, rp);
-}
-inline float gtso4DLookupR16(const std::uint16_t* texels, float A, float cosBeta, float rp,
-                             float cosThetaO) {
-  return gtso4DLookupAs(GtsoTexelFormat::kR16, texels, A, cosBeta, rp, cosThetaO);
-}
-inline float gtso4DLookupR8(const std::uint8_t* texels, float A, float cosBeta, float rp,
-                            float cosThetaO) {
-  return gtso4DLookupAs(GtsoTexelFormat::kR8, texels, A, cosBeta, rp, cosThetaO);
-}
-inline float gtso4DLookupFloat(const float* texels, float A, float cosBeta, float rp,
-                               float cosThetaO) {
-  const GtsoVolume v{GtsoTexelFormat::kFloat32, texels, kGtso4DSize[0], kGtso4DSize[1],
-                     kGtso4DSize[2] * kGtso4DSize[3]};
-  return gtso4DLookup(v, kGtso4DSize, A, cosBeta, rp, cosThetaO);
-}
-
-// Cone-to-cone specular occlusion (paper Eq. 19) with the fitted aperture constant. Takes
-// perceptual roughness rp (what Unity HDRP passes); cos(alpha_s) = u^(alpha^2/2), alpha = rp^2.
-inline float gtsoConeModel(float A, float cosBeta, float rp) {
-  return gtsoConeModel(kConeApertureU, A, cosBeta, rp);
-}
-// The same cone for an engine that passes the GGX width alpha = rp^2 (Filament, XeGTAO).
-inline float gtsoConeModelFromAlpha(float A, float cosBeta, float alpha) {
-  return gtsoConeModel(kConeApertureU, A, cosBeta, std::sqrt(alpha));
-}
-
-// Multi-bounce G(A, rho) (paper Eq. 10) with the constants above, unclamped.
-inline float multiBounce(float A, float albedo) {
-  return gtsoMultiBounce(kMultiBounceA, kMultiBounceB, kMultiBounceC, A, albedo);
-}
-
-)";
-}
-
-// The closed-form S3 (gtso.json closed_form): its coefficients and the physical-input entry
-// point over the template gtsoS3ClosedForm of gtso_runtime.h.
-void emitClosedForm(std::ostringstream& o, const GeneratedCodeInput& in) {
-  o << "// Closed-form S3 without a sampler (gtsoS3ClosedForm above; gtso.json closed_form): "
-    << kGtsoS3ClosedFormSets << " sets\n// of " << kGtsoS3ClosedFormBasis
-    << " polynomial coefficients. Error vs the integrator on the test points: r_p >= 0.1 max "
-    << jsonAt(in.gtso->json, {"closed_form", "test", "errors", "r_p_ge_0.1", "max"}) << ", RMS "
-    << jsonAt(in.gtso->json, {"closed_form", "test", "errors", "r_p_ge_0.1", "rms"})
-    << ";\n// r_p < 0.1 max "
-    << jsonAt(in.gtso->json, {"closed_form", "test", "errors", "r_p_lt_0.1", "max"}) << ", RMS "
-    << jsonAt(in.gtso->json, {"closed_form", "test", "errors", "r_p_lt_0.1", "rms"})
-    << ". ALU: " << kGtsoS3ClosedFormAlu << ".\n"
-    << "inline constexpr float kGtsoS3ClosedForm[" << kGtsoS3ClosedFormCoeffs << "] = {";
+// The closed-form S3 (gtso.json closed_form): its coefficients and errors for the template's
+// physical-input entry point over gtsoS3ClosedForm of gtso_runtime.h.
+TemplateValues closedFormValues(const GeneratedCodeInput& in) {
+  const nlohmann::json& j = in.gtso->json;
+  std::string coeffs;
   for (std::size_t i = 0; i < in.gtso->s3_closed_form.size(); ++i) {
-    o << (i % kGtsoS3ClosedFormBasis == 0 ? "\n    " : " ")
-      << f(static_cast<float>(in.gtso->s3_closed_form[i])) << ",";
+    coeffs += (i % kGtsoS3ClosedFormBasis == 0 ? "\n    " : " ") +
+              f(static_cast<float>(in.gtso->s3_closed_form[i])) + ",";
   }
-  o << "\n};\n"
-    << "// S3(A, beta, r_p) with bent normal = n from the closed form: the inputs of "
-       "gtso3DLookup,\n"
-    << "// no texture.\n"
-    << "inline float gtsoS3ClosedForm(float A, float cosBeta, float rp) {\n"
-    << "  return gtsoS3ClosedForm(kGtsoS3ClosedForm, A, cosBeta, rp);\n}\n\n";
+  const auto error = [&](const char* range, const char* stat) {
+    return jsonAt(j, {"closed_form", "test", "errors", range, stat});
+  };
+  return {{"CLOSED_FORM_SETS", std::to_string(kGtsoS3ClosedFormSets)},
+          {"CLOSED_FORM_BASIS", std::to_string(kGtsoS3ClosedFormBasis)},
+          {"CLOSED_FORM_HIGH_MAX", error("r_p_ge_0.1", "max")},
+          {"CLOSED_FORM_HIGH_RMS", error("r_p_ge_0.1", "rms")},
+          {"CLOSED_FORM_LOW_MAX", error("r_p_lt_0.1", "max")},
+          {"CLOSED_FORM_LOW_RMS", error("r_p_lt_0.1", "rms")},
+          {"CLOSED_FORM_ALU", kGtsoS3ClosedFormAlu},
+          {"CLOSED_FORM_COEFFS", std::to_string(kGtsoS3ClosedFormCoeffs)},
+          {"CLOSED_FORM_VALUES", coeffs}};
 }
 
 }  // namespace
@@ -548,30 +391,16 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
 }
 
 std::string makeTablesHeader(const GeneratedCodeInput& in) {
-  std::ostringstream o;
-  o << "// gtbake_tables.h: GTAO multi-bounce constants, the GTSO cone constant and BC4 tables.\n"
-    << provenanceComment(in)
-    << "// Storage: kGtso3DBC4[i] / kGtso4DBC4[i] is BC4_UNORM block i as a little-endian uint64\n"
-    << "// (byte j of the block = bits 8j..8j+7: red_0, red_1, then 48 index bits, texel 0 "
-       "lowest),\n"
-    << "// blocks in texture memory order: z slices, rows of blocks, blocks left to right.\n"
-    << "// The lookup code below the provenance is src/runtime/gtso_runtime.h verbatim.\n"
-    << "#pragma once\n\n"
-    << kRuntimeLookupHeader << "\nnamespace gtbake {\n\n";
-  emitConstants(o, in);
-  emitBlocks(o, "kGtso3DBC4", *in.bc4_3d);
-  emitBlocks(o, "kGtso4DBC4", *in.bc4_4d);
-  emitEntryPoints(o);
-  o << "// Multi-bounce G(A, rho) with the paper's constants (kMultiBouncePaperA/B/C), unclamped.\n"
-    << "inline float multiBouncePaper(float A, float albedo) {\n"
-    << "  return gtsoMultiBounce(kMultiBouncePaperA, kMultiBouncePaperB, kMultiBouncePaperC, A, "
-       "albedo);\n}\n\n";
-  emitProfiles(o, in);
-  emitProfileTables(o, in);
-  emitTunedSettings(o, in);
-  emitClosedForm(o, in);
-  o << "}  // namespace gtbake\n";
-  return o.str();
+  TemplateValues values = constantValues(in);
+  const TemplateValues closed_form = closedFormValues(in);
+  values.insert(values.end(), closed_form.begin(), closed_form.end());
+  const TemplateValues sections = {{"PROVENANCE", provenanceComment(in)},
+                                   {"RUNTIME", kRuntimeLookupHeader},
+                                   {"PROFILES", profilesSection(in)},
+                                   {"PROFILE_TABLES", profileTablesSection(in)},
+                                   {"TUNED_SETTINGS", tunedSettingsSection(in)}};
+  values.insert(values.end(), sections.begin(), sections.end());
+  return fillTemplate(kTablesHeaderTemplate, values);
 }
 
 }  // namespace gtbake

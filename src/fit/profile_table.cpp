@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "fit/scene_jackknife.h"
+#include "runtime/gtso_runtime.h"
 
 namespace gtbake {
 
@@ -32,19 +33,8 @@ std::vector<double> isotonicRegression(const std::vector<double>& y, const std::
 }
 
 double ProfileTable::lookup(double A, double rho) const {
-  const auto row = [&](std::size_t j) {
-    const double x = std::clamp(A, 0.0, 1.0) * (nodes - 1);
-    const int i = std::min(static_cast<int>(x), nodes - 2);
-    const double t = x - i;
-    const double* v = values.data() + j * static_cast<std::size_t>(nodes);
-    return v[i] + t * (v[i + 1] - v[i]);
-  };
-  if (rho <= rhos.front()) return row(0);
-  if (rho >= rhos.back()) return row(rhos.size() - 1);
-  std::size_t j = 0;
-  while (rhos[j + 1] < rho) ++j;
-  const double t = (rho - rhos[j]) / (rhos[j + 1] - rhos[j]);
-  return row(j) + t * (row(j + 1) - row(j));
+  return gtsoMultiBounceTable(rhos.data(), values.data(), static_cast<int>(rhos.size()), nodes, A,
+                              rho);
 }
 
 TableSums& TableSums::operator+=(const TableSums& other) {

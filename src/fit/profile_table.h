@@ -29,6 +29,7 @@ struct ProfileTable {
   std::vector<double> rhos;    // the albedo nodes
   int nodes = kTableNodes;     // Â nodes
   std::vector<double> values;  // [albedo][Â node], row-major
+  // The shipped lookup, gtsoMultiBounceTable of runtime/gtso_runtime.h, in double.
   double lookup(double A, double rho) const;
 };
 

@@ -121,12 +121,12 @@ void writeProfileFixture(const std::filesystem::path& dir, const std::string& es
   fit["errors"]["shipped"] = {{"rmse", kFixtureProfilePaperRmse}};
   fit["errors"]["held_out_by_scene"] = {{"rmse", kFixtureProfileHeldOutRmse}};
   fit["scene_jackknife"]["band_max"] = {{"value", 0.002}};
-  if (k == 1) {
+  if (k < 2) {
     fit["profile"]["table"] = {{"needed", true},
                                {"A_nodes", 4},
-                               {"rho", kFixtureTableRho},
-                               {"values", kFixtureTable},
-                               {"held_out_by_scene_rmse", kFixtureTableHeldOutRmse}};
+                               {"rho", kFixtureTableRho[k]},
+                               {"values", kFixtureTable[k]},
+                               {"held_out_by_scene_rmse", kFixtureTableHeldOutRmse[k]}};
   }
   fit["input"] = {{"A", "screen-space"},
                   {"estimator", claimed.empty() ? estimator : claimed},

@@ -56,21 +56,24 @@ void writeFixture(const std::filesystem::path& dir);
 inline const char* const kFixtureProfiles[2] = {"gtao-runtime", "hbao"};
 std::array<double, 6> fixtureProfileCoeffs(int k);
 inline constexpr double kFixtureProfilePaperRmse = 0.05, kFixtureProfileHeldOutRmse = 0.03;
-// The monotone 2D table the second fixture profile ships (docs/profiles.md §8): 4 nodes of A
-// (0, 1/3, 2/3, 1) at two albedos, rising to 1.
-inline constexpr double kFixtureTableRho[2] = {0.2, 0.8};
-inline constexpr double kFixtureTable[2][4] = {{0.1, 0.3, 0.6, 1.0}, {0.2, 0.5, 0.7, 1.0}};
-inline constexpr double kFixtureTableHeldOutRmse = 0.025;
-// The table's lookup written out by hand: linear in A between nodes and in the albedo between the
+// The monotone 2D tables the two fixture profiles ship (docs/profiles.md §8): 4 nodes of A
+// (0, 1/3, 2/3, 1) at two albedos each, rising to 1. Two, so that the includes' one lookup reads
+// the second (hbao's) at an offset in the arrays that hold both.
+inline constexpr double kFixtureTableRho[2][2] = {{0.3, 0.6}, {0.2, 0.8}};
+inline constexpr double kFixtureTable[2][2][4] = {{{0.2, 0.4, 0.5, 1.0}, {0.3, 0.6, 0.8, 1.0}},
+                                                  {{0.1, 0.3, 0.6, 1.0}, {0.2, 0.5, 0.7, 1.0}}};
+inline constexpr double kFixtureTableHeldOutRmse[2] = {0.035, 0.025};
+// Profile k's table looked up by hand: linear in A between nodes and in the albedo between the
 // rows, both clamped (docs/profiles.md §8).
-inline double fixtureTableLookup(double A, double albedo) {
-  const auto row = [A](int j) {
+inline double fixtureTableLookup(int k, double A, double albedo) {
+  const auto row = [k, A](int j) {
     const double x = (A < 0.0 ? 0.0 : A > 1.0 ? 1.0 : A) * 3.0;
     const int i = x < 2.0 ? static_cast<int>(x) : 2;
-    const double* v = kFixtureTable[j];
+    const double* v = kFixtureTable[k][j];
     return v[i] + (x - i) * (v[i + 1] - v[i]);
   };
-  const double t = (albedo - kFixtureTableRho[0]) / (kFixtureTableRho[1] - kFixtureTableRho[0]);
+  const double* rho = kFixtureTableRho[k];
+  const double t = (albedo - rho[0]) / (rho[1] - rho[0]);
   const double s = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
   return row(0) + s * (row(1) - row(0));
 }

@@ -246,20 +246,22 @@ TEST(GeneratedHeader, PaperConstantsKeepTheirOwnName) {
     }
 }
 
-// The profile table: shipped for the second fixture profile only, and its lookup is linear in A
-// between nodes and in the albedo between rows, clamped to the rows (fixtureTableLookup).
+// The profile tables, one per fixture profile in name order: each lookup is linear in A between
+// nodes and in the albedo between rows, clamped to the rows (fixtureTableLookup).
 TEST(GeneratedHeader, ProfileTableIsBilinearInAAndAlbedo) {
-  ASSERT_EQ(gtbake::kMultiBounceTableCount, 1);
-  const gtbake::GtbakeMultiBounceTable& t = gtbake::kMultiBounceTables[0];
-  EXPECT_STREQ(t.estimator, gtbake::test::kFixtureProfiles[1]);
-  EXPECT_FLOAT_EQ(t.rmseHeldOut, float(gtbake::test::kFixtureTableHeldOutRmse));
-  for (double albedo : {0.0, 0.2, 0.35, 0.5, 0.8, 1.0})
-    for (double A : {-0.5, 0.0, 0.1, 1.0 / 3.0, 0.5, 0.9, 1.0, 1.5}) {
-      EXPECT_NEAR(gtbake::multiBounce(t, float(A), float(albedo)),
-                  gtbake::test::fixtureTableLookup(A, albedo), 1e-6)
-          << albedo << " " << A;
-    }
-  EXPECT_FLOAT_EQ(gtbake::multiBounce(t, 1.0f, 0.5f), 1.0f);  // an open surface
+  ASSERT_EQ(gtbake::kMultiBounceTableCount, 2);
+  for (int k = 0; k < 2; ++k) {
+    const gtbake::GtbakeMultiBounceTable& t = gtbake::kMultiBounceTables[k];
+    EXPECT_STREQ(t.estimator, gtbake::test::kFixtureProfiles[k]);
+    EXPECT_FLOAT_EQ(t.rmseHeldOut, float(gtbake::test::kFixtureTableHeldOutRmse[k]));
+    for (double albedo : {0.0, 0.2, 0.35, 0.5, 0.8, 1.0})
+      for (double A : {-0.5, 0.0, 0.1, 1.0 / 3.0, 0.5, 0.9, 1.0, 1.5}) {
+        EXPECT_NEAR(gtbake::multiBounce(t, float(A), float(albedo)),
+                    gtbake::test::fixtureTableLookup(k, A, albedo), 1e-6)
+            << k << " " << albedo << " " << A;
+      }
+    EXPECT_FLOAT_EQ(gtbake::multiBounce(t, 1.0f, 0.5f), 1.0f);  // an open surface
+  }
 }
 
 TEST(GeneratedHeader, CapIntersectionMatchesMonteCarlo) {

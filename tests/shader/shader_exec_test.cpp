@@ -20,6 +20,8 @@
 // - cone model: the device's sin/cos/acos are far less exact than libm (Vulkan only requires
 //   2^-11 absolute for sin/cos), so the tolerance is the model's sensitivity to errors of 2^-11
 //   in each angle and each acos argument (coneTolerance), plus 1e-4. Multi-bounce: 1e-5.
+// - profile tables: both fixture tables through the includes' one lookup (the second at an offset
+//   in its arrays) against a lookup written by hand, 2e-6.
 #include <gtest/gtest.h>
 #include <unistd.h>
 #include <vulkan/vulkan.h>
@@ -105,7 +107,7 @@ Exported exportFixture(gtbake::Layout4D packing) {
   e.l4 = {{axis[0].get<int>(), axis[1].get<int>(), axis[2].get<int>()},
           j["packing"]["tiles_x"].get<int>()};
   for (int k = 0; k < 3; ++k) e.volume4[k] = j["volume"][k].get<int>();
-  for (int k = 0; k < 2; ++k) {  // the second ships a profile table (export_fixture.h)
+  for (int k = 0; k < 2; ++k) {  // both ship a profile table (export_fixture.h)
     gtbake::test::writeProfileFixture(e.dir / "profiles", gtbake::test::kFixtureProfiles[k], k);
   }
   gtbake::ExportOptions o;
@@ -143,7 +145,8 @@ void main() {
   outputs[2 * i] = vec4(gtso3DSample(table3D, p.x, p.y, p.z),
                         gtso4DSample(table4D, p.x, p.y, p.z, p.w), gtsoConeModel(p.x, p.y, p.z),
                         multiBounce(p.x, p.w));
-  outputs[2 * i + 1] = vec4(gtsoS3ClosedForm(p.x, p.y, p.z), multiBounceTable_hbao(p.x, p.w), 0.0, 0.0);
+  outputs[2 * i + 1] = vec4(gtsoS3ClosedForm(p.x, p.y, p.z), multiBounceTable_hbao(p.x, p.w),
+                            multiBounceTable_gtao_runtime(p.x, p.w), 0.0);
 }
 )";
 
@@ -159,13 +162,14 @@ const char* kHlslMain = R"(
                              gtso4DSample(table4D, linearClamp, p.x, p.y, p.z, p.w),
                              gtsoConeModel(p.x, p.y, p.z), multiBounce(p.x, p.w));
   outputs[2 * id.x + 1] =
-      float4(gtsoS3ClosedForm(p.x, p.y, p.z), multiBounceTable_hbao(p.x, p.w), 0.0, 0.0);
+      float4(gtsoS3ClosedForm(p.x, p.y, p.z), multiBounceTable_hbao(p.x, p.w),
+             multiBounceTable_gtao_runtime(p.x, p.w), 0.0);
 }
 )";
 
 // ---- the C++ side ----
 struct Reference {
-  float s3, s4, cone, mb, closedForm, table;
+  float s3, s4, cone, mb, closedForm, table, table0;  // table: hbao's, table0: gtao-runtime's
   float spread3, spread4;  // D of the tolerance: texel range of the trilinear footprint(s)
 };
 
@@ -233,7 +237,8 @@ Reference reference(const Exported& e, gtbake::GtsoTexelFormat format, const Inp
   r.cone = gtsoConeModel(e.u, p.A, p.cosBeta, p.rp);
   r.mb = gtsoMultiBounce(e.coeffs, e.coeffs + 2, e.coeffs + 4, p.A, p.cosThetaO);
   r.closedForm = gtsoS3ClosedForm(e.closedForm, p.A, p.cosBeta, p.rp);
-  r.table = static_cast<float>(test::fixtureTableLookup(p.A, p.cosThetaO));
+  r.table = static_cast<float>(test::fixtureTableLookup(1, p.A, p.cosThetaO));
+  r.table0 = static_cast<float>(test::fixtureTableLookup(0, p.A, p.cosThetaO));
   const GtsoAxisT<float> a3 = gtso3DAxes(p.A, p.cosBeta, p.rp, n3);
   float p3[3];
   int lo3[3] = {0, 0, 0}, ext3[3];
@@ -402,21 +407,22 @@ class ShaderExec : public ::testing::Test {
     const int img4 = vk.image(vkFormat, n4[0], n4[1], n4[2], bc4 ? e.bc4[1] : e.r16[1]);
     vk.run(spirv, inBuf, outBuf, img3, img4, hlsl, kPoints / kLocalSize);
     const std::vector<float> out = vk.read(outBuf);
-    float worst[6] = {0, 0, 0, 0, 0, 0}, worstRatio = 0.0f;
+    float worst[7] = {0, 0, 0, 0, 0, 0, 0}, worstRatio = 0.0f;
     int failures = 0;
     for (int i = 0; i < kPoints; ++i) {
       const Reference r = reference(e, format, in[i]);
-      const float got[6] = {out[8 * i],     out[8 * i + 1], out[8 * i + 2],
-                            out[8 * i + 3], out[8 * i + 4], out[8 * i + 5]};
-      const float want[6] = {r.s3, r.s4, r.cone, r.mb, r.closedForm, r.table};
+      const float got[7] = {out[8 * i],     out[8 * i + 1], out[8 * i + 2], out[8 * i + 3],
+                            out[8 * i + 4], out[8 * i + 5], out[8 * i + 6]};
+      const float want[7] = {r.s3, r.s4, r.cone, r.mb, r.closedForm, r.table, r.table0};
       const float decode = bc4 ? kBc4DecodeTolerance : 0.0f;
-      const float tol[6] = {r.spread3 * kFilterTolerance + decode + 2e-6f,
+      const float tol[7] = {r.spread3 * kFilterTolerance + decode + 2e-6f,
                             r.spread4 * kFilterTolerance + decode + 2e-6f,
                             coneTolerance(in[i], e.u),
                             1e-5f,
                             closedFormTolerance(in[i], e.closedForm),
+                            2e-6f,
                             2e-6f};
-      for (int k = 0; k < 6; ++k) {
+      for (int k = 0; k < 7; ++k) {
         const float d = std::fabs(got[k] - want[k]);
         worst[k] = std::max(worst[k], d);
         worstRatio = std::max(worstRatio, d / tol[k]);
@@ -430,12 +436,12 @@ class ShaderExec : public ::testing::Test {
     }
     std::printf(
         "%s on %s, %s textures, 4D %s %dx%dx%d, %d points: max |shader - C++| S3 %.2e S4 %.2e "
-        "cone %.2e multi-bounce %.2e closed-form S3 %.2e profile table %.2e; worst error / "
+        "cone %.2e multi-bounce %.2e closed-form S3 %.2e profile tables %.2e %.2e; worst error / "
         "tolerance "
         "%.3f\n",
         hlsl ? "HLSL" : "GLSL", vk.deviceName.c_str(), bc4 ? "BC4" : "R16",
         gtbake::layout4DName(packing), n4[0], n4[1], n4[2], kPoints, worst[0], worst[1], worst[2],
-        worst[3], worst[4], worst[5], worstRatio);
+        worst[3], worst[4], worst[5], worst[6], worstRatio);
     EXPECT_EQ(failures, 0);
   }
 
