@@ -32,8 +32,8 @@ bool startsWith(const std::string& s, const std::string& prefix) {
 
 // Where the number that ends at `end` begins, or npos if none ends there. The number is the
 // longest suffix of text[..end) of the form [sign] digits [. digits] [e [sign] digits].
-// A word quoted by a "%s" marker (a status a JSON string holds, e.g. upper_bound): letters,
-// digits and '_' immediately before the marker.
+// A word quoted by a "%s" marker (a status a JSON string or boolean holds, e.g. upper_bound):
+// letters, digits and '_' immediately before the marker.
 std::size_t wordBegin(const std::string& text, std::size_t end) {
   std::size_t begin = end;
   while (begin > 0 && begin + kMaxNumberBytes > end &&
@@ -228,8 +228,8 @@ ValueLookup jsonLookup(const std::filesystem::path& artifact_dir,
       return result;
     }
     const nlohmann::json& value = it->second.json.at(ptr);
-    if (value.is_string()) {  // for a "%s" marker; a number format reads the error
-      result.text = value.get<std::string>();
+    if (value.is_string() || value.is_boolean()) {  // for a "%s" marker (true, false too)
+      result.text = value.is_string() ? value.get<std::string>() : value.dump();
       result.error = file + " " + pointer + " is string, not a number";
       return result;
     }

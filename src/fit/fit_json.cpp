@@ -224,7 +224,7 @@ json floorJson(const FitAnalysis& a) {
 
 // The shape checks, adequacy, monotone table and gate of an engine profile (docs/profiles.md
 // §7-§9).
-json profileJson(const ProfileChecks& p) {
+json profileJson(const ProfileChecks& p, bool solver_converged) {
   const ShapeChecks& s = p.shape;
   json rows = json::array();
   for (std::size_t j = 0; j < p.table.table.rhos.size(); ++j) {
@@ -237,7 +237,10 @@ json profileJson(const ProfileChecks& p) {
                 {"values", rows},
                 {"rmse", p.table.rmse}};
   if (p.table.held_out) table["held_out_by_scene_rmse"] = p.table.held_out_rmse;
-  return {{"shape",
+  return {{"solver",
+           {{"method", "primal active set, exact on the 4-unknown QP (docs/profiles.md §7)"},
+            {"converged", solver_converged}}},
+          {"shape",
            {{"grid", {{"A_nodes", kShapeGridNodes}, {"rho", kShapeRhos}}},
             {"min_dG_dA", s.min_slope},
             {"min_dG_dA_at", {{"A", s.min_slope_A}, {"rho", s.min_slope_rho}}},
@@ -268,7 +271,7 @@ void addConstraintJson(const FitAnalysis& a, json& out) {
   if (a.fit.settings.shape_constrained) {
     out["settings"]["shape_constrained"] = true;
     out["unconstrained_alternative"] = alternative;
-    out["profile"] = profileJson(*a.profile);
+    out["profile"] = profileJson(*a.profile, a.fit.linear.solver_converged);
   } else {
     alternative["constrain_open"] = !a.fit.settings.constrain_open;
     out["constrain_open_alternative"] = alternative;

@@ -253,7 +253,8 @@ MultiBounceFit fitMultiBounce(const SweepData& data, const FitSettings& settings
   const Lines lines = fitLines(data.albedos, reported, true);
   LinearFit& lin = fit.linear;
   lin.coeffs = settings.shape_constrained
-                   ? solveShapeConstrained(profileObjective(sums[0], data.albedos))
+                   ? solveShapeConstrained(profileObjective(sums[0], data.albedos), kShapeGridNodes,
+                                           &lin.solver_converged)
                    : lines.coeffs;
   lin.uncorrected = settings.shape_constrained
                         ? lin.coeffs

@@ -74,6 +74,9 @@ struct LinearFit {
   // Model error of the law, not an uncertainty of the six numbers.
   Cubic lack_of_fit_rms{};
   Cubic lack_of_fit_max{};
+  // Shape-constrained only: whether the active-set solver terminated at the constrained minimum
+  // (false: its last feasible iterate; shape_constrained_fit.h).
+  bool solver_converged = true;
 };
 
 struct MultiBounceFit {

@@ -178,8 +178,9 @@ TEST(DocNumbers, FormatNumberIsPrintf) {
 
 TEST(DocNumbers, JsonLookupReportsMissingFilePointerAndNonNumbers) {
   const test::TempDir dir("docs-lookup");
-  writeFileAtomically(dir.path() / "fit.json",
-                      R"({"linear": {"a1": 2.5, "name": "x", "none": null}, "list": [1, 7]})");
+  writeFileAtomically(
+      dir.path() / "fit.json",
+      R"({"linear": {"a1": 2.5, "name": "x", "none": null, "ok": true}, "list": [1, 7]})");
   writeFileAtomically(dir.path() / "bad.json", "{not json");
   const ValueLookup lookup = jsonLookup(dir.path());
   EXPECT_EQ(lookup("fit.json", "/linear/a1").value, 2.5);
@@ -192,6 +193,8 @@ TEST(DocNumbers, JsonLookupReportsMissingFilePointerAndNonNumbers) {
   EXPECT_NE(lookup("fit.json", "/linear/name").error.find("string, not a number"),
             std::string::npos);
   EXPECT_NE(lookup("fit.json", "/linear/none").error.find("null, not a number"), std::string::npos);
+  EXPECT_EQ(lookup("fit.json", "/linear/ok").text, std::optional<std::string>("true"));
+  EXPECT_FALSE(lookup("fit.json", "/linear/ok").value);
   EXPECT_NE(lookup("gone.json", "/a").error.find("gone.json"), std::string::npos);
   EXPECT_NE(lookup("bad.json", "/a").error.find("not valid JSON"), std::string::npos);
 }

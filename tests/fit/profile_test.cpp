@@ -122,6 +122,7 @@ TEST(Profile, FitOnABiasedEstimateFindsTheLawsCubicInThatEstimate) {
   EXPECT_GT(worstInMonteCarloBands(free, test::cavityLawOwnFit(kBounces), fit), 40.0);
   EXPECT_TRUE(doc["settings"]["shape_constrained"].get<bool>());
   EXPECT_TRUE(shapeChecks(refit).pass());
+  EXPECT_TRUE(doc["profile"]["solver"]["converged"].get<bool>());
   EXPECT_EQ(doc["profile"]["gate"]["shipped"].get<bool>(),
             doc["errors"]["held_out_by_scene"]["rmse"].get<double>() <
                 doc["errors"]["shipped"]["rmse"].get<double>());
