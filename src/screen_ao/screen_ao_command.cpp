@@ -32,13 +32,14 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 // Whether both bitmasks are requested with the same settings but their sector weights, so one
 // pass serves both (docs/screen_ao.md §4).
 bool bitmasksSharePass(const ScreenAoOptions& o) {
-  const auto requested = [&](const char* name) {
-    return std::find(o.estimators.begin(), o.estimators.end(), name) != o.estimators.end();
+  const auto requested = [&](Estimator e) {
+    return std::find(o.estimators.begin(), o.estimators.end(), describe(e).name) !=
+           o.estimators.end();
   };
   const BitmaskSettings& u = o.settings.bitmask_uniform;
   const BitmaskSettings& c = o.settings.bitmask_cosine;
-  return requested("bitmask-uniform") && requested("bitmask-cosine") && sameBitmaskSamples(u, c) &&
-         u.thickness == c.thickness;
+  return requested(Estimator::kBitmaskUniform) && requested(Estimator::kBitmaskCosine) &&
+         sameBitmaskSamples(u, c) && u.thickness == c.thickness;
 }
 
 // The estimates of every image by the estimators `names` (one, or both bitmasks sharing a pass:
@@ -116,9 +117,10 @@ std::vector<EstimatorRun> runEstimators(const ScreenAoOptions& o,
   std::vector<EstimatorRun> runs;
   for (std::size_t e = 0; e < o.estimators.size(); ++e) {
     if (!done[e]) {
-      const bool bitmask = o.estimators[e].rfind("bitmask-", 0) == 0;
+      const bool bitmask = describe(o.estimators[e], "screen-ao").bitmask != nullptr;
       const std::vector<std::string> names =
-          share && bitmask ? std::vector<std::string>{"bitmask-uniform", "bitmask-cosine"}
+          share && bitmask ? std::vector<std::string>{describe(Estimator::kBitmaskUniform).name,
+                                                      describe(Estimator::kBitmaskCosine).name}
                            : std::vector<std::string>{o.estimators[e]};
       double pass_seconds = 0.0;
       auto out = runPass(o, names, images, &pass_seconds);
@@ -231,7 +233,7 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
   ScreenAoResult result;
   for (const EstimatorRun& run : runs) {
     estimators_json[run.name] = estimatorJson(run);
-    if (run.name == "gtao-reference") {
+    if (findEstimator(run.name) == Estimator::kGtaoReference) {
       const ErrorSummary& all = run.errors.back().all;
       result.reference_rmse = all.pixels_at_radius ? all.rmse_at_radius : all.rmse;
     }
@@ -243,7 +245,8 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
   json["settings"] = settings;
   json["images"] = imagesJson(sweep.images);
   json["estimators"] = std::move(estimators_json);
-  if (std::find(o.estimators.begin(), o.estimators.end(), "gtao-reference") != o.estimators.end()) {
+  const char* reference = describe(Estimator::kGtaoReference).name;
+  if (std::find(o.estimators.begin(), o.estimators.end(), reference) != o.estimators.end()) {
     std::vector<const GBuffer*> gbuffers;
     for (const SweepImage& image : sweep.images) gbuffers.push_back(&image.gbuffer);
     const ReferenceConvergence c = referenceConvergence(gbuffers, o.settings.reference);

@@ -6,23 +6,12 @@
 #include <string>
 #include <vector>
 
-#include "screen_ao/gtao_reference.h"
-#include "screen_ao/gtao_runtime.h"
-#include "screen_ao/hbao.h"
-#include "screen_ao/visibility_bitmask.h"
+#include "screen_ao/estimator.h"
 
 namespace gtbake {
 
 // In output order: gtao-reference, gtao-runtime, hbao, bitmask-uniform, bitmask-cosine.
 const std::vector<std::string>& screenAoEstimatorNames();
-
-struct ScreenAoSettings {
-  GtaoReferenceSettings reference;
-  GtaoRuntimeSettings runtime;
-  HbaoSettings hbao;
-  BitmaskSettings bitmask_uniform;
-  BitmaskSettings bitmask_cosine{1.0, 8, 8, 0.5, SectorWeights::kCosine};
-};
 
 // "a,b,c" of known names, no repeats ("all" = every one, "none" = no built-in one). Throws
 // gtbake::Error naming the word.

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/error.h"
+#include "screen_ao/estimator.h"
 #include "screen_ao/slice_geometry.h"
 
 namespace gtbake {
@@ -229,7 +230,9 @@ std::uint32_t sectorBits(double ua, double ub) {
 
 void validate(const BitmaskSettings& s) {
   const std::string name =
-      s.weights == SectorWeights::kUniform ? "bitmask-uniform" : "bitmask-cosine";
+      describe(s.weights == SectorWeights::kUniform ? Estimator::kBitmaskUniform
+                                                    : Estimator::kBitmaskCosine)
+          .name;
   if (!(s.radius > 0.0) || !std::isfinite(s.radius)) {
     throw Error(name + ": radius must be a positive finite distance in metres");
   }

@@ -72,13 +72,12 @@ GridValueScore scoreEstimates(const Scoring& sc, const std::string& estimator,
 // (gtaoRuntimeRuns); Â alone (tune reads no b̂), with the bytes of a run at that value alone.
 std::vector<AoEstimate> runImage(const GBuffer& g, const SettingGrid& grid,
                                  const std::vector<double>& values) {
-  if (grid.key == "thickness") {
+  const EstimatorDescriptor& d = describe(grid.estimator, "tune");
+  if (d.bitmask != nullptr && grid.key == "thickness") {
     const ScreenAoSettings s;
-    const BitmaskSettings& b =
-        grid.estimator == "bitmask-uniform" ? s.bitmask_uniform : s.bitmask_cosine;
-    return visibilityBitmasks(g, b, values, EstimateParts::kAoOnly);
+    return visibilityBitmasks(g, s.*d.bitmask, values, EstimateParts::kAoOnly);
   }
-  if (grid.estimator != "gtao-runtime") {
+  if (d.id != Estimator::kGtaoRuntime) {
     throw Error("internal: tune has no pass for " + grid.estimator + "." + grid.key);
   }
   std::vector<GtaoRuntimeSettings> runs;
@@ -86,8 +85,10 @@ std::vector<AoEstimate> runImage(const GBuffer& g, const SettingGrid& grid,
   return gtaoRuntimeRuns(g, runs, EstimateParts::kAoOnly);
 }
 
+// A bitmask estimator's sector weights (its descriptor's settings).
 SectorWeights weightsOf(const std::string& estimator) {
-  return estimator == "bitmask-uniform" ? SectorWeights::kUniform : SectorWeights::kCosine;
+  const ScreenAoSettings s;
+  return (s.*describe(estimator, "tune").bitmask).weights;
 }
 
 // Â of every image at each value of to_run, [grid][value][image]: one grid's pass, or both
@@ -176,11 +177,12 @@ bool bitmasksSharePass(const std::vector<SettingGrid>& grids, std::size_t k,
   const SettingGrid& a = grids[k];
   const SettingGrid& b = grids[k + 1];
   const ScreenAoSettings s;
-  const bool both = (a.estimator == "bitmask-uniform" && b.estimator == "bitmask-cosine") ||
-                    (a.estimator == "bitmask-cosine" && b.estimator == "bitmask-uniform");
+  const std::optional<Estimator> ea = findEstimator(a.estimator);
+  const std::optional<Estimator> eb = findEstimator(b.estimator);
+  const bool both = ea && eb && *ea != *eb && describe(*ea).bitmask && describe(*eb).bitmask;
   return both && a.key == "thickness" && b.key == "thickness" &&
          valuesToRun(a, defaults) == valuesToRun(b, defaults) &&
-         sameBitmaskSamples(s.bitmask_uniform, s.bitmask_cosine);
+         sameBitmaskSamples(s.*describe(*ea).bitmask, s.*describe(*eb).bitmask);
 }
 
 // Runs, scores and widens every grid in order; the two bitmasks' thickness grids under one part

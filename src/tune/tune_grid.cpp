@@ -11,43 +11,6 @@ namespace gtbake {
 
 namespace {
 
-// The settings searched per estimator, their axes, default grids and limits (docs/tune.md §1).
-// Each grid holds the estimator's default (radius 1 m, intensity 1, thin_compensation 0,
-// thickness 0.5 m) and widens towards its limits while an optimum sits at an end (§3).
-struct GridSpec {
-  const char* key;
-  bool log_axis;
-  std::vector<double> values;
-  SettingLimit lower, upper;
-};
-
-std::vector<GridSpec> gridSpecs(const std::string& estimator) {
-  if (estimator == "gtao-runtime") {
-    // Factors of two for the lengths and the exponent (each value is a full run of the pass):
-    // the optimum is refined by the parabola (§3).
-    return {{"radius",
-             true,
-             {0.5, 1.0, 2.0, 4.0},
-             {0.0625, "search floor: 1/16 m, three halvings below the 0.5 m grid start"},
-             {4.0, "screen-space maximum: 4 m, past it the horizon search leaves the view"}},
-            {"intensity",
-             true,
-             {0.5, 1.0, 2.0, 4.0, 8.0},
-             {0.25, "search floor: A^0.25, the pass's occlusion all but erased"},
-             {16.0, "the pass's range: intensity <= 16 (docs/screen_ao.md)"}},
-            {"thin_compensation",
-             false,
-             {0.0, 0.5, 1.0},
-             {0.0, "physical: thin compensation >= 0 (0 is off)"},
-             {10.0, "the pass's range: thin_compensation <= 10 (docs/screen_ao.md)"}}};
-  }
-  return {{"thickness",
-           true,
-           {0.125, 0.25, 0.5, 1.0, 2.0, 4.0},
-           {0.03125, "search floor: 1/32 m, two halvings below the 0.125 m grid start"},
-           {8.0, "physical: 8 radii, a slab that thick is an infinite one to 1 of 32 sectors"}}};
-}
-
 std::string settingText(const std::string& estimator, const std::string& key, double value) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.17g", value);
@@ -81,25 +44,38 @@ std::vector<double> parseValues(const SettingGrid& g, const std::string& list,
   return values;
 }
 
+// The tuned estimators' names, comma-separated, for an error.
+std::string tunedList() {
+  std::string text;
+  const auto& names = tunedEstimatorNames();
+  for (std::size_t k = 0; k < names.size(); ++k) text += (k == 0 ? "" : ", ") + names[k];
+  return text;
+}
+
 }  // namespace
 
 const std::vector<std::string>& tunedEstimatorNames() {
-  static const std::vector<std::string> names = {"gtao-runtime", "bitmask-uniform",
-                                                 "bitmask-cosine"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const EstimatorDescriptor& d : estimatorDescriptors()) {
+      if (!d.tuned.empty()) out.emplace_back(d.name);
+    }
+    return out;
+  }();
   return names;
 }
 
 std::vector<SettingGrid> defaultGrids(const std::vector<std::string>& estimators) {
-  const auto& known = tunedEstimatorNames();
   std::vector<SettingGrid> grids;
   for (const std::string& e : estimators) {
-    if (std::find(known.begin(), known.end(), e) == known.end()) {
-      throw Error("--estimators: tune does not search '" + e +
-                  "' (it searches gtao-runtime, bitmask-uniform, bitmask-cosine)");
+    const std::optional<Estimator> id = findEstimator(e);
+    if (!id || describe(*id).tuned.empty()) {
+      throw Error("--estimators: tune does not search '" + e + "' (it searches " + tunedList() +
+                  ")");
     }
-    for (const GridSpec& spec : gridSpecs(e)) {
-      grids.push_back({e, spec.key, spec.log_axis, defaultValue(e, spec.key), spec.values,
-                       spec.lower, spec.upper});
+    for (const TunedKey& spec : describe(*id).tuned) {
+      grids.push_back({e, spec.key, spec.log_axis, defaultValue(e, spec.key), spec.grid, spec.lower,
+                       spec.upper});
     }
   }
   return grids;
@@ -121,13 +97,15 @@ void applyGridOption(std::vector<SettingGrid>* grids, const std::string& text) {
   }
   if (!estimator_known) {
     throw Error("--grid " + text + ": estimator '" + estimator +
-                "' is not tuned in this run (tune searches gtao-runtime, bitmask-uniform, "
-                "bitmask-cosine; see --estimators)");
+                "' is not tuned in this run (tune searches " + tunedList() + "; see --estimators)");
   }
   if (grid == nullptr) {
-    throw Error(
-        "--grid " + text + ": tune does not search " + estimator + "." + key + " (" +
-        (estimator == "gtao-runtime" ? "radius, intensity, thin_compensation" : "thickness") + ")");
+    std::string keys;
+    for (const TunedKey& k : describe(estimator, "--grid").tuned) {
+      keys += (keys.empty() ? "" : ", ") + std::string(k.key);
+    }
+    throw Error("--grid " + text + ": tune does not search " + estimator + "." + key + " (" + keys +
+                ")");
   }
   std::vector<double> values = parseValues(*grid, text.substr(eq + 1), text);
   std::sort(values.begin(), values.end());

@@ -11,13 +11,6 @@
 
 namespace gtbake {
 
-// How far a setting's grid may widen at one end (docs/tune.md §1, the limits table): the value
-// and why the search stops there.
-struct SettingLimit {
-  double value = 0.0;
-  std::string reason;
-};
-
 struct SettingGrid {
   std::string estimator;  // a screen-ao estimator name ("gtao-runtime")
   std::string key;        // its setting ("radius")
