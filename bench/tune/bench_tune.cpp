@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "../bench_args.h"
 #include "screen_ao/screen_ao_command.h"
 #include "sweep/sweep_command.h"
 #include "tune/tune_command.h"
@@ -74,16 +75,9 @@ void benchTune(const fs::path& sweep, const fs::path& work, const std::string& n
 }  // namespace
 
 int main(int argc, char** argv) {
-  fs::path sweep;
-  int threads = 2;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--threads" && i + 1 < argc) {
-      threads = std::atoi(argv[++i]);
-    } else {
-      sweep = arg;
-    }
-  }
+  const gtbake::bench::BenchArgs args = gtbake::bench::parseBenchArgs(argc, argv);
+  fs::path sweep = args.path;
+  const int threads = args.threads;
   const fs::path work =
       fs::temp_directory_path() / ("gtbake-bench-tune-" + std::to_string(getpid()));
   try {

@@ -25,6 +25,7 @@
 #include <random>
 #include <string>
 
+#include "../bench_args.h"
 #include "common/rng.h"
 #include "common/threads.h"
 #include "validate_gtso/cone_u_fit.h"
@@ -120,16 +121,9 @@ double baselineSignFlip(const std::vector<double>& d) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string dir;
-  int threads = 2;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--threads" && i + 1 < argc) {
-      threads = std::atoi(argv[++i]);
-    } else {
-      dir = arg;
-    }
-  }
+  const bench::BenchArgs args = bench::parseBenchArgs(argc, argv);
+  const std::string& dir = args.path;
+  const int threads = args.threads;
   if (dir.empty()) {
     std::fprintf(stderr, "usage: bench_validate_gtso SWEEP_DIR [--threads T]\n");
     return 2;
