@@ -17,7 +17,7 @@
 #include "screen_ao/gbuffer.h"
 #include "screen_ao/screen_ao_json.h"
 #include "screen_ao/screen_ao_report.h"
-#include "sweep/escape_image.h"
+#include "sweep/sweep_set.h"
 
 namespace gtbake {
 

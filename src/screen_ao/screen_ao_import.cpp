@@ -11,7 +11,7 @@
 #include "common/text_escape.h"
 #include "common/text_format.h"
 #include "screen_ao/screen_ao_settings.h"
-#include "sweep/escape_image.h"
+#include "sweep/sweep_set.h"
 
 namespace gtbake {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "common/math_constants.h"
-#include "sweep/escape_image.h"
+#include "sweep/sweep_set.h"
 
 namespace gtbake {
 

@@ -135,31 +135,6 @@ EscapeImage traceEscapeImage(const EmbreeTracer& tracer, const PerspectiveCamera
 
 namespace {
 
-// `prefix` and the value in hundredths, three digits ("G050" for 0.5).
-std::string hundredthsChannelName(char prefix, double value) {
-  return prefix + formatNumber(std::round(value * 100.0), "%03.0f");
-}
-
-}  // namespace
-
-std::string albedoChannelName(double albedo) {
-  return hundredthsChannelName('G', albedo);
-}
-
-std::string nearFieldChannelName(const std::string& name, double radius) {
-  return name + nearFieldSuffix(radius);
-}
-
-std::string gbufferRadiusChannelName(double radius) {
-  return nearFieldChannelName("A", radius);
-}
-
-std::string specularChannelName(double roughness) {
-  return hundredthsChannelName('S', roughness);
-}
-
-namespace {
-
 ExrChannel blankChannel(const std::string& name, std::size_t pixels) {
   return ExrChannel{name, std::vector<float>(pixels, 0.0f)};
 }

@@ -12,6 +12,7 @@
 #include "common/image_io.h"
 #include "sweep/escape_walk.h"
 #include "sweep/specular_occlusion.h"
+#include "sweep/sweep_set.h"
 
 namespace gtbake {
 
@@ -106,16 +107,5 @@ inline EscapeImage traceEscapeImage(const EmbreeTracer& tracer, const Perspectiv
 // its near-field channels, the names with nearFieldChannelName's suffix: P1_R1..PK_R1,
 // G010_R1 …, S010_R1 …, H0.A_R1, H0.P1_R1 …, H1.A_R1 …, H0.S010_R1 …, H1.S010_R1 … (masked = 0).
 std::vector<ExrChannel> escapeChannels(const EscapeImage& image);
-
-// G(ρ) channel name, e.g. 0.5 -> "G050".
-std::string albedoChannelName(double albedo);
-// The near-field channel of an unbounded one at G-buffer radius R: the name, "_R" and the radius
-// in metres as %g with '.' written 'p' (EXR reads '.' as a layer separator), e.g. ("G050", 1) ->
-// "G050_R1", ("A", 0.25) -> "A_R0p25" (docs/sweep.md, "Near-field truth").
-std::string nearFieldChannelName(const std::string& name, double radius);
-// A_R channel name of a G-buffer radius: nearFieldChannelName("A", radius).
-std::string gbufferRadiusChannelName(double radius);
-// S(r_p) channel name, e.g. 0.25 -> "S025".
-std::string specularChannelName(double roughness);
 
 }  // namespace gtbake

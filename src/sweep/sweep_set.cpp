@@ -183,6 +183,31 @@ std::string nearFieldSuffix(double radius) {
   return suffix;
 }
 
+namespace {
+
+// `prefix` and the value in hundredths, three digits ("G050" for 0.5).
+std::string hundredthsChannelName(char prefix, double value) {
+  return prefix + formatNumber(std::round(value * 100.0), "%03.0f");
+}
+
+}  // namespace
+
+std::string albedoChannelName(double albedo) {
+  return hundredthsChannelName('G', albedo);
+}
+
+std::string nearFieldChannelName(const std::string& name, double radius) {
+  return name + nearFieldSuffix(radius);
+}
+
+std::string gbufferRadiusChannelName(double radius) {
+  return nearFieldChannelName("A", radius);
+}
+
+std::string specularChannelName(double roughness) {
+  return hundredthsChannelName('S', roughness);
+}
+
 std::string truthChannelSuffix(const SweepSet& set, std::optional<double> radius) {
   if (!radius) return "";
   for (double r : set.settings.gbuffer_radii) {

@@ -58,8 +58,20 @@ struct SweepSet {
 SweepSet readSweepSet(const std::filesystem::path& dir);
 
 // The suffix of the near-field channels at radius R: "_R" and R as %g with '.' written 'p'
-// (escape_image.h nearFieldChannelName appends it to a channel's name), e.g. 1 -> "_R1".
+// (nearFieldChannelName appends it to a channel's name), e.g. 1 -> "_R1".
 std::string nearFieldSuffix(double radius);
+
+// The names of the sweep's EXR channels (docs/sweep.md, "Outputs"), for every reader of them.
+// G(ρ) channel name, e.g. 0.5 -> "G050".
+std::string albedoChannelName(double albedo);
+// The near-field channel of an unbounded one at G-buffer radius R: the name, "_R" and the radius
+// in metres as %g with '.' written 'p' (EXR reads '.' as a layer separator), e.g. ("G050", 1) ->
+// "G050_R1", ("A", 0.25) -> "A_R0p25" (docs/sweep.md, "Near-field truth").
+std::string nearFieldChannelName(const std::string& name, double radius);
+// A_R channel name of a G-buffer radius: nearFieldChannelName("A", radius).
+std::string gbufferRadiusChannelName(double radius);
+// S(r_p) channel name, e.g. 0.25 -> "S025".
+std::string specularChannelName(double roughness);
 
 // The suffix of the channels holding the truth at `radius` (none: "", the unbounded truth), after
 // checking that the sweep traced that G-buffer radius (settings gbuffer_radii): otherwise a

@@ -10,7 +10,7 @@
 
 #include "common/text_escape.h"
 #include "stats/jackknife.h"
-#include "sweep/escape_image.h"
+#include "sweep/sweep_set.h"
 
 namespace gtbake {
 

@@ -6,7 +6,6 @@
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/provenance.h"
-#include "sweep/escape_image.h"
 #include "sweep/specular_occlusion.h"
 #include "sweep/sweep_set.h"
 

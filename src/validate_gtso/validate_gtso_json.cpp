@@ -5,7 +5,7 @@
 #include "common/output_set.h"
 #include "gtbake_version.h"
 #include "gtso/cone_intersection.h"
-#include "sweep/escape_image.h"
+#include "sweep/sweep_set.h"
 #include "validate_gtso/method_jackknife.h"
 #include "validate_gtso/validate_gtso_outputs.h"
 

@@ -12,7 +12,7 @@
 #include "common/output_set.h"
 #include "common/text_escape.h"
 #include "gtbake_version.h"
-#include "sweep/escape_image.h"
+#include "sweep/sweep_set.h"
 #include "validate_gtso/validate_gtso_outputs.h"
 
 namespace gtbake {
