@@ -155,14 +155,21 @@ Subcommand addSweepCommand(CLI::App& app) {
       ->add_option("--gbuffer-radius", *gbuffer_radii,
                    "Radii (m) of the A_R channels (A with the sky beyond R), or none")
       ->capture_default_str();
+  auto transfer = std::make_shared<std::string>("on");
+  parser
+      ->add_option("--transfer", *transfer,
+                   "Per-bounce SH transfer channels T<k>_SH<i> (docs/sweep.md, \"Transfer\")")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
   auto shard = std::make_shared<std::string>();
   parser->add_option("--shard", *shard,
                      "Trace only shard I of N (0 <= I < N) into --out, for gtbake merge");
   parser->add_flag("--resume", options->resume,
                    "Continue an interrupted sweep from the tiles saved in --out");
-  return {parser, [options, resolution, seed, specular_roughness, gbuffer_radii,
+  return {parser, [options, resolution, seed, specular_roughness, gbuffer_radii, transfer,
                    shard](const RunContext& context) {
             std::tie(options->width, options->height) = parseResolution(*resolution);
+            options->transfer = *transfer == "on";
             options->seed = parseSeed(*seed, "--seed");
             options->specular_roughness = parseSpecularRoughness(*specular_roughness);
             options->gbuffer_radii = parseGbufferRadii(*gbuffer_radii);

@@ -104,6 +104,10 @@ SweepSettings readSettings(const json& doc, const std::string& where) {
         static_cast<int>(jsonInteger(s, "specular_spp", 2, kMaxSweepSpecularSpp, at));
   }
   out.gbuffer_radii = gbufferRadii(s, where);
+  if (s.contains("transfer")) {
+    if (!s["transfer"].is_boolean()) throw Error(at + ": 'transfer' must be true or false");
+    out.transfer = s["transfer"].get<bool>();
+  }
   return out;
 }
 

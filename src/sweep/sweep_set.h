@@ -27,6 +27,7 @@ struct SweepSettings {
   std::vector<double> specular_roughness;  // r_p of the S### channels: distinct hundredths
   int specular_spp = 0;                    // 0 without specular channels
   std::vector<double> gbuffer_radii;       // radii of the A_R channels, metres, ascending
+  bool transfer = false;  // T<k>_SH<i> channels (docs/sweep.md "Transfer"); absent: false
 };
 
 // One image of the sweep (a sweep.json "scenes" entry: a view of a scene).
