@@ -1,5 +1,6 @@
 #include "lighting/environment.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -181,16 +182,26 @@ EquirectMap decodeEnvironmentExr(const std::string& bytes, const std::string& na
   const double weights[3] = {0.2126, 0.7152, 0.0722};  // Rec. 709 luminance
   for (int c = 0; c < (rgb ? 3 : 1); ++c) {
     const std::vector<float>& values = image.channel(rgb ? names[c] : "Y", name);
-    for (std::size_t p = 0; p < pixels; ++p)
+    for (std::size_t p = 0; p < pixels; ++p) {
+      if (!std::isfinite(values[p])) {
+        throw Error(name + ": pixel (" + std::to_string(p % image.width) + ", " +
+                    std::to_string(p / image.width) + ") is not finite");
+      }
       map.radiance[p] += (rgb ? weights[c] : 1.0) * values[p];
+    }
   }
+  // Lossy HDR encodings leave tiny negative values (Blender's studio lights hold some): read as 0.
+  for (double& v : map.radiance) v = std::max(0.0, v);
   return map;
 }
 
 Environment readEnvironment(const std::filesystem::path& path) {
   const std::string where = path.string();
-  const EquirectMap map = decodeEnvironmentExr(readFile(path), where);
-  return {path.stem().string(), projectEquirect(map, where)};
+  const ShVector sh = projectEquirect(decodeEnvironmentExr(readFile(path), where), where);
+  if (!(openIrradiance(sh, 0.0, 1.0, 0.0) > 0.0)) {
+    throw Error(where + ": the environment sends no light to an open floor (normal +y)");
+  }
+  return normalised(path.stem().string(), sh);
 }
 
 const std::vector<std::string>& environmentClasses() {

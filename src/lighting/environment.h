@@ -35,9 +35,12 @@ struct EquirectMap {
 ShVector projectEquirect(const EquirectMap& map, const std::string& where);
 
 // Reads an equirectangular EXR: luminance 0.2126 R + 0.7152 G + 0.0722 B of its R, G, B channels
-// (or its Y channel alone). One-line gtbake::Error if unreadable, not 2:1, without those channels
-// or holding a negative or non-finite value.
+// (or its Y channel alone), negative luminance (lossy encodings leave some) read as 0. One-line
+// gtbake::Error if unreadable, without those channels or holding a non-finite value (and, from
+// projectEquirect, if not 2:1).
 EquirectMap decodeEnvironmentExr(const std::string& bytes, const std::string& name);
+// The file's environment scaled like the built-in classes (an open floor receives G = 1); one
+// that sends no light to an open floor is a one-line error.
 Environment readEnvironment(const std::filesystem::path& path);
 
 // The built-in classes (docs/lighting.md §2), each scaled so an open floor (normal +y) receives

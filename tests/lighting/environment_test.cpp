@@ -107,7 +107,8 @@ TEST(Environment, ReadsRgbExr) {
   const Environment env = readEnvironment(file);
   fs::remove(file);
   EXPECT_EQ(env.name, file.stem().string());
-  EXPECT_NEAR(openIrradiance(env.sh, 0.0, 0.0, 1.0), 2.0, 1e-6);  // luminance weights sum to 1
+  // Scaled like the classes: uniform radiance gives G = 1 on every normal.
+  EXPECT_NEAR(openIrradiance(env.sh, 0.0, 0.0, 1.0), 1.0, 1e-9);
 }
 
 TEST(Environment, BadInputIsOneLine) {
@@ -129,6 +130,16 @@ TEST(Environment, BadInputIsOneLine) {
       },
       "R, G and B channels or a Y channel");
   expectOneLineError([] { builtInEnvironment("dusk"); }, "unknown environment class 'dusk'");
+  std::vector<float> values(8, 1.0f);
+  values[3] = std::nanf("");
+  expectOneLineError(
+      [&] {
+        decodeEnvironmentExr(encodeExr(4, 2, {{"Y", values}}), "nan.exr");
+      },
+      "nan.exr: pixel (3, 0) is not finite");
+  // A tiny negative value of a lossy encoding is read as 0.
+  values[3] = -1e-6f;
+  EXPECT_EQ(decodeEnvironmentExr(encodeExr(4, 2, {{"Y", values}}), "neg.exr").radiance[3], 0.0);
 }
 
 }  // namespace
