@@ -40,6 +40,7 @@ struct ViewChannels {
   const std::vector<float>* a[3] = {};                      // A, H0.A, H1.A
   const std::vector<float>* n[3] = {};                      // NX, NY, NZ
   std::vector<const std::vector<float>*> g;                 // per albedo, the white-sky G
+  std::vector<const std::vector<float>*> half[2];           // per bounce, H<h>.A, H<h>.P1 …
   std::vector<std::array<const std::vector<float>*, 9>> t;  // per bounce, T<k>_SH0..8
 };
 
@@ -55,6 +56,10 @@ ViewChannels viewChannels(const ExrImage& image, const std::string& file, const 
   }
   for (double rho : set.settings.albedos) c.g.push_back(&image.channel(albedoChannel(rho), file));
   for (int k = 0; k <= set.settings.bounces; ++k) {
+    for (int h = 0; h < 2; ++h) {
+      const std::string p = k == 0 ? "A" : "P" + std::to_string(k);
+      c.half[h].push_back(&image.channel("H" + std::to_string(h) + "." + p, file));
+    }
     std::array<const std::vector<float>*, 9> bounce{};
     for (int i = 0; i < kShCoefficients; ++i) {
       bounce[i] = &image.channel("T" + std::to_string(k) + "_SH" + std::to_string(i), file);
@@ -92,6 +97,20 @@ void addError(ModelErrors* m, std::size_t albedo, bool reference, int bin, std::
   m->types[type].add(error, open);
 }
 
+// Albedo j's point of the refit: G/O, and as its halves G/O plus the white sky's half-sample
+// deviations Σ ρ^k H<h>.P_k − G (docs/lighting.md §3): the transfer has no halves, and under the
+// uniform sky this gives exactly the points `gtbake fit` reads.
+void addRefitPoint(Accumulator* acc, const ViewChannels& c, std::size_t p, std::size_t j,
+                   double g) {
+  const double rho = acc->analysis->albedos[j];
+  acc->refit.full.G[j].push_back(g);
+  for (int h = 0; h < 2; ++h) {
+    double half = 0.0;
+    for (std::size_t k = c.half[h].size(); k-- > 0;) half = half * rho + (*c.half[h][k])[p];
+    acc->refit.half[h].G[j].push_back(g + (half - (*c.g[j])[p]));
+  }
+}
+
 // One pixel p of a view: the truth Σ_k ρ^k ⟨T_k, L⟩ and the models per albedo; returns the error
 // of the paper's model at the reference albedo (the heatmaps).
 double addPixel(Accumulator* acc, const ViewChannels& c, std::size_t p, std::size_t type) {
@@ -120,10 +139,7 @@ double addPixel(Accumulator* acc, const ViewChannels& c, std::size_t p, std::siz
     }
     addError(&acc->models[m], j, ref, bin, type, open * (*c.g[j])[p] - truth, open);
     if (ref) reference_error = paper;
-    if (refit) {
-      for (PointSet* set : {&acc->refit.full, &acc->refit.half[0], &acc->refit.half[1]})
-        set->G[j].push_back(truth / open);
-    }
+    if (refit) addRefitPoint(acc, c, p, j, truth / open);
   }
   if (refit) {
     for (int h = 0; h < 3; ++h)

@@ -10,6 +10,8 @@
 
 #include "common/error.h"
 #include "common/output_set.h"
+#include "fit/multibounce_fit.h"
+#include "fit/sweep_data.h"
 #include "lighting/lighting_command.h"
 #include "scene/scene.h"
 #include "support/test_scenes.h"
@@ -76,6 +78,11 @@ TEST_F(LightingCommand, UniformSkyIsTheWhiteSkyAndAWindowGlows) {
   for (const auto& a : uniform["models"]["white_sky_exact"]["per_albedo"]) {
     EXPECT_LT(a["rmse"].get<double>(), 1e-6);
     EXPECT_GT(a["pixels"].get<int>(), 100);
+  }
+  // Under the uniform sky the refit reads the points `gtbake fit` reads (docs/lighting.md §3).
+  const MultiBounceFit fit = fitMultiBounce(loadSweep(o.sweep));
+  for (int c = 0; c < 6; ++c) {
+    EXPECT_NEAR(uniform["refit"]["coefficients"][c].get<double>(), fit.linear.coeffs[c], 1e-4) << c;
   }
   const nlohmann::json& window = j["environments"][1];
   EXPECT_GT(window["models"]["paper"]["per_albedo"][4]["glow_share"].get<double>(), 0.0);
