@@ -23,6 +23,7 @@
 #include "fit/fit_command.h"
 #include "gtbake_version.h"
 #include "gtso/gtso_command.h"
+#include "lighting/lighting_command.h"
 #include "option_values.h"
 #include "pipeline/all_command.h"
 #include "scene/scenes_command.h"
@@ -155,14 +156,21 @@ Subcommand addSweepCommand(CLI::App& app) {
       ->add_option("--gbuffer-radius", *gbuffer_radii,
                    "Radii (m) of the A_R channels (A with the sky beyond R), or none")
       ->capture_default_str();
+  auto transfer = std::make_shared<std::string>("on");
+  parser
+      ->add_option("--transfer", *transfer,
+                   "Per-bounce SH transfer channels T<k>_SH<i> (docs/sweep.md, \"Transfer\")")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
   auto shard = std::make_shared<std::string>();
   parser->add_option("--shard", *shard,
                      "Trace only shard I of N (0 <= I < N) into --out, for gtbake merge");
   parser->add_flag("--resume", options->resume,
                    "Continue an interrupted sweep from the tiles saved in --out");
-  return {parser, [options, resolution, seed, specular_roughness, gbuffer_radii,
+  return {parser, [options, resolution, seed, specular_roughness, gbuffer_radii, transfer,
                    shard](const RunContext& context) {
             std::tie(options->width, options->height) = parseResolution(*resolution);
+            options->transfer = *transfer == "on";
             options->seed = parseSeed(*seed, "--seed");
             options->specular_roughness = parseSpecularRoughness(*specular_roughness);
             options->gbuffer_radii = parseGbufferRadii(*gbuffer_radii);
@@ -429,6 +437,25 @@ Subcommand addTuneCommand(CLI::App& app) {
           }};
 }
 
+Subcommand addLightingCommand(CLI::App& app) {
+  auto options = std::make_shared<LightingOptions>();
+  auto* parser = app.add_subcommand(
+      "lighting", "Equation 10 under environments, from a sweep's transfer channels");
+  parser->add_option("--sweep", options->sweep, "Directory written by gtbake sweep (--transfer on)")
+      ->required();
+  parser
+      ->add_option("--env", options->environments,
+                   "Equirectangular EXR files or classes: uniform, overcast, horizon, sun-sky, "
+                   "window (docs/lighting.md §2)")
+      ->required();
+  parser->add_option("--fit", options->fit, "fit.json of gtbake fit, scored beside the paper's");
+  parser->add_option("--out", options->out, "Output directory")->required();
+  return {parser, [options](const RunContext&) {
+            runLighting(*options);
+            return 0;
+          }};
+}
+
 Subcommand addAllCommand(CLI::App& app) {
   auto options = std::make_shared<AllOptions>();
   auto* parser = app.add_subcommand("all",
@@ -471,6 +498,7 @@ std::vector<Subcommand> registerSubcommands(CLI::App& app) {
   subcommands.push_back(addScreenAoCommand(app));
   subcommands.push_back(addGbufferCommand(app));
   subcommands.push_back(addTuneCommand(app));
+  subcommands.push_back(addLightingCommand(app));
   subcommands.push_back(addAllCommand(app));
   return subcommands;
 }

@@ -13,6 +13,7 @@
 #include "export/export_command.h"
 #include "fit/fit_command.h"
 #include "gtso/gtso_command.h"
+#include "lighting/lighting_command.h"
 #include "scene/scenes_command.h"
 #include "screen_ao/screen_ao_command.h"
 #include "sweep/sweep_command.h"
@@ -221,6 +222,18 @@ TuneResult tuneSettings(const AllOptions& options, int threads) {
   }
 }
 
+// Equation 10 under the built-in environment classes against the sweep's transfer channels
+// (docs/lighting.md) into <out>/lighting.
+void lightingStage(const AllOptions& options, const std::filesystem::path& fit) {
+  banner("lighting", options.progress);
+  LightingOptions lighting;
+  lighting.sweep = options.out;
+  lighting.environments = environmentClasses();
+  lighting.fit = fit;
+  lighting.out = options.out / "lighting";
+  runLighting(lighting);
+}
+
 }  // namespace
 
 void runAll(const AllOptions& options) {
@@ -249,6 +262,7 @@ void runAll(const AllOptions& options) {
       screenAndProfiles(options, limit.threads(), &profiles, &profile_seconds);
 
   const TuneResult tuned = tuneSettings(options, limit.threads());
+  lightingStage(options, fit.out);
 
   banner("gtso", options.progress);
   GtsoOptions gtso;

@@ -10,6 +10,7 @@
 #include <cstdio>
 
 #include "common/progress.h"
+#include "common/spherical_harmonics.h"
 #include "common/text_format.h"
 #include "sweep/sweep_set.h"
 
@@ -42,6 +43,10 @@ EscapeImage makeEscapeImage(int width, int height, const WalkSettings& settings)
   image.near_counts.assign(pixels * radii * 2 * static_cast<std::size_t>(settings.bounces + 1), 0);
   image.specular.assign(3 * pixels * settings.specular_roughness.size(), 0.0f);
   image.specular_near.assign(3 * pixels * radii * settings.specular_roughness.size(), 0.0f);
+  if (settings.transfer) {
+    image.transfer.assign(pixels * kShCoefficients * static_cast<std::size_t>(settings.bounces + 1),
+                          0.0f);
+  }
   return image;
 }
 
@@ -59,10 +64,17 @@ std::uint64_t tracePixel(const EmbreeTracer& tracer, const PerspectiveCamera& ca
   const std::size_t per_pixel = 2 * static_cast<std::size_t>(settings.bounces + 1);
   double bent[3] = {0.0, 0.0, 0.0};
   const std::size_t radii = settings.gbuffer_radii.size();
+  const std::size_t transfer = settings.transfer ? per_pixel / 2 * kShCoefficients : 0;
+  scratch->transfer_sums.assign(transfer, 0.0);
   std::uint64_t rays =
       1 + countEscapes(tracer, hit, settings, stream, &image->counts[p * per_pixel],
                        &scratch->walks, bent,
-                       radii > 0 ? &image->near_counts[p * radii * per_pixel] : nullptr);
+                       radii > 0 ? &image->near_counts[p * radii * per_pixel] : nullptr,
+                       transfer > 0 ? scratch->transfer_sums.data() : nullptr);
+  for (std::size_t c = 0; c < transfer; ++c) {
+    image->transfer[p * transfer + c] =
+        static_cast<float>(scratch->transfer_sums[c] / settings.spp);
+  }
   const Eigen::Vector3d forward = -camera.basis.col(2);
   image->depth[p] =
       static_cast<float>((hit.position.cast<double>() - camera.position).dot(forward));
@@ -240,6 +252,24 @@ std::vector<ExrChannel> nearFieldChannels(const EscapeImage& image, std::size_t 
   return channels;
 }
 
+// T0_SH0 … TK_SH8 with settings.transfer, else none.
+std::vector<ExrChannel> transferChannels(const EscapeImage& image) {
+  std::vector<ExrChannel> channels;
+  if (!image.settings.transfer) return channels;
+  const std::size_t pixels = image.mask.size();
+  const std::size_t per_pixel =
+      kShCoefficients * static_cast<std::size_t>(image.settings.bounces + 1);
+  for (int k = 0; k <= image.settings.bounces; ++k) {
+    for (int i = 0; i < kShCoefficients; ++i) {
+      ExrChannel c = blankChannel(transferChannelName(k, i), pixels);
+      for (std::size_t p = 0; p < pixels; ++p)
+        c.pixels[p] = image.transfer[p * per_pixel + kShCoefficients * k + i];
+      channels.push_back(std::move(c));
+    }
+  }
+  return channels;
+}
+
 }  // namespace
 
 std::vector<ExrChannel> escapeChannels(const EscapeImage& image) {
@@ -283,6 +313,7 @@ std::vector<ExrChannel> escapeChannels(const EscapeImage& image) {
   for (auto& half : escape.halves) appendChannels(&channels, std::move(half));
   for (auto& half : specular_halves) appendChannels(&channels, std::move(half));
   for (auto& radius : near) appendChannels(&channels, std::move(radius));
+  appendChannels(&channels, transferChannels(image));
   return channels;
 }
 

@@ -52,6 +52,9 @@ struct EscapeImage {
   // 3(pR + j) + {0, 1, 2}; near-field Ŝ_R, H0, H1 per radius r at 3((p·radii + r)R + j) + ….
   std::vector<float> specular;
   std::vector<float> specular_near;
+  // Per pixel, with settings.transfer (else empty): T_{k,i} = Σ Y_i(escape direction) / N over the
+  // walks that escape after exactly k bounces, at p·9(K+1) + 9k + i (docs/sweep.md, "Transfer").
+  std::vector<float> transfer;
   std::uint64_t rays = 0;  // camera rays + walk segments + specular rays
   double seconds = 0.0;    // tracing wall time (BVH build excluded)
 
@@ -76,6 +79,7 @@ struct PixelScratch {
   SpecularScratch specular;
   std::vector<double> sums;
   std::vector<double> near_sums;
+  std::vector<double> transfer_sums;
 };
 
 // Everything the sweep records for pixel (i, j) of a width × height image, stored at `slot` of

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "common/spherical_harmonics.h"
 #include "sweep/cosine_direction.h"
 #include "sweep/philox_lanes.h"
 
@@ -53,6 +54,17 @@ inline void addDirection(double* sum, float x, float y, float z) {
   sum[0] += x;
   sum[1] += y;
   sum[2] += z;
+}
+
+// Adds the SH basis at the escape direction of a walk that escapes after k bounces to the transfer
+// sums of bounce k (docs/sweep.md, "Transfer"), if they are kept: in double, in sample order per k
+// in both traversals (the stream keeps its walks in sample order), so both give the same bits.
+inline void addTransfer(double* sums, int k, float x, float y, float z) {
+  if (sums == nullptr) return;
+  double basis[kShCoefficients];
+  shBasis(x, y, z, basis);
+  double* to = sums + k * kShCoefficients;
+  for (int i = 0; i < kShCoefficients; ++i) to[i] += basis[i];
 }
 
 // Segment k of a walk of half h, alive at the G-buffer radii from index *near on, missed (t = ∞)
@@ -198,7 +210,8 @@ void nextSegments(WalkScratch* w, int m) {
 std::uint64_t countEscapesSingle(const EmbreeTracer& tracer, const SurfaceHit& start,
                                  const WalkSettings& settings, const WalkSampler& sampler,
                                  std::uint64_t stream, std::uint32_t* counts, WalkScratch* w,
-                                 double* first_escape_sum, std::uint32_t* near_counts) {
+                                 double* first_escape_sum, std::uint32_t* near_counts,
+                                 double* transfer_sums) {
   const int bounces = settings.bounces;
   const int spp = settings.spp;
   resizeScratch(w, spp, sampler);
@@ -237,6 +250,7 @@ std::uint64_t countEscapesSingle(const EmbreeTracer& tracer, const SurfaceHit& s
         addNearEscapes(near_counts, radii, s & 1, k, bounces, INFINITY, &near);
         if (k == 0)
           addDirection(first_escape_sum, ray.direction.x(), ray.direction.y(), ray.direction.z());
+        addTransfer(transfer_sums, k, ray.direction.x(), ray.direction.y(), ray.direction.z());
         break;
       }
       if (k == bounces && near < near_end) {
@@ -281,7 +295,7 @@ std::uint64_t lastNearSegments(const EmbreeTracer& tracer, const WalkSettings& s
 // place). Returns how many survive.
 int countAndCompact(const EmbreeTracer& tracer, const WalkSettings& settings, int m, int k,
                     std::uint32_t* counts, double* first_escape_sum, std::uint32_t* near_counts,
-                    WalkScratch* w) {
+                    double* transfer_sums, WalkScratch* w) {
   const int bounces = settings.bounces;
   const RTCRayHit* rays = w->rays.data();
   int alive = 0;
@@ -294,6 +308,7 @@ int countAndCompact(const EmbreeTracer& tracer, const WalkSettings& settings, in
     if (escaped) {
       ++counts[h * (bounces + 1) + k];
       if (k == 0) addDirection(first_escape_sum, rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
+      addTransfer(transfer_sums, k, rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z);
       continue;
     }
     w->walk[alive] = w->walk[i];
@@ -323,7 +338,8 @@ int countAndCompact(const EmbreeTracer& tracer, const WalkSettings& settings, in
 std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& start,
                                  const WalkSettings& settings, const WalkSampler& sampler,
                                  std::uint64_t stream, std::uint32_t* counts, WalkScratch* w,
-                                 double* first_escape_sum, std::uint32_t* near_counts) {
+                                 double* first_escape_sum, std::uint32_t* near_counts,
+                                 double* transfer_sums) {
   const int bounces = settings.bounces;
   resizeScratch(w, settings.spp, sampler);
   const PhiloxLanes philox(settings.seed, stream);
@@ -370,12 +386,14 @@ std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& s
         addNearEscapes(near_counts, settings.gbuffer_radii, w->walk[i] & 1, k, bounces, INFINITY,
                        &w->near[i]);
         if (k == 0) addDirection(first_escape_sum, dx[i], dy[i], dz[i]);
+        addTransfer(transfer_sums, k, dx[i], dy[i], dz[i]);
       }
       if (near_counts != nullptr) traced += lastNearSegments(tracer, settings, m, near_counts, w);
       break;
     }
     tracer.intersectStream(rays, static_cast<unsigned>(m));
-    m = countAndCompact(tracer, settings, m, k, counts, first_escape_sum, near_counts, w);
+    m = countAndCompact(tracer, settings, m, k, counts, first_escape_sum, near_counts,
+                        transfer_sums, w);
   }
   return traced;
 }
@@ -385,12 +403,13 @@ std::uint64_t countEscapesStream(const EmbreeTracer& tracer, const SurfaceHit& s
 std::uint64_t countEscapes(const EmbreeTracer& tracer, const SurfaceHit& start,
                            const WalkSettings& settings, std::uint64_t stream,
                            std::uint32_t* counts, WalkScratch* scratch, double* first_escape_sum,
-                           std::uint32_t* near_counts) {
+                           std::uint32_t* near_counts, double* transfer_sums) {
   const WalkSampler sampler(settings, stream);
-  return settings.streams ? countEscapesStream(tracer, start, settings, sampler, stream, counts,
-                                               scratch, first_escape_sum, near_counts)
-                          : countEscapesSingle(tracer, start, settings, sampler, stream, counts,
-                                               scratch, first_escape_sum, near_counts);
+  return settings.streams
+             ? countEscapesStream(tracer, start, settings, sampler, stream, counts, scratch,
+                                  first_escape_sum, near_counts, transfer_sums)
+             : countEscapesSingle(tracer, start, settings, sampler, stream, counts, scratch,
+                                  first_escape_sum, near_counts, transfer_sums);
 }
 
 }  // namespace gtbake

@@ -71,6 +71,9 @@ struct WalkSettings {
   // misses or hits at a distance t > R, so A_R counts a walk whose first segment does. Needs
   // bounces ≥ 1 (a segment's hit distance is only known from an intersect query).
   std::vector<float> gbuffer_radii;
+  // Per-bounce SH transfer of the escape directions (docs/sweep.md, "Transfer"): T0_SH0 …
+  // channels, no extra rays.
+  bool transfer = false;
 };
 
 // The scene part of the random streams: 32-bit FNV-1a of the scene's name (its glTF file stem).
@@ -140,11 +143,14 @@ struct WalkScratch {
 // first that misses or hits farther than R_r (docs/sweep.md, "Near-field truth"). A walk whose
 // last segment K hits something (no unbounded escape) but that is alive at some R_r gets one more
 // ray, that segment traced again up to the largest radius for its hit distance. Returns the
-// number of rays traced. Depends only on (start, settings, stream).
+// number of rays traced. If transfer_sums is given, adds to transfer_sums[9k + i] (in double, in
+// sample order) the SH basis Y_i (common/spherical_harmonics.h) at the escape direction of every
+// walk that escapes after exactly k bounces: divided by N, the transfer T_k of docs/sweep.md,
+// "Transfer". Depends only on (start, settings, stream).
 std::uint64_t countEscapes(const EmbreeTracer& tracer, const SurfaceHit& start,
                            const WalkSettings& settings, std::uint64_t stream,
                            std::uint32_t* counts, WalkScratch* scratch,
-                           double* first_escape_sum = nullptr,
-                           std::uint32_t* near_counts = nullptr);
+                           double* first_escape_sum = nullptr, std::uint32_t* near_counts = nullptr,
+                           double* transfer_sums = nullptr);
 
 }  // namespace gtbake

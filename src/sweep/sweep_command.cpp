@@ -219,6 +219,7 @@ WalkSettings walkSettings(const SweepOptions& o) {
   settings.specular_roughness = o.specular_roughness;
   settings.specular_spp = o.specular_roughness.empty() ? 0 : o.specular_spp;
   for (double r : o.gbuffer_radii) settings.gbuffer_radii.push_back(static_cast<float>(r));
+  settings.transfer = o.transfer;
   return settings;
 }
 
@@ -254,6 +255,7 @@ SweepIdentity describeSweep(const SweepOptions& o, const SweepInputs& in) {
   settings["specular_roughness"] = o.specular_roughness;
   settings["specular_spp"] = o.specular_roughness.empty() ? 0 : o.specular_spp;
   settings["gbuffer_radii"] = o.gbuffer_radii;
+  settings["transfer"] = o.transfer;
   id.attributes = {
       {"gtbake.version", GTBAKE_VERSION},
       {"gtbake.spp", std::to_string(o.spp)},
@@ -263,7 +265,8 @@ SweepIdentity describeSweep(const SweepOptions& o, const SweepInputs& in) {
       {"gtbake.stratified_first_bounce", o.stratify_first_bounce ? "1" : "0"},
       {"gtbake.specular_roughness", specularRoughnessList(o.specular_roughness)},
       {"gtbake.specular_spp", std::to_string(o.specular_roughness.empty() ? 0 : o.specular_spp)},
-      {"gtbake.gbuffer_radii", gbufferRadiusList(o.gbuffer_radii)}};
+      {"gtbake.gbuffer_radii", gbufferRadiusList(o.gbuffer_radii)},
+      {"gtbake.transfer", o.transfer ? "1" : "0"}};
   for (const SweepView& v : in.views) {
     const Scene& scene = in.scenes[v.scene];
     id.scenes.push_back(v.name);

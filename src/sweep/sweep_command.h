@@ -49,6 +49,9 @@ struct SweepOptions {
   // A_R channels (A with the sky beyond R, from the same walks; docs/sweep.md, "G-buffer") at these
   // radii in metres, ascending (empty: none). The default is screen-ao's default radius.
   std::vector<double> gbuffer_radii = {1.0};
+  // Per-bounce SH transfer channels T<k>_SH<i> from the same walks (docs/sweep.md, "Transfer");
+  // off drops them (`--transfer off`).
+  bool transfer = true;
   // Shard `shard` of `shards` (0-based; shards = 0: not sharded). A shard traces only its tiles
   // (tile_plan.h) and writes them with <out>/shard.json for `gtbake merge` (docs/cluster.md).
   int shard = 0;

@@ -104,6 +104,10 @@ SweepSettings readSettings(const json& doc, const std::string& where) {
         static_cast<int>(jsonInteger(s, "specular_spp", 2, kMaxSweepSpecularSpp, at));
   }
   out.gbuffer_radii = gbufferRadii(s, where);
+  if (s.contains("transfer")) {
+    if (!s["transfer"].is_boolean()) throw Error(at + ": 'transfer' must be true or false");
+    out.transfer = s["transfer"].get<bool>();
+  }
   return out;
 }
 
@@ -206,6 +210,10 @@ std::string gbufferRadiusChannelName(double radius) {
 
 std::string specularChannelName(double roughness) {
   return hundredthsChannelName('S', roughness);
+}
+
+std::string transferChannelName(int k, int i) {
+  return "T" + std::to_string(k) + "_SH" + std::to_string(i);
 }
 
 std::string truthChannelSuffix(const SweepSet& set, std::optional<double> radius) {

@@ -27,6 +27,7 @@ struct SweepSettings {
   std::vector<double> specular_roughness;  // r_p of the S### channels: distinct hundredths
   int specular_spp = 0;                    // 0 without specular channels
   std::vector<double> gbuffer_radii;       // radii of the A_R channels, metres, ascending
+  bool transfer = false;  // T<k>_SH<i> channels (docs/sweep.md "Transfer"); absent: false
 };
 
 // One image of the sweep (a sweep.json "scenes" entry: a view of a scene).
@@ -72,6 +73,8 @@ std::string nearFieldChannelName(const std::string& name, double radius);
 std::string gbufferRadiusChannelName(double radius);
 // S(r_p) channel name, e.g. 0.25 -> "S025".
 std::string specularChannelName(double roughness);
+// Transfer channel of bounce k and SH coefficient i, "T<k>_SH<i>", e.g. (1, 4) -> "T1_SH4".
+std::string transferChannelName(int k, int i);
 
 // The suffix of the channels holding the truth at `radius` (none: "", the unbounded truth), after
 // checking that the sweep traced that G-buffer radius (settings gbuffer_radii): otherwise a

@@ -124,13 +124,19 @@ TEST(Estimator, StreamAndSingleRayTraversalsAgreeExactly) {
       const std::uint64_t stream = pixelStream(sceneStreamKey("bowl"), j * res + i);
       std::vector<std::uint32_t> counts(2 * (settings.bounces + 1), 0);
       double bent[3] = {0, 0, 0};
+      // The transfer sums (docs/sweep.md, "Transfer"): the same bits from both traversals.
+      std::vector<double> transfer(9 * (settings.bounces + 1), 0.0);
       WalkScratch scratch;
-      countEscapes(tracer, start, settings, stream, counts.data(), &scratch, bent);
+      countEscapes(tracer, start, settings, stream, counts.data(), &scratch, bent, nullptr,
+                   transfer.data());
       WalkSettings single = settings;
       single.streams = false;
       std::vector<std::uint32_t> counts1(counts.size(), 0);
       double bent1[3] = {0, 0, 0};
-      countEscapes(tracer, start, single, stream, counts1.data(), &scratch, bent1);
+      std::vector<double> transfer1(transfer.size(), 0.0);
+      countEscapes(tracer, start, single, stream, counts1.data(), &scratch, bent1, nullptr,
+                   transfer1.data());
+      ASSERT_EQ(transfer, transfer1) << "pixel " << i << ", " << j;
 
       const CounterRng rng(settings.seed, stream);
       std::vector<std::uint32_t> reference(counts.size(), 0);

@@ -5,6 +5,7 @@
 #include <unistd.h>
 #include <algorithm>
 
+#include <Eigen/Core>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -122,6 +123,11 @@ TEST_F(SweepCommand, ChannelsJsonAndHalves) {
       expected.push_back(h + std::string(c) + "_R1");
     }
   }
+  // The transfer channels T<k>_SH<i>, k = 0..K (docs/sweep.md, "Transfer").
+  for (int k = 0; k <= 2; ++k) {
+    for (int i = 0; i < 9; ++i)
+      expected.push_back("T" + std::to_string(k) + "_SH" + std::to_string(i));
+  }
   std::sort(expected.begin(), expected.end());
   EXPECT_EQ(names, expected);
   EXPECT_EQ(image.attributes.at("gtbake.spp"), "16");
@@ -130,6 +136,7 @@ TEST_F(SweepCommand, ChannelsJsonAndHalves) {
   EXPECT_EQ(image.attributes.at("gtbake.specular_roughness"), "0.1,0.25,0.4,0.6,0.8");
   EXPECT_EQ(image.attributes.at("gtbake.specular_spp"), "64");
   EXPECT_EQ(image.attributes.at("gtbake.gbuffer_radii"), "1");
+  EXPECT_EQ(image.attributes.at("gtbake.transfer"), "1");
 
   const auto& a = image.channel("A", "");
   const auto& p1 = image.channel("P1", "");
@@ -179,6 +186,43 @@ TEST_F(SweepCommand, ChannelsJsonAndHalves) {
   for (const auto& entry : fs::directory_iterator(o.out)) {
     EXPECT_EQ(entry.path().string().find(".gtbake-"), std::string::npos) << entry.path();
   }
+}
+
+// docs/sweep.md, "Transfer": under the uniform white sky (L = 1, whose only SH coefficient is
+// L_0 = 2√π) Σ_k ρ^k ⟨T_k, L⟩ is today's G to rounding, bounce by bounce T_{k,0}·2√π = p̂_k; the
+// l = 1 part of T_0 points along the bent normal; --transfer off drops the channels and nothing
+// else changes.
+TEST_F(SweepCommand, TransferUnderUniformSkyReproducesG) {
+  const fs::path scene = writeScene(makeSphereOnPlaneScene(1.0), "spheres");
+  SweepOptions o = options(scene, "on");
+  runSweep(o);
+  const ExrImage image = readExr(o.out / "spheres.exr");
+  const double sky = 2.0 * std::sqrt(3.14159265358979323846);
+  const auto& mask = image.channel("mask", "");
+  for (std::size_t p = 0; p < mask.size(); ++p) {
+    double g = 0.0;
+    for (int k = 3; k >= 0; --k) {
+      const double t0 = image.channel("T" + std::to_string(k) + "_SH0", "")[p];
+      const std::string pk = k == 0 ? "A" : "P" + std::to_string(k);
+      EXPECT_NEAR(t0 * sky, image.channel(pk, "")[p], 1e-6) << p << " " << k;
+      g = g * 0.5 + t0 * sky;
+    }
+    EXPECT_NEAR(g, image.channel("G050", "")[p], 1e-6) << p;
+    if (mask[p] == 0.0f || image.channel("A", "")[p] == 0.0f) continue;
+    // Y1 ∝ y, Y2 ∝ z, Y3 ∝ x: T_0's band 1 is the unnormalised bent normal.
+    const Eigen::Vector3d b(image.channel("T0_SH3", "")[p], image.channel("T0_SH1", "")[p],
+                            image.channel("T0_SH2", "")[p]);
+    const Eigen::Vector3d bent(image.channel("BNX", "")[p], image.channel("BNY", "")[p],
+                               image.channel("BNZ", "")[p]);
+    EXPECT_NEAR(b.normalized().dot(bent), 1.0, 1e-4) << p;
+  }
+  SweepOptions off = options(scene, "off");
+  off.transfer = false;
+  runSweep(off);
+  const ExrImage without = readExr(off.out / "spheres.exr");
+  EXPECT_EQ(without.channels.size() + 36, image.channels.size());
+  EXPECT_EQ(without.attributes.at("gtbake.transfer"), "0");
+  for (const auto& [name, pixels] : without.channels) EXPECT_EQ(pixels, image.channel(name, ""));
 }
 
 // The bowl of the scene library seen through the camera: pixels whose rays enter the opening

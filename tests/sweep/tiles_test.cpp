@@ -26,6 +26,7 @@ TEST(Tiles, RectangleEqualsTheSamePixelsOfTheWholeImage) {
   settings.spp = 8;
   settings.specular_roughness = {0.0, 0.4};
   settings.specular_spp = 8;
+  settings.transfer = true;  // the transfer channels too (docs/sweep.md, "Transfer")
   settings.scene_key = sceneStreamKey("spheres");
   const int width = 23;
   const int height = 17;
