@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cli_harness.h"
+#include "common/atomic_file.h"
 
 namespace gtbake::test {
 namespace {
@@ -91,6 +92,26 @@ TEST_P(CliBadInput, OneLineErrorNonZeroExitNoOutput) {
 
 INSTANTIATE_TEST_SUITE_P(All, CliBadInput, ::testing::ValuesIn(badInvocations()),
                          [](const auto& info) { return info.param.name; });
+
+// An --out directory in the flat layout of an older gtbake is refused in one line before anything
+// is written, never mixed with the layout by stage (docs/reproducibility.md "Layout").
+TEST(Cli, AllRefusesOlderFlatLayout) {
+  const TempDir dir("cli-flat-layout");
+  const fs::path out = dir.path() / "old";
+  fs::create_directories(out);
+  writeFileAtomically(out / "sweep.json", "{}\n");
+  writeFileAtomically(out / "notes.txt", "mine\n");
+  const RunResult result = runGtbake("all --quiet --out " + out.string());
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_EQ(countLines(result.err), 1u) << result.err;
+  EXPECT_NE(result.err.find("flat layout of an older gtbake (sweep.json at its top)"),
+            std::string::npos)
+      << result.err;
+  std::vector<std::string> entries;
+  for (const auto& e : fs::directory_iterator(out)) entries.push_back(e.path().filename().string());
+  std::sort(entries.begin(), entries.end());
+  EXPECT_EQ(entries, (std::vector<std::string>{"notes.txt", "sweep.json"}));
+}
 
 TEST(Cli, HelpAndVersionExitZero) {
   EXPECT_EQ(runGtbake("--help").exit_code, 0);
