@@ -25,6 +25,7 @@
 #include "gtso/gtso_command.h"
 #include "option_values.h"
 #include "pipeline/all_command.h"
+#include "pipeline/report_command.h"
 #include "scene/scenes_command.h"
 #include "screen_ao/gbuffer_export.h"
 #include "screen_ao/screen_ao_command.h"
@@ -461,6 +462,23 @@ Subcommand addAllCommand(CLI::App& app) {
           }};
 }
 
+Subcommand addReportCommand(CLI::App& app) {
+  auto options = std::make_shared<ReportOptions>();
+  auto* parser = app.add_subcommand(
+      "report",
+      "Draw the pictures and pages of a gtbake all directory again from its data, each checked "
+      "against its manifest (docs/reproducibility.md)");
+  parser->add_option("--luts", options->luts, "Output directory of gtbake all")->required();
+  parser->add_option("--out", options->out, "Where the pictures and pages go (may be --luts)")
+      ->required();
+  addThreadsOption(parser, options->threads);
+  return {parser, [options](const RunContext& context) {
+            options->progress = context.progress;
+            runReport(*options);
+            return 0;
+          }};
+}
+
 // The subcommands in the order --help lists them.
 std::vector<Subcommand> registerSubcommands(CLI::App& app) {
   std::vector<Subcommand> subcommands;
@@ -477,6 +495,7 @@ std::vector<Subcommand> registerSubcommands(CLI::App& app) {
   subcommands.push_back(addGbufferCommand(app));
   subcommands.push_back(addTuneCommand(app));
   subcommands.push_back(addAllCommand(app));
+  subcommands.push_back(addReportCommand(app));
   return subcommands;
 }
 

@@ -1,7 +1,7 @@
 #include "pipeline/index_page.h"
 
-#include <algorithm>
 #include <map>
+#include <set>
 #include <vector>
 
 #include "common/output_set.h"
@@ -28,11 +28,15 @@ bool listed(const std::string& relative) {
 
 }  // namespace
 
-std::string indexPage(const fs::path& out) {
-  std::map<std::string, std::vector<std::string>> by_folder;  // folder -> files, both sorted
+std::string indexPage(const fs::path& out, const std::map<std::string, std::string>& also) {
+  std::set<std::string> names;
   for (const auto& entry : fs::recursive_directory_iterator(out)) {
-    if (!entry.is_regular_file()) continue;
-    const std::string relative = entry.path().lexically_relative(out).generic_string();
+    if (entry.is_regular_file())
+      names.insert(entry.path().lexically_relative(out).generic_string());
+  }
+  for (const auto& [name, bytes] : also) names.insert(name);
+  std::map<std::string, std::vector<std::string>> by_folder;  // folder -> files, both sorted
+  for (const std::string& relative : names) {
     if (!listed(relative)) continue;
     const std::size_t slash = relative.find('/');
     by_folder[slash == std::string::npos ? "" : relative.substr(0, slash)].push_back(relative);
@@ -43,8 +47,7 @@ std::string indexPage(const fs::path& out) {
       "<h1>gtbake outputs</h1>\n<p>One folder per stage, each with its outputs and its manifest; "
       "ship/ holds what an engine ships. Reports (.html) and results (.json) of this directory. "
       "gtbake " GTBAKE_VERSION ".</p>\n";
-  for (auto& [folder, files] : by_folder) {
-    std::sort(files.begin(), files.end());
+  for (const auto& [folder, files] : by_folder) {
     html += "<h2>" + escapeHtml(folder.empty() ? "." : folder + "/") + "</h2>\n<ul>\n";
     for (const std::string& f : files) {
       html += "<li><a href=\"" + escapeHtml(f) + "\">" + escapeHtml(f) + "</a></li>\n";

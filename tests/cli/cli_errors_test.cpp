@@ -52,6 +52,7 @@ std::vector<BadInvocation> badInvocations() {
       {"gtso_bad_size", "gtso --out {out} --size 1"},
       {"encode_bad_4d_layout", "encode --gtso /nonexistent --out {out} --4d-layout tiles"},
       {"all_bad_4d_layout", "all --out {out} --4d-layout tiles"},
+      {"report_missing_luts", "report --luts /nonexistent --out {out}"},
       {"export_missing_fit", "export --fit /nonexistent/fit.json --gtso /nonexistent --out {out}"},
       {"tune_missing_sweep", "tune --sweep /nonexistent --out {out}"},
       {"gbuffer_missing_sweep", "gbuffer --sweep /nonexistent --out {out}"},

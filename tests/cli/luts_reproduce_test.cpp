@@ -281,6 +281,23 @@ void expectRelocatableReports(const fs::path& out) {
   EXPECT_GE(pages, 4);
 }
 
+// `gtbake report` draws every picture and page of a fresh run again from its data files, each the
+// bytes `gtbake all` wrote (docs/reproducibility.md "Reports from the data").
+void expectReportRedrawsPictures(const fs::path& out) {
+  const TempDir drawn("report");
+  const RunResult run =
+      runGtbake("report --quiet --luts " + out.string() + " --out " + drawn.path().string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  int pictures = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(drawn.path())) {
+    if (!entry.is_regular_file()) continue;
+    const fs::path relative = fs::relative(entry.path(), drawn.path());
+    EXPECT_EQ(readBytes(entry.path()), readBytes(out / relative)) << relative;
+    ++pictures;
+  }
+  EXPECT_GT(pictures, 100);
+}
+
 TEST(Luts, FreshAllReproducesCommittedLuts) {
   const fs::path committed = fs::path(GTBAKE_SOURCE_DIR) / "luts";
   ASSERT_TRUE(fs::exists(committed / "ship" / "gtbake_tables.h")) << "luts/ has not been generated";
@@ -304,6 +321,7 @@ TEST(Luts, FreshAllReproducesCommittedLuts) {
     EXPECT_EQ(set.readVerified(page), readFile(dir / page));
   }
   expectRelocatableReports(fresh.path());
+  expectReportRedrawsPictures(fresh.path());
   const OutputManifest screen = readOutputSet(fresh.path() / "screen_ao", "screen_ao");
   ASSERT_NE(screen.find("screen_ao.html"), nullptr);
   EXPECT_EQ(screen.readVerified("screen_ao.html"),
