@@ -19,8 +19,8 @@ inline constexpr const char* kProfilesDir = "profiles";
 inline constexpr const char* kTuneDir = "tune";
 
 // Throws gtbake::Error (one line saying what to do) when `dir` holds the flat layout of an older
-// gtbake (sweep.json, fit.json, gtbake_tables.h or a stage's manifest at its top): its files are
-// never mixed with the new layout's.
+// gtbake (sweep.json, fit.json, gtbake_tables.h, report/index.html or a stage's manifest at its
+// top): its files are never mixed with the new layout's.
 void refuseFlatLayout(const std::filesystem::path& dir, const char* command);
 
 }  // namespace gtbake

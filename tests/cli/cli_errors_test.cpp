@@ -112,6 +112,13 @@ TEST(Cli, AllRefusesOlderFlatLayout) {
   for (const auto& e : fs::directory_iterator(out)) entries.push_back(e.path().filename().string());
   std::sort(entries.begin(), entries.end());
   EXPECT_EQ(entries, (std::vector<std::string>{"notes.txt", "sweep.json"}));
+  // The fit report an older run left in a checkout whose tracked files moved to the new layout.
+  const fs::path left = dir.path() / "left";
+  fs::create_directories(left / "report");
+  writeFileAtomically(left / "report" / "index.html", "<html></html>\n");
+  const RunResult again = runGtbake("all --quiet --out " + left.string());
+  EXPECT_NE(again.exit_code, 0);
+  EXPECT_NE(again.err.find("(report/index.html at its top)"), std::string::npos) << again.err;
 }
 
 TEST(Cli, HelpAndVersionExitZero) {
