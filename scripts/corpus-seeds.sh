@@ -11,7 +11,7 @@
 # lie outside the band, the refit's six coefficients; then min, mean, max and standard deviation
 # over the seeds, also of the refit's curve G at the first seed's band maximum, beside that band).
 # data/corpus_seeds/summary.json is the committed run of the default seeds; test
-# Docs.CorpusSeedsSummaryMatchesLuts checks its seed-1 record against luts/fit.json.
+# Docs.CorpusSeedsSummaryMatchesLuts checks its seed-1 record against luts/fit/fit.json.
 set -euo pipefail
 out="${1:?usage: scripts/corpus-seeds.sh OUT [GTBAKE] [SEED...]}"
 gtbake="${2:-build/gtbake}"

@@ -59,8 +59,9 @@ int setGeneratedBlocks(const fs::path& file, const std::string& luts, bool updat
     const char* artifact;
     std::string (*lines)(const nlohmann::json&);
   };
-  const Block blocks[] = {{"ranking-tests", "validate_gtso.json", gtbake::docs::rankingLines},
-                          {"shipped-verdict", "fit.json", gtbake::docs::verdictLines}};
+  const Block blocks[] = {
+      {"ranking-tests", "validate_gtso/validate_gtso.json", gtbake::docs::rankingLines},
+      {"shipped-verdict", "fit/fit.json", gtbake::docs::verdictLines}};
   int issues = 0;
   for (const Block& b : blocks) {
     if (text.find(std::string("<!-- ") + b.tag + ":begin -->") == std::string::npos) continue;

@@ -26,6 +26,7 @@
 #include "lighting/lighting_command.h"
 #include "option_values.h"
 #include "pipeline/all_command.h"
+#include "pipeline/report_command.h"
 #include "scene/scenes_command.h"
 #include "screen_ao/gbuffer_export.h"
 #include "screen_ao/screen_ao_command.h"
@@ -230,7 +231,7 @@ Subcommand addValidateCommand(CLI::App& app) {
       "0 consistent, 3 outside, 4 too few scenes to judge");
   parser->add_option("--sweep", options->sweep, "Directory written by gtbake sweep");
   parser->add_option("--luts", options->luts,
-                     "A fit's output directory with validate_data.json (e.g. luts): no images");
+                     "A fit's output directory with validate_data.json (e.g. luts/fit): no images");
   auto* coeffs_option = parser->add_option("--coeffs", *coeffs,
                                            "a1,a0,b1,b0,c1,c0 (default: the paper's Equation 10)");
   auto weighting = std::make_shared<std::string>("pixel");
@@ -287,16 +288,18 @@ Subcommand addValidateGtsoCommand(CLI::App& app) {
   auto* parser = app.add_subcommand(
       "validate-gtso", "Score GTSO tables, cone model and baselines against path-traced S; fit u");
   parser->add_option("--sweep", options->sweep, "Sweep with specular channels")->required();
-  parser->add_option("--luts", options->luts, "Directory with gtso/ and gtso*.dds")->required();
+  parser->add_option("--luts", options->luts, "Directory laid out as gtbake all's: gtso/, encode/")
+      ->required();
   parser->add_option("--u", options->u, "Also score the cone model with this u");
   parser->add_option("--out", options->out,
-                     "Output directory (default: --luts; with --estimator "
+                     "Output directory (default: <luts>/validate_gtso; with --estimator "
                      "<luts>/profiles/<estimator>)");
   auto input = addAoInputOptions(
       parser,
       "Score on this screen-space estimator's A and bent normal instead of the ray-traced ones "
-      "(docs/validate_gtso.md section 6; reads <luts>/validate_gtso.json for the fitted u)");
-  parser->add_flag("--no-images", "Leave the per-scene PNGs out of the report");
+      "(docs/validate_gtso.md section 6; reads <luts>/validate_gtso/validate_gtso.json for the "
+      "fitted u)");
+  parser->add_flag("--no-images", "Leave the per-view PNGs out of the report");
   return {parser, [options, input, parser](const RunContext& context) {
             options->input =
                 parseAoInput(input->estimator, input->screen_ao, input->truth, options->sweep);
@@ -332,7 +335,9 @@ Subcommand addExportCommand(CLI::App& app) {
   parser->add_option("--fit", options->fit, "fit.json from gtbake fit")->required();
   parser->add_option("--gtso", options->gtso, "Directory from gtbake gtso")->required();
   parser->add_option("--out", options->out, "Output directory")->required();
-  parser->add_option("--encode", options->encode, "Directory from gtbake encode (default: --out)");
+  parser->add_option("--encode", options->encode,
+                     "Directory from gtbake encode (default: --out); elsewhere, its volumes are "
+                     "copied into --out");
   parser->add_option("--validate-gtso", options->validate_gtso,
                      "validate_gtso.json whose u (fitted to path-traced S) the header ships");
   parser->add_option("--profiles", options->profiles,
@@ -461,7 +466,8 @@ Subcommand addAllCommand(CLI::App& app) {
   auto* parser = app.add_subcommand("all",
                                     "scenes, sweep, fit, screen-ao, profiles, tune, gtso, encode, "
                                     "validate-gtso and export with defaults");
-  parser->add_option("--out", options->out, "Output directory")->capture_default_str();
+  parser->add_option("--out", options->out, "Output directory, one folder per stage")
+      ->capture_default_str();
   addThreadsOption(parser, options->threads);
   parser->add_option("--scenes", options->scenes,
                      "glTF files or directories of them (default: the built-in corpus)");
@@ -483,6 +489,23 @@ Subcommand addAllCommand(CLI::App& app) {
           }};
 }
 
+Subcommand addReportCommand(CLI::App& app) {
+  auto options = std::make_shared<ReportOptions>();
+  auto* parser = app.add_subcommand(
+      "report",
+      "Draw the pictures and pages of a gtbake all directory again from its data, each checked "
+      "against its manifest (docs/reproducibility.md)");
+  parser->add_option("--luts", options->luts, "Output directory of gtbake all")->required();
+  parser->add_option("--out", options->out, "Where the pictures and pages go (may be --luts)")
+      ->required();
+  addThreadsOption(parser, options->threads);
+  return {parser, [options](const RunContext& context) {
+            options->progress = context.progress;
+            runReport(*options);
+            return 0;
+          }};
+}
+
 // The subcommands in the order --help lists them.
 std::vector<Subcommand> registerSubcommands(CLI::App& app) {
   std::vector<Subcommand> subcommands;
@@ -500,6 +523,7 @@ std::vector<Subcommand> registerSubcommands(CLI::App& app) {
   subcommands.push_back(addTuneCommand(app));
   subcommands.push_back(addLightingCommand(app));
   subcommands.push_back(addAllCommand(app));
+  subcommands.push_back(addReportCommand(app));
   return subcommands;
 }
 

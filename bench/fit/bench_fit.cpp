@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
     mark();
     {
       OutputSet report("/tmp/bench_fit_report", "fit_report");
-      writeFitReport(report, "", "/tmp/bench_fit_report", a, kPaperCoeffs);
+      writeFitReport(report, "", a, kPaperCoeffs);
       report.commit();
     }
     mark();

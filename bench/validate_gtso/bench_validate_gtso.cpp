@@ -9,8 +9,8 @@
 //     summed 8 side by side;
 // and the u fit (§3, both laws), the SO floor (§2a), wall and CPU seconds alone.
 //
-//   bench_validate_gtso SWEEP_DIR [--threads T]     (SWEEP_DIR: e.g. luts/, a sweep with S
-//   channels)
+//   bench_validate_gtso SWEEP_DIR [--threads T]     (SWEEP_DIR: e.g. <out>/sweep of gtbake all,
+//   a sweep with S channels)
 #include <sys/resource.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

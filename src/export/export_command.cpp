@@ -19,6 +19,8 @@
 namespace gtbake {
 namespace {
 
+namespace fs = std::filesystem;
+
 std::size_t outsideUnitInterval(const std::vector<float>& values) {
   std::size_t n = 0;
   for (float v : values) n += (v < 0.0f || v > 1.0f) ? 1 : 0;
@@ -51,6 +53,40 @@ void printSummary(const ExportOptions& options, const GtsoInput& gtso, const Shi
   std::printf("  wrote gtbake_tables.h/.hlsl/.glsl in %.2f s\n", seconds);
 }
 
+// What each shipped file is, README.md of the export set (docs/export.md lists the same).
+std::string shipReadme(bool volumes_here) {
+  std::string text =
+      "# gtbake tables\n\n"
+      "What an engine ships, written by `gtbake export` (docs/export.md):\n\n"
+      "- `gtbake_tables.h`: C++ constants (Equation 10, the engine profiles, the cone's u), the\n"
+      "  BC4 blocks of both GTSO tables and the runtime lookups.\n"
+      "- `gtbake_tables.hlsl`, `gtbake_tables.glsl`: the same constants and lookups as shader\n"
+      "  includes, reading the volumes below.\n";
+  if (volumes_here) {
+    text +=
+        "- `gtso3d.dds`, `gtso3d.ktx2`: the 3D table S3 as a BC4_UNORM volume.\n"
+        "- `gtso4d.dds`, `gtso4d.ktx2`: the 4D table S4 as a BC4_UNORM volume (its layout in\n"
+        "  `gtbake_tables.h`).\n"
+        "- `gtso3d_r16.*`, `gtso4d_r16.*`: the same volumes as R16_UNORM.\n"
+        "- `gtso3d_r8.*`, `gtso4d_r8.*`: the same volumes as R8_UNORM.\n";
+  }
+  return text + "- `export.manifest.json`: the size and SHA-256 of every file here.\n";
+}
+
+// The volumes of `gtbake encode`, verified against its manifest and copied beside the header when
+// encode wrote them into another directory (ship/ of `gtbake all`), and README.md.
+void addShippedFiles(const fs::path& encode_dir, const fs::path& out, OutputSet& output) {
+  const bool elsewhere = realOutputDirectory(encode_dir) != realOutputDirectory(out);
+  if (elsewhere) {
+    const OutputManifest set = readOutputSet(encode_dir, "encode");
+    for (const OutputFile& f : set.files) {
+      const std::string ext = fs::path(f.name).extension().string();
+      if (ext == ".dds" || ext == ".ktx2") output.add(f.name, set.readVerified(f.name));
+    }
+  }
+  output.add("README.md", shipReadme(elsewhere));
+}
+
 }  // namespace
 
 ExportResult runExport(const ExportOptions& options) {
@@ -67,8 +103,8 @@ ExportResult runExport(const ExportOptions& options) {
   const std::vector<TunedSettingInput> tuned =
       options.tune.empty() ? std::vector<TunedSettingInput>{} : readTunedSettings(options.tune);
   // The volumes `gtbake encode` wrote for these tables (their layouts and BC4 blocks).
-  const ShippedVolumes volumes =
-      readShippedVolumes(options.encode.empty() ? options.out : options.encode, gtso);
+  const fs::path encode_dir = options.encode.empty() ? options.out : options.encode;
+  const ShippedVolumes volumes = readShippedVolumes(encode_dir, gtso);
   const Bc4Volume bc4_3d = bc4Of(volumes.t3), bc4_4d = bc4Of(volumes.t4);
 
   GeneratedCodeInput code;
@@ -89,6 +125,7 @@ ExportResult runExport(const ExportOptions& options) {
   output.add("gtbake_tables.h", makeTablesHeader(code));
   output.add("gtbake_tables.hlsl", makeShaderInclude(code, ShaderLanguage::kHlsl));
   output.add("gtbake_tables.glsl", makeShaderInclude(code, ShaderLanguage::kGlsl));
+  addShippedFiles(encode_dir, options.out, output);
   nlohmann::ordered_json settings = {{"fit", relativePath(options.fit, options.out)},
                                      {"gtso", relativePath(options.gtso, options.out)}};
   if (!options.profiles.empty()) settings["profiles"] = relativePath(options.profiles, options.out);

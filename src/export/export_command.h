@@ -11,7 +11,8 @@ struct ExportOptions {
   std::filesystem::path fit;   // fit.json from `gtbake fit`
   std::filesystem::path gtso;  // directory from `gtbake gtso`
   std::filesystem::path out;   // gtbake_tables.h, gtbake_tables.hlsl/.glsl
-  // The directory of `gtbake encode` (encode.json, gtso*.dds); empty: `out`.
+  // The directory of `gtbake encode` (encode.json, gtso*.dds); empty: `out`. When it is another
+  // directory its volumes are copied into `out` beside the header (docs/export.md).
   std::filesystem::path encode;
   // validate_gtso.json from `gtbake validate-gtso`: its u (fitted to path-traced S) is shipped
   // instead of gtso.json's table fit. Empty: the table fit.

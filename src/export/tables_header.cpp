@@ -349,7 +349,7 @@ std::string provenanceComment(const GeneratedCodeInput& in) {
     << jsonAt(fj, {"scene_jackknife", "band_max", "value"})
     << " at A = " << jsonAt(fj, {"scene_jackknife", "band_max", "A"})
     << ", rho = " << jsonAt(fj, {"scene_jackknife", "band_max", "rho"}) << "; weighting "
-    << jsonAt(fj, {"settings", "weighting"}) << "; scenes " << jsonAt(fj, {"sweep", "scenes"})
+    << jsonAt(fj, {"settings", "weighting"}) << "; views " << jsonAt(fj, {"sweep", "views"})
     << "\n//   shipped constants by range of A (docs/fit.md section 5): "
     << jsonAt(fj, {"shipped", "verdict", "headline"}) << "\n"
     << "// gtso.json: version " << jsonAt(gj, {"version"}) << "; roughness "

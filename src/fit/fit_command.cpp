@@ -66,10 +66,10 @@ FitResult runFit(const FitOptions& options) {
   OutputSet output(out_dir, "fit");  // export requires and verifies fit.manifest.json
   if (options.write_report && own) {
     OutputSet report(report_dir, "fit_report");
-    writeFitReport(report, "", report_dir, a, options.shipped, &shipped_report.verdict);
+    writeFitReport(report, "", a, options.shipped, &shipped_report.verdict);
     report.commit();
   } else if (options.write_report) {
-    writeFitReport(output, inside + "/", report_dir, a, options.shipped, &shipped_report.verdict);
+    writeFitReport(output, inside + "/", a, options.shipped, &shipped_report.verdict);
   }
   bar.add(1);
   output.add(options.out.filename().string(),

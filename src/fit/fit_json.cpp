@@ -360,7 +360,7 @@ json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceC
   out["sweep"] = {{"dir", relativePath(a.data.dir, fs::absolute(json_path).parent_path())},
                   {"spp", a.data.spp},
                   {"bounces", a.data.bounces},
-                  {"scenes", scenes},
+                  {"views", scenes},
                   {"points", a.data.points()}};
   out["input"] = inputJson(a.input, fs::absolute(json_path).parent_path());
   out["version"] = GTBAKE_VERSION;

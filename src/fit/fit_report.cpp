@@ -370,11 +370,17 @@ std::string leaveOneOutTable(const SceneJackknife& jk) {
              rows);
 }
 
-// One thumbnail of A per view (the sweep's <name>_A.png), with its scene and type.
-std::string thumbnails(const FitAnalysis& a, const fs::path& dir) {
-  std::string html = "<h2>Scenes (A, the sweep's previews)</h2>\n<div>";
+// One thumbnail of A per view: the sweep's <view>_A.png, verified against its manifest and copied
+// into views/ below the page, so the report holds every image it shows (docs/reproducibility.md
+// "Layout"). A sweep set without previews gets no thumbnails.
+std::string thumbnails(const FitAnalysis& a, OutputSet& set, const std::string& prefix) {
+  const OutputManifest sweep = readOutputSet(a.data.dir, "sweep");
+  std::string html = "<h2>Views (A, the sweep's previews)</h2>\n<div>";
   for (const SweepScene& sc : a.data.scenes) {
-    const std::string src = relativePath(a.data.dir / (fileSlug(sc.name) + "_A.png"), dir);
+    const std::string png = fileSlug(sc.name) + "_A.png";
+    if (sweep.find(png) == nullptr) continue;
+    const std::string src = "views/" + png;
+    set.add(prefix + src, sweep.readVerified(png));
     const std::string name = escapeHtml(sc.name);
     html += "<figure style='display:inline-block;margin:4px;text-align:center'><img src=\"" +
             escapeHtml(src) + "\" width=96 height=96 alt=\"" + name +
@@ -409,9 +415,8 @@ std::string perAlbedoTable(const MultiBounceFit& fit) {
 
 }  // namespace
 
-void writeFitReport(OutputSet& set, const std::string& prefix, const fs::path& dir,
-                    const FitAnalysis& a, const MultiBounceCoeffs& shipped,
-                    const CurveVerdict* verdict) {
+void writeFitReport(OutputSet& set, const std::string& prefix, const FitAnalysis& a,
+                    const MultiBounceCoeffs& shipped, const CurveVerdict* verdict) {
   Figures figures(set, prefix);
   bandFigures(a, shipped, figures);
   figure7(a, shipped, figures);
@@ -428,7 +433,7 @@ void writeFitReport(OutputSet& set, const std::string& prefix, const fs::path& d
       "td,th{border:1px solid #ccc;padding:3px 8px;text-align:right}"
       "th{background:#f3f3f3}img{margin:4px;border:1px solid #eee}</style></head><body>\n"
       "<h1>gtbake fit: multi-bounce Eq. 10</h1>\n<p>Sweep <code>" +
-      escapeHtml(relativePath(a.data.dir, dir)) +
+      escapeHtml((a.data.dir / "").lexically_normal().parent_path().filename().string()) +
       "</code>: " + std::to_string(a.data.scenes.size()) + " views of " +
       std::to_string(a.jackknife.scenes) + " scenes of " + std::to_string(a.type_jackknife.scenes) +
       " types (" + scenes + "), " + std::to_string(a.data.points()) + " points, " +
@@ -439,7 +444,7 @@ void writeFitReport(OutputSet& set, const std::string& prefix, const fs::path& d
       ". G = a(&rho;)A&sup3; &minus; b(&rho;)A&sup2; + c(&rho;)A.</p>\n" + headline(a, verdict) +
       coefficientTables(a, shipped) + alternativeTables(a) + errorTables(a) +
       leaveOneOutTable(a.jackknife) + leaveOneOutTable(a.type_jackknife) + perAlbedoTable(a.fit) +
-      thumbnails(a, dir) + figures.html() + "</body></html>\n";
+      thumbnails(a, set, prefix) + figures.html() + "</body></html>\n";
   set.add(prefix + "index.html", html);
 }
 

@@ -18,12 +18,11 @@ namespace gtbake {
 
 class OutputSet;
 
-// Stages index.html and the *.svg figures in `set` under `prefix` ("" or "report/"), so the
-// report is committed with (and verified like) the rest of the set; `dir` is the directory the
-// page ends up in (for the relative link to the sweep). With `verdict`, the page leads with the
-// shipped constants' verdict by range of A (docs/fit.md §5).
-void writeFitReport(OutputSet& set, const std::string& prefix, const std::filesystem::path& dir,
-                    const FitAnalysis& a, const MultiBounceCoeffs& shipped,
-                    const CurveVerdict* verdict = nullptr);
+// Stages index.html, the *.svg figures and the views' thumbnails (views/*.png) in `set` under
+// `prefix` ("" or "report/"), so the report is committed with (and verified like) the rest of the
+// set and links nothing outside its folder. With `verdict`, the page leads with the shipped
+// constants' verdict by range of A (docs/fit.md §5).
+void writeFitReport(OutputSet& set, const std::string& prefix, const FitAnalysis& a,
+                    const MultiBounceCoeffs& shipped, const CurveVerdict* verdict = nullptr);
 
 }  // namespace gtbake

@@ -297,19 +297,6 @@ void checkGtsoMemory(const GtsoOptions& o, int cells, int threads) {
   checkMemoryEstimate(tables + grids + points, what, &kMaxGtsoBytes);
 }
 
-// Previews: S3 over (x, y) at a few z slices; S4 at a few (z, w).
-void writePreviews(OutputSet& output, const std::vector<float>& f3, const std::vector<float>& f4,
-                   int n) {
-  const std::size_t plane = static_cast<std::size_t>(n) * n;
-  for (int z : std::set<int>{0, n / 4, n / 2, 3 * n / 4, n - 1}) {  // distinct at small n
-    writeSlice(output, "gtso3d_z" + std::to_string(z) + ".png", f3, n, z * plane);
-    for (int w : std::set<int>{0, n / 2, n - 1}) {
-      writeSlice(output, "gtso4d_z" + std::to_string(z) + "_w" + std::to_string(w) + ".png", f4, n,
-                 (static_cast<std::size_t>(w) * n + z) * plane);
-    }
-  }
-}
-
 Json tableJson(const Table& t, const std::string& file, int cells, int referenceFactor,
                const std::optional<ErrorStats>& ref) {
   const int n = t.size;
@@ -440,6 +427,19 @@ void printGtsoSummary(const GtsoRun& r, const GtsoOptions& options) {
 
 }  // namespace
 
+// Previews: S3 over (x, y) at a few z slices; S4 at a few (z, w).
+void writeGtsoPreviews(OutputSet& output, const std::vector<float>& f3,
+                       const std::vector<float>& f4, int n) {
+  const std::size_t plane = static_cast<std::size_t>(n) * n;
+  for (int z : std::set<int>{0, n / 4, n / 2, 3 * n / 4, n - 1}) {  // distinct at small n
+    writeSlice(output, "gtso3d_z" + std::to_string(z) + ".png", f3, n, z * plane);
+    for (int w : std::set<int>{0, n / 2, n - 1}) {
+      writeSlice(output, "gtso4d_z" + std::to_string(z) + "_w" + std::to_string(w) + ".png", f4, n,
+                 (static_cast<std::size_t>(w) * n + z) * plane);
+    }
+  }
+}
+
 GtsoResult runGtso(const GtsoOptions& options) {
   validateOptions(options);
   const int cells = options.lobe_cells == 0 ? gtso::kDefaultLobeCells : options.lobe_cells;
@@ -450,7 +450,7 @@ GtsoResult runGtso(const GtsoOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const GtsoRun r = computeGtso(options, cells, limit.threads());
   const std::vector<float> f3 = gtso::toFloats(r.s3), f4 = gtso::toFloats(r.s4);
-  writePreviews(output, f3, f4, r.size);
+  writeGtsoPreviews(output, f3, f4, r.size);
   const Json j = gtsoJson(r, options, seconds(start));
   output.add("gtso3d.f32", floatBytes(f3));
   output.add("gtso4d.f32", floatBytes(f4));

@@ -3,8 +3,11 @@
 #pragma once
 
 #include <filesystem>
+#include <vector>
 
 namespace gtbake {
+
+class OutputSet;
 
 struct GtsoOptions {
   std::filesystem::path out;  // gtso3d.f32, gtso4d.f32, gtso.json, slice images
@@ -37,5 +40,11 @@ struct GtsoResult {
 };
 
 GtsoResult runGtso(const GtsoOptions& options);
+
+// The slice previews of the tables (gtso3d_z*.png, gtso4d_z*_w*.png: S3 over (x, y) at a few z,
+// S4 at a few (z, w)) staged in `output`; f3 and f4 in texture order, n texels per axis. `gtbake
+// report` redraws them from the .f32 tables.
+void writeGtsoPreviews(OutputSet& output, const std::vector<float>& f3,
+                       const std::vector<float>& f4, int n);
 
 }  // namespace gtbake

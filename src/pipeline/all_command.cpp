@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "common/atomic_file.h"
+#include "common/output_layout.h"
 #include "common/output_lock.h"
 #include "common/progress.h"
 #include "common/threads.h"
@@ -14,6 +15,7 @@
 #include "fit/fit_command.h"
 #include "gtso/gtso_command.h"
 #include "lighting/lighting_command.h"
+#include "pipeline/index_page.h"
 #include "scene/scenes_command.h"
 #include "screen_ao/screen_ao_command.h"
 #include "sweep/sweep_command.h"
@@ -43,7 +45,7 @@ void banner(const char* stage, bool enabled) {
 
 // The seconds of the stages whose results carry no time of their own.
 struct StageTimes {
-  double scenes, fit, profiles, tune, specular_profiles, exporter, total;
+  double scenes, fit, profiles, tune, lighting, specular_profiles, exporter, total;
 };
 
 // One estimator's profile: Equation 10 refitted on its Â (docs/profiles.md), and specular
@@ -73,14 +75,14 @@ double specularProfiles(const AllOptions& options, std::vector<Profile>* profile
   std::optional<SpecularSweep> unbounded;
   for (Profile& p : *profiles) {
     ValidateGtsoOptions v;
-    v.sweep = options.out;
+    v.sweep = options.out / kSweepDir;
     v.luts = options.out;
     v.input.estimator = p.estimator;
-    v.input.screen_ao = options.out / "screen_ao";
+    v.input.screen_ao = options.out / kScreenAoDir;
     const std::optional<double> radius = truthRadius(v.input);
-    if (!sweep || sweep->radius != radius) sweep = readSpecularSweep(options.out, radius);
+    if (!sweep || sweep->radius != radius) sweep = readSpecularSweep(v.sweep, radius);
     v.sweep_data = &*sweep;
-    if (radius && !unbounded) unbounded = readSpecularSweep(options.out);
+    if (radius && !unbounded) unbounded = readSpecularSweep(v.sweep);
     v.unbounded_sweep_data = unbounded ? &*unbounded : nullptr;
     v.write_images = false;  // 72 PNGs per estimator; `gtbake validate-gtso --estimator` draws them
     v.print_summary = false;
@@ -96,8 +98,8 @@ ScreenAoResult screenAndProfiles(const AllOptions& options, int threads,
                                  std::vector<Profile>* profiles, double* profile_seconds) {
   banner("screen-ao", options.progress);
   ScreenAoOptions screen_ao;
-  screen_ao.sweep = options.out;
-  screen_ao.out = options.out / "screen_ao";
+  screen_ao.sweep = options.out / kSweepDir;
+  screen_ao.out = options.out / kScreenAoDir;
   screen_ao.threads = threads;
   screen_ao.progress = options.progress;
   const ScreenAoResult screened = runScreenAo(screen_ao);
@@ -111,8 +113,8 @@ ScreenAoResult screenAndProfiles(const AllOptions& options, int threads,
   Progress bar("profiles", estimators.size(), options.progress);
   tbb::parallel_for(std::size_t{0}, estimators.size(), [&](std::size_t k) {
     FitOptions fit;
-    fit.sweep = options.out;
-    fit.out = options.out / "profiles" / estimators[k] / "fit.json";
+    fit.sweep = screen_ao.sweep;
+    fit.out = options.out / kProfilesDir / estimators[k] / "fit.json";
     fit.input.estimator = estimators[k];
     fit.input.screen_ao = screen_ao.out;
     fit.write_report = false;  // 72 scatter plots per profile; `gtbake fit --estimator` draws them
@@ -168,11 +170,11 @@ void printSummary(const AllOptions& options, const SweepResult& swept, const Fit
   }
   std::printf(
       "  time             scenes %.1f s, sweep %.1f s (%.1f Mrays/s), fit %.1f s, screen-ao %.1f s,"
-      " profiles %.1f s, tune %.1f s, gtso %.1f s, encode %.1f s, validate-gtso %.1f s (per"
-      " estimator %.1f s), export %.1f s; total %.1f s\n",
+      " profiles %.1f s, tune %.1f s, lighting %.1f s, gtso %.1f s, encode %.1f s, validate-gtso"
+      " %.1f s (per estimator %.1f s), export %.1f s; total %.1f s\n",
       times.scenes, swept.seconds, swept.seconds > 0 ? swept.rays / swept.seconds * 1e-6 : 0.0,
-      times.fit, screened.seconds, times.profiles, times.tune, baked.seconds, encoded.seconds,
-      validated.seconds, times.specular_profiles, times.exporter, times.total);
+      times.fit, screened.seconds, times.profiles, times.tune, times.lighting, baked.seconds,
+      encoded.seconds, validated.seconds, times.specular_profiles, times.exporter, times.total);
 }
 
 // The scenes (the user's, or the built-in corpus written into <out>/scenes at its settings) and
@@ -193,7 +195,7 @@ SweepResult sweepScenes(const AllOptions& options, int threads, double* scenes_s
   banner("sweep", options.progress);
   SweepOptions sweep;
   sweep.scenes = gltf;
-  sweep.out = options.out;  // <out>/<scene>.exr, as the README promises
+  sweep.out = options.out / kSweepDir;  // <out>/sweep/<view>.exr, as the README promises
   sweep.threads = threads;
   sweep.progress = options.progress;
   if (corpus) {
@@ -209,9 +211,9 @@ SweepResult sweepScenes(const AllOptions& options, int threads, double* scenes_s
 TuneResult tuneSettings(const AllOptions& options, int threads) {
   banner("tune", options.progress);
   TuneOptions tune;
-  tune.sweep = options.out;
-  tune.out = options.out / "tune";
-  tune.screen_ao = options.out / "screen_ao";  // its defaults' Â, not run again (docs/tune.md §7)
+  tune.sweep = options.out / kSweepDir;
+  tune.out = options.out / kTuneDir;
+  tune.screen_ao = options.out / kScreenAoDir;  // its defaults' Â, not run again (docs/tune.md §7)
   tune.threads = threads;
   tune.progress = options.progress;
   try {
@@ -224,33 +226,38 @@ TuneResult tuneSettings(const AllOptions& options, int threads) {
 
 // Equation 10 under the built-in environment classes against the sweep's transfer channels
 // (docs/lighting.md) into <out>/lighting.
-void lightingStage(const AllOptions& options, const std::filesystem::path& fit) {
+// Returns its seconds.
+double lightingStage(const AllOptions& options, const std::filesystem::path& fit) {
   banner("lighting", options.progress);
+  const auto t = std::chrono::steady_clock::now();
   LightingOptions lighting;
-  lighting.sweep = options.out;
+  lighting.sweep = options.out / kSweepDir;
   lighting.environments = environmentClasses();
   lighting.fit = fit;
-  lighting.out = options.out / "lighting";
+  lighting.out = options.out / kLightingDir;
+  lighting.print_summary = false;  // lighting/lighting.json and its report hold it
   runLighting(lighting);
+  return secondsSince(t);
 }
 
 }  // namespace
 
 void runAll(const AllOptions& options) {
   const OutputLock lock(options.out);  // every stage writes inside it (output_lock.h)
+  refuseFlatLayout(options.out, "gtbake all");
   ensureDirectory(options.out);
   const ThreadLimit limit(options.threads);
   const auto start = std::chrono::steady_clock::now();
 
   double scenes_seconds = 0.0;
   const SweepResult swept = sweepScenes(options, limit.threads(), &scenes_seconds);
-  const std::filesystem::path& swept_dir = options.out;  // <out>/<scene>.exr, sweep.json
+  const std::filesystem::path swept_dir = options.out / kSweepDir;
 
   banner("fit", options.progress);
   FitOptions fit;
   fit.sweep = swept_dir;
-  fit.out = options.out / "fit.json";
-  fit.report = options.out / "report";
+  fit.out = options.out / kFitDir / "fit.json";
+  fit.report = options.out / kFitDir / "report";
   fit.progress = options.progress;
   auto t = std::chrono::steady_clock::now();
   const FitResult fitted = runFit(fit);
@@ -262,11 +269,11 @@ void runAll(const AllOptions& options) {
       screenAndProfiles(options, limit.threads(), &profiles, &profile_seconds);
 
   const TuneResult tuned = tuneSettings(options, limit.threads());
-  lightingStage(options, fit.out);
+  const double lighting_seconds = lightingStage(options, fit.out);
 
   banner("gtso", options.progress);
   GtsoOptions gtso;
-  gtso.out = options.out / "gtso";
+  gtso.out = options.out / kGtsoDir;
   gtso.threads = limit.threads();
   gtso.progress = options.progress;
   const GtsoResult baked = runGtso(gtso);
@@ -274,7 +281,7 @@ void runAll(const AllOptions& options) {
   banner("encode", options.progress);
   EncodeOptions encode;
   encode.gtso = gtso.out;
-  encode.out = options.out;  // <out>/gtso{3d,4d}*.dds/.ktx2, encode.json
+  encode.out = options.out / kEncodeDir;  // gtso{3d,4d}*.dds/.ktx2, encode.json
   encode.threads = limit.threads();
   encode.progress = options.progress;
   encode.layout_4d = parseLayout4D(options.layout_4d);
@@ -283,7 +290,7 @@ void runAll(const AllOptions& options) {
   banner("validate-gtso", options.progress);
   ValidateGtsoOptions validate_gtso;
   validate_gtso.sweep = swept_dir;
-  validate_gtso.luts = options.out;  // <out>/gtso and encode's volumes
+  validate_gtso.luts = options.out;  // <out>/gtso, <out>/encode; writes <out>/validate_gtso
   validate_gtso.progress = options.progress;
   const ValidateGtsoResult validated = runValidateGtso(validate_gtso);
   const double specular_profile_seconds = specularProfiles(options, &profiles);
@@ -294,16 +301,18 @@ void runAll(const AllOptions& options) {
   exporter.gtso = gtso.out;
   exporter.encode = encode.out;
   exporter.validate_gtso = validated.json;
-  exporter.profiles = options.out / "profiles";
-  exporter.tune = tuned.json;  // empty when tune was skipped
-  exporter.out = options.out;
+  exporter.profiles = options.out / kProfilesDir;
+  exporter.tune = tuned.json;             // empty when tune was skipped
+  exporter.out = options.out / kShipDir;  // the header, the includes, the volumes, README.md
   exporter.command_line = options.command_line;
   t = std::chrono::steady_clock::now();
   runExport(exporter);
   const double export_seconds = secondsSince(t);
+  writeIndexPage(options.out);
 
-  StageTimes times{scenes_seconds,           fit_seconds,    profile_seconds,    tuned.seconds,
-                   specular_profile_seconds, export_seconds, secondsSince(start)};
+  StageTimes times{scenes_seconds, fit_seconds,        profile_seconds,
+                   tuned.seconds,  lighting_seconds,   specular_profile_seconds,
+                   export_seconds, secondsSince(start)};
   printSummary(options, swept, fitted, baked, encoded, validated, screened, profiles, times);
 }
 

@@ -19,12 +19,11 @@ struct AllOptions {
   std::string layout_4d = "atlas";  // --4d-layout: the 4D table's packing (encode_command.h)
 };
 
-// Layout of <out>: scenes/ (the built-in corpus, 12 types × 6 variants, generated only without
-// `scenes`), <scene>.exr
-// and sweep.json (the sweep), fit.json and report/ (the fit), screen_ao/ (the screen-space
-// estimators), profiles/<estimator>/ (Equation 10 on each estimator's Â), gtso/ (float tables,
-// gtso.json, slice images), and the exported gtbake_tables.{h,hlsl,glsl} and
-// gtso{3d,4d}.{dds,ktx2}. Prints a summary of every figure.
+// Writes the layout of docs/reproducibility.md "Layout" into <out>: scenes/ (the built-in corpus,
+// 12 types × 6 variants, generated only without `scenes`), sweep/, fit/ (fit.json and report/),
+// screen_ao/, profiles/<estimator>/ (Equation 10 on each estimator's Â), tune/, gtso/, encode/,
+// validate_gtso/, ship/ (the exported header, includes and volumes) and index.html; refuses a
+// directory in the older flat layout. Prints a summary of every figure.
 void runAll(const AllOptions& options);
 
 }  // namespace gtbake

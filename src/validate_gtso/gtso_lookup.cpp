@@ -5,6 +5,7 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
+#include "common/output_layout.h"
 #include "encode/bc4_layout.h"
 #include "encode/shipped_volumes.h"
 #include "gtso/gtso_set.h"
@@ -98,8 +99,8 @@ class RuntimeTables final : public GtsoLookup {
 }  // namespace
 
 TablesLookups makeTablesLookups(const fs::path& luts) {
-  const GtsoInput gtso = readGtsoInput(luts / "gtso");
-  const ShippedVolumes v = readShippedVolumes(luts, gtso);
+  const GtsoInput gtso = readGtsoInput(luts / kGtsoDir);
+  const ShippedVolumes v = readShippedVolumes(luts / kEncodeDir, gtso);
   TablesLookups out;
   const GtsoLayout layout3 = v.t3.layout, layout4 = v.t4.layout;
   out.info.layout_3d = layoutSwizzle(layout3);

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "common/error.h"
+#include "common/output_layout.h"
 #include "common/progress.h"
 #include "validate_gtso/validate_gtso_set.h"
 
@@ -94,7 +95,7 @@ std::vector<std::vector<Method>> rank(const Tables& t, const std::vector<Method>
 // The cone's u on the ray-traced inputs, fitted by the run without --estimator: the u export
 // ships, which an engine would feed its estimate.
 double shippedU(const ValidateGtsoOptions& options) {
-  const fs::path file = options.luts / "validate_gtso.json";
+  const fs::path file = options.luts / kValidateGtsoDir / "validate_gtso.json";
   if (!fs::is_regular_file(file)) {
     throw Error("validate-gtso --estimator: no " + file.string() +
                 " (run `gtbake validate-gtso` on the ray-traced inputs first: its u is scored)");

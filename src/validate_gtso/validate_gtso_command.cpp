@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/output_layout.h"
 #include "common/output_lock.h"
 #include "common/output_set.h"
 #include "common/text_format.h"
@@ -30,8 +31,8 @@ ValidateGtsoResult runValidateGtso(const ValidateGtsoOptions& options) {
   // On an estimator's inputs the results sit beside its profile (docs/profiles.md).
   const fs::path out = !options.out.empty() ? options.out
                        : options.input.rayTraced()
-                           ? options.luts
-                           : options.luts / "profiles" / options.input.estimator;
+                           ? options.luts / kValidateGtsoDir
+                           : options.luts / kProfilesDir / options.input.estimator;
   const OutputLock lock(out);  // for the whole run (output_lock.h)
   // Read and compute everything before writing anything.
   const Analysis a = analyse(options);

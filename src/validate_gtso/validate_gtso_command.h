@@ -15,8 +15,8 @@ namespace gtbake {
 
 struct ValidateGtsoOptions {
   std::filesystem::path sweep;  // a `gtbake sweep` directory traced with specular channels
-  std::filesystem::path luts;   // holds gtso/ (gtso.json, *.f32) and encode's gtso*.dds
-  std::filesystem::path out;    // validate_gtso.json, report/validate_gtso*; default: luts
+  std::filesystem::path luts;   // holds gtso/ and encode/ (docs/reproducibility.md "Layout")
+  std::filesystem::path out;    // validate_gtso.json, report/; default: luts/validate_gtso
   double u = 0.0;               // --u: also score the cone model with this u (0: not given)
   // --estimator/--screen-ao: score on a screen-space estimator's Â and b̂ instead of the ray-traced
   // A and b (docs/validate_gtso.md §6); out then defaults to luts/profiles/<estimator>.

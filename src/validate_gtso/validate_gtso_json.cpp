@@ -2,11 +2,13 @@
 #include <nlohmann/json.hpp>
 
 #include "common/atomic_file.h"
+#include "common/output_layout.h"
 #include "common/output_set.h"
 #include "gtbake_version.h"
 #include "gtso/cone_intersection.h"
 #include "sweep/sweep_set.h"
 #include "validate_gtso/method_jackknife.h"
+#include "validate_gtso/scene_statistics.h"
 #include "validate_gtso/validate_gtso_outputs.h"
 
 namespace gtbake {
@@ -43,11 +45,13 @@ Json fitJson(const UFit& f) {
 // validate_gtso.json /sweep: what was read.
 Json sweepJson(const ValidateGtsoOptions& options, const fs::path& out, const Analysis& a) {
   const SpecularSweep& sweep = a.sweep;
+  std::vector<int> cluster_of;
   return {{"dir", relativePath(options.sweep, out)},
           {"spp", sweep.spp},
           {"specular_spp", sweep.specular_spp},
           {"roughness", sweep.roughness},
-          {"scenes", sweep.scenes.size()},
+          {"views", sweep.scenes.size()},
+          {"scenes", sceneClusters(sweep, cluster_of).size()},
           {"pixels", a.samples.size() / sweep.roughness.size()}};
 }
 
@@ -161,7 +165,7 @@ void addBreakdownJson(const Analysis& a, Json& json) {
     }
     scenes[a.sweep.scenes[sc].name] = scene;
   }
-  json["scenes"] = scenes;
+  json["views"] = scenes;
 }
 
 // validate_gtso.json on an estimator's inputs: what replaced A and b, and the u values scored.
@@ -180,10 +184,11 @@ void addEstimatorSettingsJson(const ValidateGtsoOptions& options, const fs::path
                     {"layout_3d", a.tables.layout_3d},
                     {"layout_4d", a.tables.layout_4d}};
   json["roughness_convention"] = "perceptual roughness r_p; GGX alpha = r_p^2";
-  json["u"] = {{"paper", gtso::kPaperU},
-               {"fitted", a.shipped_u},
-               {"fitted_source", relativePath(options.luts / "validate_gtso.json", out)},
-               {"convention", "cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2"}};
+  json["u"] = {
+      {"paper", gtso::kPaperU},
+      {"fitted", a.shipped_u},
+      {"fitted_source", relativePath(options.luts / kValidateGtsoDir / "validate_gtso.json", out)},
+      {"convention", "cos(alpha_s) = u^(alpha^2/2), alpha = r_p^2"}};
   json["ao2_floor"] =
       "cone_ao2_*: max(S_cone, A^2), one reading of the runtime pass's 'ao^2 grazing-angle "
       "compensation' (docs/validate_gtso.md section 1)";

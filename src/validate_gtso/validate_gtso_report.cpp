@@ -13,6 +13,7 @@
 #include "common/text_escape.h"
 #include "gtbake_version.h"
 #include "sweep/sweep_set.h"
+#include "validate_gtso/scene_statistics.h"
 #include "validate_gtso/validate_gtso_outputs.h"
 
 namespace gtbake {
@@ -96,8 +97,8 @@ void writeMethodTable(const Analysis& a, std::ostringstream& o) {
     << "height-correlated Smith, F = 1) against the binary sky visibility, " << sweep.specular_spp
     << " VNDF samples per pixel. ";
   if (a.rayTraced()) {
-    o << "Every method reads the sweep's ray-traced A and bent normal. Companion of the <a "
-         "href=\"index.html\">fit report</a>; ";
+    o << "Every method reads the sweep's ray-traced A and bent normal. Companion of the fit "
+         "report (fit/report/index.html in the layout of gtbake all); ";
   } else {
     o << "Every method reads <b>" << escapeHtml(a.estimator)
       << "</b>'s screen-space A and bent normal, as the runtime has them (u fitted on the "
@@ -125,14 +126,14 @@ void writeMethodTable(const Analysis& a, std::ostringstream& o) {
   o << ".</p>\n";
 }
 
-// The scene images, one per scene (writeSceneImages), and the end of the page.
+// The view images, one per view (writeSceneImages), and the end of the page.
 void writeScenesSection(const SpecularSweep& sweep, bool images, std::ostringstream& o) {
   if (!images) {
-    o << "<p>Per-scene images: run validate-gtso on its own (gtbake all leaves them out of "
+    o << "<p>Per-view images: run validate-gtso on its own (gtbake all leaves them out of "
          "profiles/).</p>\n</body></html>\n";
     return;
   }
-  o << "<h2>Per scene (paper Figs. 13&ndash;14)</h2>\n<p>Columns: path-traced S | "
+  o << "<h2>Per view (paper Figs. 13&ndash;14)</h2>\n<p>Columns: path-traced S | "
        "S3 (BC4) | S4 (BC4) | cone (fitted u) | |S4 &minus; truth| (viridis, 0 to "
     << fmt("%.1f", kErrorMapMax) << "). Rows: r_p ";
   for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
@@ -220,10 +221,13 @@ void printUFits(const UFits& spec, const UFits& perceptual) {
 void printValidateGtsoSummary(const Analysis& a, const fs::path& json) {
   const SpecularSweep& sweep = a.sweep;
   const Tables& t = a.t;
+  std::vector<int> cluster_of;
   std::printf(
-      "validate-gtso: %zu pixels x %zu roughness values, %zu scenes (specular spp %d)%s%s\n",
+      "validate-gtso: %zu pixels x %zu roughness values, %zu views of %zu scenes (specular spp "
+      "%d)%s%s\n",
       a.samples.size() / sweep.roughness.size(), sweep.roughness.size(), sweep.scenes.size(),
-      sweep.specular_spp, a.rayTraced() ? "" : ", inputs of ", a.estimator.c_str());
+      sceneClusters(sweep, cluster_of).size(), sweep.specular_spp,
+      a.rayTraced() ? "" : ", inputs of ", a.estimator.c_str());
   std::printf("  RMSE vs path-traced S    ");
   for (double r : sweep.roughness) std::printf("  r_p %.2f", r);
   std::printf("      all  mean err\n");

@@ -8,11 +8,13 @@ execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD} --prefix ${PREFIX}
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "cmake --install failed: ${err}")
 endif()
-foreach(file bin/gtbake share/gtbake/luts/gtbake_tables.h share/gtbake/luts/gtbake_tables.hlsl
-             share/gtbake/luts/gtbake_tables.glsl share/gtbake/luts/gtso3d.dds
-             share/gtbake/luts/gtso4d.ktx2 share/gtbake/luts/fit.json share/gtbake/luts/sweep.json
-             share/gtbake/luts/gtso/gtso.json
-             share/gtbake/luts/encode.json share/gtbake/luts/screen_ao/screen_ao.json)
+# The layout of docs/reproducibility.md "Layout": ship/ and one folder per stage.
+foreach(file bin/gtbake share/gtbake/luts/ship/gtbake_tables.h
+             share/gtbake/luts/ship/gtbake_tables.hlsl share/gtbake/luts/ship/gtbake_tables.glsl
+             share/gtbake/luts/ship/gtso3d.dds share/gtbake/luts/ship/gtso4d.ktx2
+             share/gtbake/luts/ship/README.md share/gtbake/luts/fit/fit.json
+             share/gtbake/luts/sweep/sweep.json share/gtbake/luts/gtso/gtso.json
+             share/gtbake/luts/encode/encode.json share/gtbake/luts/screen_ao/screen_ao.json)
   if(NOT EXISTS ${PREFIX}/${file})
     message(FATAL_ERROR "cmake --install did not install ${file}")
   endif()

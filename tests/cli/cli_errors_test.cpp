@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cli_harness.h"
+#include "common/atomic_file.h"
 
 namespace gtbake::test {
 namespace {
@@ -55,6 +56,7 @@ std::vector<BadInvocation> badInvocations() {
       {"gtso_bad_size", "gtso --out {out} --size 1"},
       {"encode_bad_4d_layout", "encode --gtso /nonexistent --out {out} --4d-layout tiles"},
       {"all_bad_4d_layout", "all --out {out} --4d-layout tiles"},
+      {"report_missing_luts", "report --luts /nonexistent --out {out}"},
       {"export_missing_fit", "export --fit /nonexistent/fit.json --gtso /nonexistent --out {out}"},
       {"tune_missing_sweep", "tune --sweep /nonexistent --out {out}"},
       {"gbuffer_missing_sweep", "gbuffer --sweep /nonexistent --out {out}"},
@@ -95,6 +97,33 @@ TEST_P(CliBadInput, OneLineErrorNonZeroExitNoOutput) {
 
 INSTANTIATE_TEST_SUITE_P(All, CliBadInput, ::testing::ValuesIn(badInvocations()),
                          [](const auto& info) { return info.param.name; });
+
+// An --out directory in the flat layout of an older gtbake is refused in one line before anything
+// is written, never mixed with the layout by stage (docs/reproducibility.md "Layout").
+TEST(Cli, AllRefusesOlderFlatLayout) {
+  const TempDir dir("cli-flat-layout");
+  const fs::path out = dir.path() / "old";
+  fs::create_directories(out);
+  writeFileAtomically(out / "sweep.json", "{}\n");
+  writeFileAtomically(out / "notes.txt", "mine\n");
+  const RunResult result = runGtbake("all --quiet --out " + out.string());
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_EQ(countLines(result.err), 1u) << result.err;
+  EXPECT_NE(result.err.find("flat layout of an older gtbake (sweep.json at its top)"),
+            std::string::npos)
+      << result.err;
+  std::vector<std::string> entries;
+  for (const auto& e : fs::directory_iterator(out)) entries.push_back(e.path().filename().string());
+  std::sort(entries.begin(), entries.end());
+  EXPECT_EQ(entries, (std::vector<std::string>{"notes.txt", "sweep.json"}));
+  // The fit report an older run left in a checkout whose tracked files moved to the new layout.
+  const fs::path left = dir.path() / "left";
+  fs::create_directories(left / "report");
+  writeFileAtomically(left / "report" / "index.html", "<html></html>\n");
+  const RunResult again = runGtbake("all --quiet --out " + left.string());
+  EXPECT_NE(again.exit_code, 0);
+  EXPECT_NE(again.err.find("(report/index.html at its top)"), std::string::npos) << again.err;
+}
 
 TEST(Cli, HelpAndVersionExitZero) {
   EXPECT_EQ(runGtbake("--help").exit_code, 0);

@@ -52,21 +52,22 @@ struct Tolerance {
 const Tolerance kTolerances[] = {
     {"gtso/.*", 0.0,
      "GTSO tables, u and their errors are computed without Embree: the same bits on any x86-64"},
-    {"fit.json:/(linear|linear_uncorrected)/.*", 5e-6,
+    {"fit/fit.json:/(linear|linear_uncorrected)/.*", 5e-6,
      "the refit coefficients (measured 1e-6): 5e-6 relative is <= 0.027 SE of each (c0 is "
      "tightest, SE/c0 = 1.9e-4), so no conclusion drawn from them can change"},
-    {"fit.json:.*/(linear_se|se|se_iid)/.*", 5e-5,
+    {"fit/fit.json:.*/(linear_se|se|se_iid)/.*", 5e-5,
      "standard errors (measured 8.5e-6) may move by 0.005% of themselves, not by 100%"},
-    {"fit.json:/eiv_bias/.*", 1e-3,
+    {"fit/fit.json:/eiv_bias/.*", 1e-3,
      "EIV bias estimates are differences of two fits, so they move far more relative to "
      "themselves than the fits do (measured 2.1e-4 on a0 between two EPYC machines: 2.6e-8 "
      "absolute, 1e-4 of its Monte Carlo SE); 1e-3 still pins each to 0.1% of its value"},
-    {"(fit|sweep|validate_gtso).json:.*", 1e-4,
+    {"(fit/fit|sweep/sweep|validate_gtso/validate_gtso).json:.*", 1e-4,
      "every other sweep-derived number (errors, per-albedo fits, leave-one-out refits, mean A) "
      "to 0.01%: a few Embree tie flips among ~164 M rays move them far less"},
-    {"gtbake_tables.(h|hlsl|glsl):", 1e-5,
+    {"ship/gtbake_tables.(h|hlsl|glsl):", 1e-5,
      "the headers carry the coefficients (as tight as fit.json's) and u and the tables (exact)"},
-    {"report/.*", 2e-4, "the report prints every fit.json quantity, the EIV bias ones included"},
+    {"fit/report/.*", 2e-4,
+     "the report prints every fit.json quantity, the EIV bias ones included"},
 };
 
 const Tolerance& toleranceFor(const std::string& where) {
@@ -268,9 +269,38 @@ void expectSameUncommittedImages(const fs::path& committed, const fs::path& fres
   EXPECT_GT(checked, 0);
 }
 
+// Every page of the layout links only files in its own folder or below (docs/reproducibility.md
+// "Layout"): no "../" anywhere in a page, so a report can be moved or served on its own.
+void expectRelocatableReports(const fs::path& out) {
+  int pages = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(out)) {
+    if (entry.path().extension() != ".html") continue;
+    EXPECT_EQ(readBytes(entry.path()).find("../"), std::string::npos) << entry.path();
+    ++pages;
+  }
+  EXPECT_GE(pages, 4);
+}
+
+// `gtbake report` draws every picture and page of a fresh run again from its data files, each the
+// bytes `gtbake all` wrote (docs/reproducibility.md "Reports from the data").
+void expectReportRedrawsPictures(const fs::path& out) {
+  const TempDir drawn("report");
+  const RunResult run =
+      runGtbake("report --quiet --luts " + out.string() + " --out " + drawn.path().string());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  int pictures = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(drawn.path())) {
+    if (!entry.is_regular_file()) continue;
+    const fs::path relative = fs::relative(entry.path(), drawn.path());
+    EXPECT_EQ(readBytes(entry.path()), readBytes(out / relative)) << relative;
+    ++pictures;
+  }
+  EXPECT_GT(pictures, 100);
+}
+
 TEST(Luts, FreshAllReproducesCommittedLuts) {
   const fs::path committed = fs::path(GTBAKE_SOURCE_DIR) / "luts";
-  ASSERT_TRUE(fs::exists(committed / "gtbake_tables.h")) << "luts/ has not been generated";
+  ASSERT_TRUE(fs::exists(committed / "ship" / "gtbake_tables.h")) << "luts/ has not been generated";
   const TempDir fresh("luts");
   const RunResult run = runGtbake("all --quiet --out " + fresh.path().string());
   ASSERT_EQ(run.exit_code, 0) << run.err;
@@ -282,12 +312,16 @@ TEST(Luts, FreshAllReproducesCommittedLuts) {
   const std::pair<const char*, const char*> pages[] = {
       {"fit", "report/index.html"},
       {"validate_gtso", "report/validate_gtso.html"},
-      {"validate_gtso", "report/validate_gtso_cavity_0.png"}};
+      {"validate_gtso", "report/validate_gtso_cavity_0.png"},
+      {"index", "index.html"}};
   for (const auto& [command, page] : pages) {
-    const OutputManifest set = readOutputSet(fresh.path(), command);
+    const fs::path dir = std::string(command) == "index" ? fresh.path() : fresh.path() / command;
+    const OutputManifest set = readOutputSet(dir, command);
     ASSERT_NE(set.find(page), nullptr) << command << " " << page;
-    EXPECT_EQ(set.readVerified(page), readFile(fresh.path() / page));
+    EXPECT_EQ(set.readVerified(page), readFile(dir / page));
   }
+  expectRelocatableReports(fresh.path());
+  expectReportRedrawsPictures(fresh.path());
   const OutputManifest screen = readOutputSet(fresh.path() / "screen_ao", "screen_ao");
   ASSERT_NE(screen.find("screen_ao.html"), nullptr);
   EXPECT_EQ(screen.readVerified("screen_ao.html"),
@@ -298,8 +332,8 @@ TEST(Luts, FreshAllReproducesCommittedLuts) {
 // standard error, of u or of one coefficient by 0.1% is caught, and so is a reworded text.
 TEST(Luts, TolerancesCatchRealChanges) {
   const fs::path committed = fs::path(GTBAKE_SOURCE_DIR) / "luts";
-  std::string where = "fit.json:";
-  const json fit = json::parse(readBytes(committed / "fit.json"));
+  std::string where = "fit/fit.json:";
+  const json fit = json::parse(readBytes(committed / "fit" / "fit.json"));
   EXPECT_TRUE(sameJson(fit, fit, where));
   const auto changed = [&](const std::string& file, const std::string& pointer, double factor) {
     json doc = json::parse(readBytes(committed / file));
@@ -307,22 +341,22 @@ TEST(Luts, TolerancesCatchRealChanges) {
     std::string at = file + ":";
     return !sameJson(json::parse(readBytes(committed / file)), doc, at);
   };
-  EXPECT_TRUE(changed("fit.json", "/linear/c0", 1.0 + 1e-3));
-  EXPECT_FALSE(changed("fit.json", "/linear/c0", 1.0 + 1e-6));  // what another CPU does
-  EXPECT_TRUE(changed("fit.json", "/linear_se/b1", 1.01));
-  EXPECT_TRUE(changed("fit.json", "/eiv_bias/linear/a0", 1.01));
+  EXPECT_TRUE(changed("fit/fit.json", "/linear/c0", 1.0 + 1e-3));
+  EXPECT_FALSE(changed("fit/fit.json", "/linear/c0", 1.0 + 1e-6));  // what another CPU does
+  EXPECT_TRUE(changed("fit/fit.json", "/linear_se/b1", 1.01));
+  EXPECT_TRUE(changed("fit/fit.json", "/eiv_bias/linear/a0", 1.01));
   EXPECT_TRUE(changed("gtso/gtso.json", "/cone/u", 1.0 + 1e-12));
   EXPECT_TRUE(changed("gtso/gtso.json", "/cone/u_se", 1.0 + 1e-12));
-  const Tolerance& report = toleranceFor("report/index.html:");
+  const Tolerance& report = toleranceFor("fit/report/index.html:");
   std::string at;
   EXPECT_TRUE(sameTextWithinTolerance("<td>-115.3</td>", "<td>-115.2</td>", report, at));
   EXPECT_FALSE(sameTextWithinTolerance("<td>-115.3</td>", "<td>-115.1</td>", report, at));
   EXPECT_FALSE(sameTextWithinTolerance("<td>0.00113</td>", "<td>0.00226</td>", report, at));
   EXPECT_FALSE(sameTextWithinTolerance("SE 0.5", "se 0.5", report, at));
-  std::string verdict = "fit.json:/shipped/against_band/verdict";
+  std::string verdict = "fit/fit.json:/shipped/against_band/verdict";
   EXPECT_TRUE(
       sameJson(json("consistent: 2.09 <= 2.45"), json("consistent: 2.10 <= 2.45"), verdict));
-  verdict = "fit.json:/shipped/against_band/verdict";
+  verdict = "fit/fit.json:/shipped/against_band/verdict";
   EXPECT_FALSE(sameJson(json("consistent: 2.09"), json("inconsistent: 2.09"), verdict));
 }
 

@@ -1,6 +1,6 @@
 # data/corpus_seeds/summary.json (scripts/corpus-seeds.sh) belongs to the same code as luts/: its
 # seed-1 record is `gtbake all`'s own corpus, Monte Carlo seed and fit, so each of its figures
-# must equal luts/fit.json's. A summary left over from older code or another corpus fails here.
+# must equal luts/fit/fit.json's. A summary left over from older code or another corpus fails here.
 # Run: cmake -DSUMMARY=... -DFIT=... -P corpus_seeds_check.cmake
 file(READ "${SUMMARY}" summary)
 file(READ "${FIT}" fit)

@@ -1,4 +1,4 @@
-// The verdict as a fresh clone gets it (docs/fit.md §5, §10): from luts/validate_data.json, the
+// The verdict as a fresh clone gets it (docs/fit.md §5, §10): from luts/fit/validate_data.json, the
 // refit is consistent in every range with power to spare, the paper's constants get the verdict
 // fit.json records, and known mid-A errors of 0.02 and 0.03 in G are found outside in [0.3, 0.7).
 #include <gtest/gtest.h>
@@ -20,22 +20,22 @@ std::filesystem::path luts() {
 }
 
 TEST(LutsVerdict, RefitIsConsistentWithPowerInEveryRange) {
-  const ValidateData d = readValidateData(luts());
+  const ValidateData d = readValidateData(luts() / "fit");
   const CurveVerdict v = validateReport(d, d.refit).verdict;
   EXPECT_EQ(v.verdict, Verdict::kConsistent) << v.headline;
   for (const RangeScore& r : v.ranges) EXPECT_LT(r.detectable.value, kUsefulPower) << r.text;
 }
 
 TEST(LutsVerdict, PaperVerdictIsWhatFitJsonRecords) {
-  const ValidateData d = readValidateData(luts());
-  const nlohmann::json recorded = readJsonFile(luts() / "fit.json")["shipped"]["verdict"];
+  const ValidateData d = readValidateData(luts() / "fit");
+  const nlohmann::json recorded = readJsonFile(luts() / "fit" / "fit.json")["shipped"]["verdict"];
   const nlohmann::json now =
       nlohmann::json::parse(curveVerdictJson(validateReport(d, kPaperCoeffs).verdict).dump());
   EXPECT_EQ(now, recorded);
 }
 
 TEST(LutsVerdict, KnownMidRangeErrorsAreOutsideInTheirRange) {
-  const ValidateData d = readValidateData(luts());
+  const ValidateData d = readValidateData(luts() / "fit");
   for (double peak : {0.02, 0.03}) {
     MultiBounceCoeffs k = d.refit;  // ΔG = 4·peak·A(1 − A): peak at A = 0.5, 0 at A = 0 and 1
     k[3] += 4.0 * peak;

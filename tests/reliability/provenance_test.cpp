@@ -233,11 +233,34 @@ TEST(FitSet, OutputNeverReplacesAnInputAndIsNeverADirectory) {
   o.out = dir.path() / "adir";
   EXPECT_ERROR(runFit(o), "is a directory");
   EXPECT_TRUE(fs::is_empty(dir.path() / "adir"));
-  // Beside the sweep is fine (gtbake all writes luts/fit.json next to luts/sweep.json).
+  // Beside the sweep is fine (the flat layout of older gtbake wrote luts/fit.json there).
   o.out = sweep / "fit.json";
   o.report = dir.path() / "report";
   runFit(o);
   EXPECT_EQ(readOutputSet(sweep, "fit").readVerified("fit.json"), readBytes(sweep / "fit.json"));
+}
+
+// With encode's volumes in another directory (encode/ beside ship/, docs/reproducibility.md
+// "Layout") export ships them too: each volume byte for byte, verified, and a README naming them.
+TEST(ExportSet, ShipsTheVolumesOfAnotherEncodeDirectory) {
+  const ExportFixture f;
+  const fs::path encode = f.root.path() / "encode", ship = f.root.path() / "ship";
+  f.encode(encode);
+  ExportOptions e = f.options(ship);
+  e.encode = encode;
+  runExport(e);
+  const OutputManifest volumes = readOutputSet(encode, "encode");
+  const OutputManifest shipped = readOutputSet(ship, "export");
+  EXPECT_EQ(shipped.files.size(), 4u + 12u);  // header, 2 includes, README.md, 12 volumes
+  for (const OutputFile& v : volumes.files) {
+    if (v.name == "encode.json") continue;
+    ASSERT_NE(shipped.find(v.name), nullptr) << v.name;
+    EXPECT_EQ(shipped.find(v.name)->sha256, v.sha256) << v.name;
+  }
+  EXPECT_NE(shipped.readVerified("README.md").find("`gtso4d.ktx2`"), std::string::npos);
+  // A volume edited after encode is refused, not shipped.
+  spit(encode / "gtso3d_r8.dds", "edited");
+  EXPECT_ERROR(runExport(e), "gtso3d_r8.dds");
 }
 
 TEST(ExportSet, FailedExportLeavesNoNewFileBesideOldOnes) {
@@ -248,7 +271,7 @@ TEST(ExportSet, FailedExportLeavesNoNewFileBesideOldOnes) {
   EXPECT_EQ(readOutputSet(out, "encode").files.size(), 13u);
   runExport(f.options(out));
   const OutputManifest m = readOutputSet(out, "export");
-  EXPECT_EQ(m.files.size(), 3u);  // header + 2 includes
+  EXPECT_EQ(m.files.size(), 4u);  // header + 2 includes + README.md
   const std::string header = readBytes(out / "gtbake_tables.h");
   // Change the inputs, then fail half-way through writing: nothing of the new set appears.
   json g = json::parse(readBytes(f.gtso / "gtso.json"));

@@ -109,7 +109,7 @@ TEST(ReportEscape, HostileSceneNamesReachReportsOnlyAsText) {
   a.progress = false;
   runScreenAo(a);
   const test::ExportFixture luts;
-  luts.encode(luts.root.path());
+  luts.encode(luts.root.path() / "encode");
   ValidateGtsoOptions v;
   v.sweep = s.out;
   v.luts = luts.root.path();

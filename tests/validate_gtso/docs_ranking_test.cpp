@@ -34,8 +34,10 @@ TEST(DocsRanking, TextIsTheGeneratedStatements) {
   std::istringstream block(docs.substr(b + begin.size(), e - b - begin.size()));
   for (std::string line; std::getline(block, line);) lines.push_back(line);
 
-  const nlohmann::json j = nlohmann::json::parse(readFile(luts + "/validate_gtso.json"));
-  ASSERT_TRUE(j.contains("ranking_tests")) << luts << "/validate_gtso.json predates the tests";
+  const nlohmann::json j =
+      nlohmann::json::parse(readFile(luts + "/validate_gtso/validate_gtso.json"));
+  ASSERT_TRUE(j.contains("ranking_tests"))
+      << luts << "/validate_gtso/validate_gtso.json predates the tests";
   const std::vector<double> roughness = j.at("sweep").at("roughness").get<std::vector<double>>();
   ASSERT_EQ(lines.size(), roughness.size());
   for (std::size_t k = 0; k < roughness.size(); ++k) {
@@ -59,7 +61,7 @@ TEST(DocsRanking, TextIsTheGeneratedStatements) {
 TEST(DocsVerdict, WordsFollowFitJson) {
   const char* env = std::getenv("GTBAKE_LUTS_DIR");
   const std::string luts = env != nullptr ? env : std::string(GTBAKE_SOURCE_DIR) + "/luts";
-  const nlohmann::json j = nlohmann::json::parse(readFile(luts + "/fit.json"));
+  const nlohmann::json j = nlohmann::json::parse(readFile(luts + "/fit/fit.json"));
   const nlohmann::json& verdict = j.at("shipped").at("verdict");
   const std::string word = verdict.at("verdict").get<std::string>();
   const std::string fit = readFile(std::string(GTBAKE_SOURCE_DIR) + "/docs/fit.md");

@@ -55,9 +55,9 @@ struct EstimatorFixture {
     a.threads = 1;
     a.progress = false;
     runScreenAo(a);
-    tables.encode(luts);
+    tables.encode(luts / "encode");  // the layout of docs/reproducibility.md "Layout"
     ValidateGtsoOptions v = options("");
-    v.out = luts;
+    v.out = luts / "validate_gtso";
     runValidateGtso(v);
   }
   ValidateGtsoOptions options(const std::string& estimator) const {
@@ -144,7 +144,8 @@ TEST(ValidateGtsoEstimator, MethodsReadTheEstimatesAsStored) {
     const ValidateGtsoResult result = runValidateGtso(v);
     const nlohmann::json j = readJson(result.json);
     EXPECT_EQ(j["input"]["estimator"], estimator);
-    EXPECT_EQ(j["u"]["fitted"].get<double>(), readJson(f.luts / "validate_gtso.json")["u"]);
+    EXPECT_EQ(j["u"]["fitted"].get<double>(),
+              readJson(f.luts / "validate_gtso" / "validate_gtso.json")["u"]);
     EXPECT_FALSE(j.contains("u_fit")) << "u is fitted on the ray-traced inputs only";
     const BruteForce brute = bruteForce(f.sweep, f.screen_ao, estimator);
     const nlohmann::json& overall = j["overall"];
@@ -155,7 +156,7 @@ TEST(ValidateGtsoEstimator, MethodsReadTheEstimatesAsStored) {
         << estimator;
     EXPECT_NEAR(overall["lagarde"]["rmse"].get<double>(), brute.lagarde.value(), 2e-6) << estimator;
     // The ray-traced run scores another A: the replacement took place.
-    const nlohmann::json traced = readJson(f.luts / "validate_gtso.json");
+    const nlohmann::json traced = readJson(f.luts / "validate_gtso" / "validate_gtso.json");
     EXPECT_NE(overall["S_A"]["rmse"], traced["overall"]["S_A"]["rmse"]);
   }
 }
@@ -206,7 +207,7 @@ TEST(ValidateGtsoEstimator, BadInputsAreOneLineErrorsAndWriteNothing) {
   EXPECT_ERROR(runValidateGtso(v), "has no estimator 'bitmask-cosine'");
   // Tables without the ray-traced run: no u to score.
   const TempDir bare("validate_gtso_bare_luts");
-  f.tables.encode(bare.path());
+  f.tables.encode(bare.path() / "encode");
   fs::copy(f.tables.gtso, bare.path() / "gtso", fs::copy_options::recursive);
   v = f.options("hbao");
   v.luts = bare.path();

@@ -58,11 +58,11 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
   const GtsoInput gtso = readGtsoInput(root / "gtso");
   EncodeOptions encode;
   encode.gtso = root / "gtso";
-  encode.out = root;
+  encode.out = root / "encode";  // where makeTablesLookups reads them (docs/reproducibility.md)
   encode.layout_lobes = 64;
   encode.progress = false;
   runEncode(encode);
-  const ShippedVolumes shipped = readShippedVolumes(root, gtso);
+  const ShippedVolumes shipped = readShippedVolumes(encode.out, gtso);
   const TablesLookups lookups = makeTablesLookups(root);
   EXPECT_EQ(lookups.info.layout_3d, layoutSwizzle(shipped.t3.layout));
   EXPECT_EQ(lookups.info.layout_4d, layoutSwizzle(shipped.t4.layout));
