@@ -39,8 +39,8 @@
 
 // GTSO runtime lookup (docs/gtso.md §1, docs/export.md §2): the axis warps of the 3D and 4D
 // tables and the texture reads a shader performs (BC4 decode, half-texel remap, trilinear filter,
-// 4D tiles), for float32, BC4_UNORM, R16_UNORM and R8_UNORM texels; the cone-to-cone model and the
-// multi-bounce fit.
+// 4D tiles), for float32, BC4_UNORM, R16_UNORM and R8_UNORM texels; the cone-to-cone model, the
+// multi-bounce fit and the profile tables' lookup.
 //
 // This file is the single C++ definition of the table axes: `gtbake gtso` bakes texel i of each
 // axis at the inverse map of i/(N-1), the lookups here apply the forward map, and `gtbake export`
@@ -507,6 +507,33 @@ inline float gtsoMultiBounce(const float* ka, const float* kb, const float* kc, 
   const float b = kb[0] * albedo + kb[1];
   const float c = kc[0] * albedo + kc[1];
   return ((a * A - b) * A + c) * A;
+}
+
+// Multi-bounce G(A, rho) from a profile's monotone table (docs/profiles.md §8): G at `nodes`
+// values of A (0, 1/(nodes - 1), ..., 1) for each of `rows` albedos rho[] (ascending), row-major
+// values[row * nodes + node]; linear in A between nodes (A clamped to [0, 1]) and in the albedo
+// between rows (clamped to the rows). nodes >= 2, rows >= 1. The one definition: `gtbake fit`
+// scores its tables with it (double) and the header's multiBounce(table, A, albedo) calls it.
+template <class T>
+T gtsoMultiBounceTableRow(const T* values, int nodes, int row, T A) {
+  const T x = (A < T(0) ? T(0) : A > T(1) ? T(1) : A) * T(nodes - 1);
+  const int i = int(x) < nodes - 2 ? int(x) : nodes - 2;
+  const T* v = values + row * nodes;
+  return v[i] + (x - T(i)) * (v[i + 1] - v[i]);
+}
+template <class T>
+T gtsoMultiBounceTable(const T* rho, const T* values, int rows, int nodes, T A, T albedo) {
+  int j0 = 0, j1 = 0;
+  T s = T(0);
+  if (albedo >= rho[rows - 1]) {
+    j0 = j1 = rows - 1;
+  } else if (albedo > rho[0]) {
+    for (int j = 0; j < rows - 1; ++j) j0 = rho[j] < albedo ? j : j0;
+    j1 = j0 + 1;
+    s = (albedo - rho[j0]) / (rho[j1] - rho[j0]);
+  }
+  const T g0 = gtsoMultiBounceTableRow(values, nodes, j0, A);
+  return g0 + s * (gtsoMultiBounceTableRow(values, nodes, j1, A) - g0);
 }
 
 // Solid angle of the intersection of two spherical caps of half-angles alphaV, alphaS whose axes
@@ -17723,24 +17750,8 @@ struct GtbakeMultiBounceTable {
   const float* values;  // [rows][nodes]
   float rmseHeldOut;
 };
-inline float gtbakeTableRow(const GtbakeMultiBounceTable& t, int row, float A) {
-  const float x = (A < 0.0f ? 0.0f : A > 1.0f ? 1.0f : A) * float(t.nodes - 1);
-  const int i = int(x) < t.nodes - 2 ? int(x) : t.nodes - 2;
-  const float* v = t.values + row * t.nodes;
-  return v[i] + (x - float(i)) * (v[i + 1] - v[i]);
-}
 inline float multiBounce(const GtbakeMultiBounceTable& t, float A, float albedo) {
-  int j0 = 0, j1 = 0;
-  float s = 0.0f;
-  if (albedo >= t.rho[t.rows - 1]) {
-    j0 = j1 = t.rows - 1;
-  } else if (albedo > t.rho[0]) {
-    for (int j = 0; j < t.rows - 1; ++j) j0 = t.rho[j] < albedo ? j : j0;
-    j1 = j0 + 1;
-    s = (albedo - t.rho[j0]) / (t.rho[j1] - t.rho[j0]);
-  }
-  const float g0 = gtbakeTableRow(t, j0, A);
-  return g0 + s * (gtbakeTableRow(t, j1, A) - g0);
+  return gtsoMultiBounceTable(t.rho, t.values, t.rows, t.nodes, A, albedo);
 }
 inline constexpr int kMultiBounceTableCount = 3;
 inline constexpr float kMultiBounceTableRho_gtao_reference[7] = {0.100000001f, 0.200000003f, 0.300000012f, 0.400000006f, 0.5f, 0.699999988f, 0.899999976f};

@@ -357,11 +357,15 @@ float multiBounce_hbao(float A, float albedo) {
   return gtsoMultiBounce(-1.35903955, 4.10931444, -0.206791729, 5.69926405, 1.15224779, 2.58994985, A, albedo);
 }
 
-// Profile table of gtao-reference (docs/profiles.md §8; gtbake_tables.h
-// GtbakeMultiBounceTable has the lookup): RMSE of G held out by scene 0.0726700351
-static const float kMultiBounceTableRho_gtao_reference[7] = {
-    0.100000001, 0.200000003, 0.300000012, 0.400000006, 0.5, 0.699999988, 0.899999976};
-static const float kMultiBounceTable_gtao_reference[224] = {
+// Profile tables (docs/profiles.md §8; gtbake_tables.h has them as GtbakeMultiBounceTable):
+// where an estimator's cubic is not adequate, G at `nodes` values of A for each albedo of its
+// rows, every table's albedos and values one after the other; multiBounceTable_<estimator>(A,
+// albedo) looks a table up by its place in them.
+static const float kMultiBounceTableRho[21] = {
+    0.100000001, 0.200000003, 0.300000012, 0.400000006, 0.5, 0.699999988, 0.899999976, 0.100000001,
+    0.200000003, 0.300000012, 0.400000006, 0.5, 0.699999988, 0.899999976, 0.100000001, 0.200000003,
+    0.300000012, 0.400000006, 0.5, 0.699999988, 0.899999976};
+static const float kMultiBounceTableValues[672] = {
     0.438863248, 0.438863248, 0.438863248, 0.438863248, 0.438863248, 0.444236457, 0.463901281, 0.490217924,
     0.50216192, 0.50216192, 0.505948842, 0.519949734, 0.542845309, 0.556953132, 0.573003411, 0.59634757,
     0.60339129, 0.628783107, 0.653923094, 0.677716792, 0.70142287, 0.724066079, 0.747810602, 0.77052176,
@@ -389,34 +393,7 @@ static const float kMultiBounceTable_gtao_reference[224] = {
     0.692524254, 0.692524254, 0.692524254, 0.692524254, 0.692524254, 0.739454269, 0.764757752, 0.786265373,
     0.804643512, 0.80706358, 0.814899564, 0.826946199, 0.846094668, 0.857200861, 0.869476199, 0.883816898,
     0.896741867, 0.908053637, 0.915825188, 0.925227463, 0.932801425, 0.940201521, 0.946864545, 0.953170955,
-    0.960103333, 0.965701103, 0.971271515, 0.976331174, 0.98122263, 0.986458242, 0.992276609, 1.0};
-float gtbakeTableRow_gtao_reference(int row, float A) {
-  float x = clamp(A, 0.0, 1.0) * float(32 - 1);
-  int i = min(int(x), 32 - 2);
-  float v0 = kMultiBounceTable_gtao_reference[row * 32 + i];
-  return v0 + (x - float(i)) * (kMultiBounceTable_gtao_reference[row * 32 + i + 1] - v0);
-}
-float multiBounceTable_gtao_reference(float A, float albedo) {
-  int j0 = 0;
-  int j1 = 0;
-  float s = 0.0;
-  if (albedo >= kMultiBounceTableRho_gtao_reference[7 - 1]) {
-    j0 = 7 - 1;
-    j1 = j0;
-  } else if (albedo > kMultiBounceTableRho_gtao_reference[0]) {
-    for (int j = 0; j < 7 - 1; ++j) j0 = kMultiBounceTableRho_gtao_reference[j] < albedo ? j : j0;
-    j1 = j0 + 1;
-    s = (albedo - kMultiBounceTableRho_gtao_reference[j0]) / (kMultiBounceTableRho_gtao_reference[j1] - kMultiBounceTableRho_gtao_reference[j0]);
-  }
-  float g0 = gtbakeTableRow_gtao_reference(j0, A);
-  return g0 + s * (gtbakeTableRow_gtao_reference(j1, A) - g0);
-}
-
-// Profile table of gtao-runtime (docs/profiles.md §8; gtbake_tables.h
-// GtbakeMultiBounceTable has the lookup): RMSE of G held out by scene 0.0790909901
-static const float kMultiBounceTableRho_gtao_runtime[7] = {
-    0.100000001, 0.200000003, 0.300000012, 0.400000006, 0.5, 0.699999988, 0.899999976};
-static const float kMultiBounceTable_gtao_runtime[224] = {
+    0.960103333, 0.965701103, 0.971271515, 0.976331174, 0.98122263, 0.986458242, 0.992276609, 1.0,
     0.157090992, 0.157090992, 0.157090992, 0.157090992, 0.157090992, 0.157090992, 0.257912934, 0.257912934,
     0.257912934, 0.257912934, 0.257912934, 0.257912934, 0.320222199, 0.320222199, 0.331810325, 0.354190528,
     0.381820589, 0.407333821, 0.451316684, 0.470148861, 0.500842512, 0.533046961, 0.555360198, 0.585071981,
@@ -444,34 +421,7 @@ static const float kMultiBounceTable_gtao_runtime[224] = {
     0.295332491, 0.295332491, 0.295332491, 0.295332491, 0.295332491, 0.295332491, 0.450543106, 0.450543106,
     0.465903014, 0.481767029, 0.481767029, 0.496380627, 0.598098457, 0.60662955, 0.646043658, 0.6816113,
     0.708438694, 0.733216286, 0.772213459, 0.799159944, 0.831863701, 0.858051956, 0.865757704, 0.879694045,
-    0.890033662, 0.899569869, 0.912329853, 0.926336527, 0.939430118, 0.95037353, 0.965463281, 1.0};
-float gtbakeTableRow_gtao_runtime(int row, float A) {
-  float x = clamp(A, 0.0, 1.0) * float(32 - 1);
-  int i = min(int(x), 32 - 2);
-  float v0 = kMultiBounceTable_gtao_runtime[row * 32 + i];
-  return v0 + (x - float(i)) * (kMultiBounceTable_gtao_runtime[row * 32 + i + 1] - v0);
-}
-float multiBounceTable_gtao_runtime(float A, float albedo) {
-  int j0 = 0;
-  int j1 = 0;
-  float s = 0.0;
-  if (albedo >= kMultiBounceTableRho_gtao_runtime[7 - 1]) {
-    j0 = 7 - 1;
-    j1 = j0;
-  } else if (albedo > kMultiBounceTableRho_gtao_runtime[0]) {
-    for (int j = 0; j < 7 - 1; ++j) j0 = kMultiBounceTableRho_gtao_runtime[j] < albedo ? j : j0;
-    j1 = j0 + 1;
-    s = (albedo - kMultiBounceTableRho_gtao_runtime[j0]) / (kMultiBounceTableRho_gtao_runtime[j1] - kMultiBounceTableRho_gtao_runtime[j0]);
-  }
-  float g0 = gtbakeTableRow_gtao_runtime(j0, A);
-  return g0 + s * (gtbakeTableRow_gtao_runtime(j1, A) - g0);
-}
-
-// Profile table of hbao (docs/profiles.md §8; gtbake_tables.h
-// GtbakeMultiBounceTable has the lookup): RMSE of G held out by scene 0.0924897045
-static const float kMultiBounceTableRho_hbao[7] = {
-    0.100000001, 0.200000003, 0.300000012, 0.400000006, 0.5, 0.699999988, 0.899999976};
-static const float kMultiBounceTable_hbao[224] = {
+    0.890033662, 0.899569869, 0.912329853, 0.926336527, 0.939430118, 0.95037353, 0.965463281, 1.0,
     0.295896441, 0.295896441, 0.295896441, 0.295896441, 0.295896441, 0.295896441, 0.295896441, 0.295896441,
     0.295896441, 0.295896441, 0.373661429, 0.373661429, 0.373661429, 0.391543299, 0.408548981, 0.449782848,
     0.452254355, 0.467168003, 0.471365035, 0.475245655, 0.487845749, 0.529743969, 0.556782007, 0.585054517,
@@ -500,26 +450,53 @@ static const float kMultiBounceTable_hbao[224] = {
     0.520782173, 0.520782173, 0.620583355, 0.620583355, 0.620583355, 0.680859327, 0.682167709, 0.70714891,
     0.720419526, 0.729368925, 0.737239659, 0.752995729, 0.769895375, 0.811879754, 0.834760129, 0.857597291,
     0.871294022, 0.886070609, 0.897636175, 0.911627173, 0.93080765, 0.947680175, 0.961098969, 1.0};
-float gtbakeTableRow_hbao(int row, float A) {
-  float x = clamp(A, 0.0, 1.0) * float(32 - 1);
-  int i = min(int(x), 32 - 2);
-  float v0 = kMultiBounceTable_hbao[row * 32 + i];
-  return v0 + (x - float(i)) * (kMultiBounceTable_hbao[row * 32 + i + 1] - v0);
+// Multi-bounce G(A, rho) from the profiles' monotone tables (docs/profiles.md §8): the shader port
+// of gtsoMultiBounceTable of gtso_runtime.h, one lookup for every table. `gtbake export` writes it
+// into gtbake_tables.hlsl / .glsl when a profile ships a table; tests/shader executes it against
+// the C++ header.
+//
+// Needs before it kMultiBounceTableRho (float[]: every table's albedos, ascending, one table after
+// the other) and kMultiBounceTableValues (float[]: every table's G, [row][node], one table after
+// the other). A table is data: its albedos' offset rho0 and count rows in the first array, its
+// values' offset g0 and node count nodes in the second (G at A = 0, 1/(nodes - 1), ..., 1).
+// Linear in A between nodes (A clamped to [0, 1]) and in the albedo between rows (clamped to the
+// rows).
+
+float gtsoMultiBounceTableRow(int g0, int nodes, int row, float A) {
+  float x = clamp(A, 0.0, 1.0) * float(nodes - 1);
+  int i = min(int(x), nodes - 2);
+  float v0 = kMultiBounceTableValues[g0 + row * nodes + i];
+  return v0 + (x - float(i)) * (kMultiBounceTableValues[g0 + row * nodes + i + 1] - v0);
 }
-float multiBounceTable_hbao(float A, float albedo) {
+
+float gtsoMultiBounceTable(int rho0, int rows, int g0, int nodes, float A, float albedo) {
   int j0 = 0;
   int j1 = 0;
   float s = 0.0;
-  if (albedo >= kMultiBounceTableRho_hbao[7 - 1]) {
-    j0 = 7 - 1;
+  if (albedo >= kMultiBounceTableRho[rho0 + rows - 1]) {
+    j0 = rows - 1;
     j1 = j0;
-  } else if (albedo > kMultiBounceTableRho_hbao[0]) {
-    for (int j = 0; j < 7 - 1; ++j) j0 = kMultiBounceTableRho_hbao[j] < albedo ? j : j0;
+  } else if (albedo > kMultiBounceTableRho[rho0]) {
+    for (int j = 0; j < rows - 1; ++j) j0 = kMultiBounceTableRho[rho0 + j] < albedo ? j : j0;
     j1 = j0 + 1;
-    s = (albedo - kMultiBounceTableRho_hbao[j0]) / (kMultiBounceTableRho_hbao[j1] - kMultiBounceTableRho_hbao[j0]);
+    s = (albedo - kMultiBounceTableRho[rho0 + j0]) /
+        (kMultiBounceTableRho[rho0 + j1] - kMultiBounceTableRho[rho0 + j0]);
   }
-  float g0 = gtbakeTableRow_hbao(j0, A);
-  return g0 + s * (gtbakeTableRow_hbao(j1, A) - g0);
+  float g = gtsoMultiBounceTableRow(g0, nodes, j0, A);
+  return g + s * (gtsoMultiBounceTableRow(g0, nodes, j1, A) - g);
+}
+
+// gtao-reference: RMSE of G held out by scene 0.0726700351
+float multiBounceTable_gtao_reference(float A, float albedo) {
+  return gtsoMultiBounceTable(0, 7, 0, 32, A, albedo);
+}
+// gtao-runtime: RMSE of G held out by scene 0.0790909901
+float multiBounceTable_gtao_runtime(float A, float albedo) {
+  return gtsoMultiBounceTable(7, 7, 224, 32, A, albedo);
+}
+// hbao: RMSE of G held out by scene 0.0924897045
+float multiBounceTable_hbao(float A, float albedo) {
+  return gtsoMultiBounceTable(14, 7, 448, 32, A, albedo);
 }
 
 // Tuned settings (docs/tune.md; gtbake_tables.h kTunedSettings has the intervals): the
