@@ -18,7 +18,7 @@ namespace gtbake {
 namespace {
 
 // A bent normal further than this from unit length is not one (as the screen-ao set's reader,
-// fit/screen_estimate.h).
+// screen_ao/screen_ao_set.h).
 constexpr double kUnitTolerance = 1e-3;
 constexpr std::size_t kMaxNameLength = 64;
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "fit/screen_estimate.h"
+#include "screen_ao/screen_ao_set.h"
 
 namespace gtbake {
 

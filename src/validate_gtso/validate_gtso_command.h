@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "fit/screen_estimate.h"
+#include "screen_ao/screen_ao_set.h"
 #include "validate_gtso/specular_sweep.h"
 
 namespace gtbake {
