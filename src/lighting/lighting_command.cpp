@@ -35,7 +35,7 @@ void runLighting(const LightingOptions& o) {
   output.setSettings(settings);
   output.add("lighting.json",
              lightingJson(analysis, settings["sweep"], settings["fit"]).dump(2) + "\n");
-  output.add("report/lighting.html", lightingReportHtml(analysis));
+  output.add("lighting.html", lightingReportHtml(analysis));
   for (const EnvironmentResult& e : analysis.environments) {
     for (const auto& [name, png] : e.images) output.add(name, png);
   }

@@ -1,5 +1,5 @@
 // `gtbake lighting` (docs/lighting.md): Equation 10 under real environments, from a sweep's
-// transfer channels. Writes <out>/lighting.json, report/lighting.html and images/*.png as one
+// transfer channels. Writes <out>/lighting.json, lighting.html and images/*.png as one
 // output set (lighting.manifest.json).
 #pragma once
 

@@ -120,7 +120,7 @@ std::string lightingReportHtml(const LightingAnalysis& a) {
                                  : (e.refit.available ? e.refit.message : "not available"))
       << "</p>";
     for (const auto& image : e.images) {
-      h << "<figure><img src=\"../" << escapeHtml(image.first) << "\"><figcaption>"
+      h << "<figure><img src=\"" << escapeHtml(image.first) << "\"><figcaption>"
         << escapeHtml(image.first) << ": paper − truth, −0.5 … 0.5</figcaption></figure>";
     }
   }

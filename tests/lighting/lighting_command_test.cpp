@@ -90,7 +90,7 @@ TEST_F(LightingCommand, UniformSkyIsTheWhiteSkyAndAWindowGlows) {
   EXPECT_EQ(window["models"]["paper"]["per_type"].size(), 1u);
   EXPECT_TRUE(window["refit"]["available"].get<bool>());
   EXPECT_FALSE(window["refit"]["scene_band"].get<bool>());  // one scene: no jackknife
-  EXPECT_NE(manifest.find("report/lighting.html"), nullptr);
+  EXPECT_NE(manifest.find("lighting.html"), nullptr);
   EXPECT_NE(manifest.find("images/window_spheres.png"), nullptr);
 }
 
