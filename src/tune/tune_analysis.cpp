@@ -12,8 +12,8 @@
 #include "common/output_set.h"
 #include "common/text_format.h"
 #include "fit/scene_jackknife.h"
-#include "screen_ao/screen_ao_set.h"
 #include "screen_ao/gtao_runtime.h"
+#include "screen_ao/screen_ao_set.h"
 #include "screen_ao/visibility_bitmask.h"
 
 namespace gtbake {
