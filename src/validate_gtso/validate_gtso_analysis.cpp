@@ -118,18 +118,19 @@ void readInputs(const ValidateGtsoOptions& options, StageParts& parts, Analysis&
   a.samples = parts.run("gathering samples", 1, [&](Progress&) { return gatherSamples(a.sweep); });
 }
 
-// The unbounded S of the same sweep, for the comparison kept beside the near-field one; its views
-// must be those of the near-field read (the same sweep.json, so a mismatch is internal).
-SpecularSweep readUnboundedTruth(const ValidateGtsoOptions& options, const SpecularSweep& near) {
-  SpecularSweep sweep = options.unbounded_sweep_data && !options.unbounded_sweep_data->radius
-                            ? *options.unbounded_sweep_data
-                            : readSpecularSweep(options.sweep);
-  bool same = sweep.scenes.size() == near.scenes.size() && sweep.roughness == near.roughness;
-  for (std::size_t k = 0; same && k < sweep.scenes.size(); ++k) {
-    same = sweep.scenes[k].mask == near.scenes[k].mask;
+// The unbounded S of the same sweep, for the comparison kept beside the near-field one: the one
+// `gtbake all` read for every estimator (not copied), else read here into *read. Its views must
+// be those of the near-field read (the same sweep.json, so a mismatch is internal).
+const SpecularSweep& unboundedTruth(const ValidateGtsoOptions& options, const SpecularSweep& near,
+                                    std::optional<SpecularSweep>* read) {
+  const SpecularSweep* sweep = options.unbounded_sweep_data;
+  if (sweep == nullptr || sweep->radius) sweep = &read->emplace(readSpecularSweep(options.sweep));
+  bool same = sweep->scenes.size() == near.scenes.size() && sweep->roughness == near.roughness;
+  for (std::size_t k = 0; same && k < sweep->scenes.size(); ++k) {
+    same = sweep->scenes[k].mask == near.scenes[k].mask;
   }
   if (!same) throw Error("internal: the sweep's unbounded and near-field S differ in their views");
-  return sweep;
+  return *sweep;
 }
 
 }  // namespace
@@ -173,7 +174,8 @@ Analysis analyse(const ValidateGtsoOptions& options) {
   a.ranking = rank(a.t, a.methods, a.sweep.roughness.size());
   if (a.sweep.radius) {
     a.unbounded = parts.run("error tables against the unbounded S", 1, [&](Progress&) {
-      const SpecularSweep unbounded = readUnboundedTruth(options, a.sweep);
+      std::optional<SpecularSweep> read;
+      const SpecularSweep& unbounded = unboundedTruth(options, a.sweep, &read);
       return tabulate(a.samples, a.values, a.methods, a.sweep.scenes.size(),
                       a.sweep.roughness.size(), &unbounded);
     });
