@@ -10,6 +10,7 @@
 #include "common/input_limits.h"
 #include "common/text_escape.h"
 #include "common/text_format.h"
+#include "screen_ao/screen_ao_set.h"
 #include "screen_ao/screen_ao_settings.h"
 #include "sweep/sweep_set.h"
 
@@ -17,15 +18,7 @@ namespace gtbake {
 
 namespace {
 
-// A bent normal further than this from unit length is not one (as the screen-ao set's reader,
-// screen_ao/screen_ao_set.h).
-constexpr double kUnitTolerance = 1e-3;
 constexpr std::size_t kMaxNameLength = 64;
-
-std::string pixelText(std::size_t p, int width) {
-  return "(" + std::to_string(p % static_cast<std::size_t>(width)) + ", " +
-         std::to_string(p / static_cast<std::size_t>(width)) + ")";
-}
 
 // The bent normal channels the file holds: "BN" (world), "VBN" (view) or "" (none).
 std::string bentPrefix(const ExrImage& exr, const std::string& file) {
@@ -135,7 +128,7 @@ AoEstimate decodeImportedEstimate(const std::string& bytes, const std::string& f
                   " is not in [0, 1] at the unmasked pixel " + pixelText(p, g.width));
     }
     const Eigen::Vector3d b = bentAt(exr, prefix, g, p);
-    if (!b.allFinite() || !(std::abs(b.norm() - 1.0) <= kUnitTolerance)) {
+    if (!b.allFinite() || !(std::abs(b.norm() - 1.0) <= kBentUnitTolerance)) {
       throw Error(file + ": the bent normal is not a finite unit vector at the unmasked pixel " +
                   pixelText(p, g.width));
     }

@@ -11,18 +11,10 @@
 
 namespace gtbake {
 
-namespace {
-
-// A bent normal further than this from unit length is not one (screen-ao stores normalised
-// vectors; RGBA8 decoding and float rounding stay far below it).
-constexpr float kUnitTolerance = 1e-3f;
-
 std::string pixelText(std::size_t p, int width) {
   return "(" + std::to_string(p % static_cast<std::size_t>(width)) + ", " +
          std::to_string(p / static_cast<std::size_t>(width)) + ")";
 }
-
-}  // namespace
 
 std::optional<float> clampedEstimate(float a) {
   if (!(a >= -kEstimateRounding && a <= 1.0f + kEstimateRounding)) return std::nullopt;
@@ -112,7 +104,7 @@ ImageEstimate ScreenEstimateSet::read(const std::string& name, const std::filesy
     if (!with_bent) continue;
     const float* b = &e.bent[3 * p];
     const float length = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-    if (!(std::abs(length - 1.0f) <= kUnitTolerance)) {
+    if (!(std::abs(length - 1.0f) <= kBentUnitTolerance)) {
       throw Error(e.file + ": " + est + ".BN is not a unit vector at an unmasked pixel " +
                   pixelText(p, e.width) + " (length " + formatNumber(length, "%.6g") + ")");
     }

@@ -15,6 +15,14 @@
 
 namespace gtbake {
 
+// A bent normal further than this from unit length is not one (screen-ao stores normalised
+// vectors; RGBA8 decoding and float rounding stay far below it). Both readers of b̂ use it: this
+// set's and an imported pass's (screen_ao_import.h).
+inline constexpr double kBentUnitTolerance = 1e-3;
+
+// "(x, y)" of pixel p in an image `width` pixels wide, for a reader's error.
+std::string pixelText(std::size_t p, int width);
+
 // Float rounding of an estimator's slice integrals may leave Â a few ulps outside [0, 1]
 // (1.00000012 on an open pixel); such values are clamped, anything farther is an error.
 inline constexpr float kEstimateRounding = 1e-5f;
