@@ -3,6 +3,8 @@
 #include <tbb/parallel_for.h>
 
 #include <cstdio>
+#include <map>
+#include <optional>
 
 #include "common/atomic_file.h"
 #include "common/output_layout.h"
@@ -56,29 +58,37 @@ double specularRmse(const ValidateGtsoResult& r, const char* method) {
 }
 
 // validate-gtso on every profile's estimator, into <out>/profiles/<estimator>/ (after the
-// ray-traced run, whose u it scores); each run is threaded inside, so they run one after another.
+// ray-traced run, whose u it scores). The truth each reads (S at its estimator's radius, and the
+// unbounded S scored beside it) is read once per radius first; then the runs, each its own output
+// set and threaded inside, run side by side, since their serial parts would leave a core idle.
 void specularProfiles(const AllOptions& options, std::vector<Profile>* profiles) {
   banner("validate-gtso per estimator", options.progress);
-  // Once for every estimator of the same radius (all of them with the defaults): S_R at it, and
-  // the unbounded S scored beside it.
-  std::optional<SpecularSweep> sweep;
-  std::optional<SpecularSweep> unbounded;
-  for (Profile& p : *profiles) {
-    ValidateGtsoOptions v;
-    v.sweep = options.out / kSweepDir;
+  const std::filesystem::path sweep_dir = options.out / kSweepDir;
+  std::vector<ValidateGtsoOptions> runs(profiles->size());
+  std::map<std::optional<double>, SpecularSweep> truth;  // by radius; none: the unbounded S
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    ValidateGtsoOptions& v = runs[k];
+    v.sweep = sweep_dir;
     v.luts = options.out;
-    v.input.estimator = p.estimator;
+    v.input.estimator = (*profiles)[k].estimator;
     v.input.screen_ao = options.out / kScreenAoDir;
     const std::optional<double> radius = truthRadius(v.input);
-    if (!sweep || sweep->radius != radius) sweep = readSpecularSweep(v.sweep, radius);
-    v.sweep_data = &*sweep;
-    if (radius && !unbounded) unbounded = readSpecularSweep(v.sweep);
-    v.unbounded_sweep_data = unbounded ? &*unbounded : nullptr;
+    for (const std::optional<double>& r : {radius, std::optional<double>()}) {
+      if (truth.count(r) == 0) truth.emplace(r, readSpecularSweep(sweep_dir, r));
+      if (!radius) break;
+    }
+    v.sweep_data = &truth.at(radius);
+    v.unbounded_sweep_data = radius ? &truth.at(std::nullopt) : nullptr;
     v.write_images = false;  // 72 PNGs per estimator; `gtbake validate-gtso --estimator` draws them
     v.print_summary = false;
-    v.progress = options.progress;
-    p.specular = runValidateGtso(v);
+    v.progress = false;
   }
+  Progress bar("validate-gtso per estimator", runs.size(), options.progress);
+  tbb::parallel_for(std::size_t{0}, runs.size(), [&](std::size_t k) {
+    (*profiles)[k].specular = runValidateGtso(runs[k]);
+    bar.add(1);
+  });
+  bar.finish();
 }
 
 // Screen-space A and bent normals from the sweep's G-buffer into <out>/screen_ao.
