@@ -8,6 +8,7 @@
 
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/progress.h"
 #include "fit/multibounce_fit.h"
 #include "fit/sweep_data.h"
 #include "sweep/sweep_set.h"
@@ -242,7 +243,8 @@ void finishEnvironment(const Accumulator& acc, EnvironmentResult* result) {
 // environment's sums side by side (each environment sums in view order, so the bytes are those
 // of one environment at a time); the first view of each scene type is pictured.
 void analyzeEnvironments(const SweepSet& set, const std::vector<Environment>& environments,
-                         LightingAnalysis* a) {
+                         bool progress, LightingAnalysis* a) {
+  Progress bar("lighting", set.views.size() + 1, progress);  // the views, then the refits
   std::vector<Accumulator> sums;
   a->environments.resize(environments.size());
   for (std::size_t e = 0; e < environments.size(); ++e) {
@@ -264,16 +266,19 @@ void analyzeEnvironments(const SweepSet& set, const std::vector<Environment>& en
           picture ? "images/" + environments[e].name + "_" + view.name + ".png" : "";
       analyzeView(&sums[e], image, c, view, type, name, &a->environments[e]);
     });
+    bar.add(1);
   }
   tbb::parallel_for(std::size_t{0}, environments.size(),
                     [&](std::size_t e) { finishEnvironment(sums[e], &a->environments[e]); });
+  bar.add(1);
+  bar.finish();
 }
 
 }  // namespace
 
 LightingAnalysis analyzeLighting(const fs::path& sweep,
                                  const std::vector<Environment>& environments,
-                                 const std::optional<MultiBounceCoeffs>& fit) {
+                                 const std::optional<MultiBounceCoeffs>& fit, bool progress) {
   const SweepSet set = readSweepSet(sweep);
   if (!set.settings.transfer) {
     throw Error(set.where +
@@ -290,7 +295,7 @@ LightingAnalysis analyzeLighting(const fs::path& sweep,
     if (std::find(a.types.begin(), a.types.end(), view.type) == a.types.end())
       a.types.push_back(view.type);
   }
-  analyzeEnvironments(set, environments, &a);
+  analyzeEnvironments(set, environments, progress, &a);
   a.pixels =
       a.environments.empty() ? 0 : a.environments.front().models.front().albedo.front().pixels;
   return a;

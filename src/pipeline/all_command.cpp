@@ -225,6 +225,7 @@ void lightingStage(const AllOptions& options, const std::filesystem::path& fit) 
   lighting.fit = fit;
   lighting.out = options.out / kLightingDir;
   lighting.print_summary = false;  // lighting/lighting.json and its report hold it
+  lighting.progress = options.progress;
   runLighting(lighting);
 }
 
