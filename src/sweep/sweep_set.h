@@ -30,7 +30,7 @@ struct SweepSettings {
   bool transfer = false;  // T<k>_SH<i> channels (docs/sweep.md "Transfer"); absent: false
 };
 
-// One image of the sweep (a sweep.json "scenes" entry: a view of a scene).
+// One image of the sweep (a sweep.json "views" entry: a view of a scene).
 struct SweepView {
   std::string name;   // the view: its outputs are named after it (the EXR's stem)
   std::string scene;  // the scene it shows: the cluster of scene-level uncertainties (its name
