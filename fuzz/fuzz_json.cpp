@@ -70,12 +70,12 @@ nlohmann::json sweepJson() {
   doc["settings"] = {{"spp", 2},     {"width", kSide}, {"height", kSide},
                      {"bounces", 1}, {"seed", 1},      {"albedos", {0.1, 0.3, 0.5, 0.7, 0.9}}};
   for (const char* scene : {"a", "b"}) {
-    doc["scenes"].push_back({{"name", scene},
-                             {"file", std::string(scene) + ".exr"},
-                             {"gltf", std::string(scene) + ".gltf"},
-                             {"width", kSide},
-                             {"height", kSide},
-                             {"unmasked_pixels", kSide * kSide}});
+    doc["views"].push_back({{"name", scene},
+                            {"file", std::string(scene) + ".exr"},
+                            {"gltf", std::string(scene) + ".gltf"},
+                            {"width", kSide},
+                            {"height", kSide},
+                            {"unmasked_pixels", kSide * kSide}});
   }
   return doc;
 }
@@ -83,17 +83,17 @@ nlohmann::json sweepJson() {
 nlohmann::json gbufferJson() {
   nlohmann::json doc;
   doc["gtbake_version"] = "0";
-  doc["scenes"].push_back({{"name", "a"},
-                           {"file", "a.exr"},
-                           {"width", kSide},
-                           {"height", kSide},
-                           {"camera",
-                            {{"model", "perspective"},
-                             {"position", {0.0, 0.0, 0.0}},
-                             {"right", {1.0, 0.0, 0.0}},
-                             {"up", {0.0, 1.0, 0.0}},
-                             {"backward", {0.0, 0.0, 1.0}},
-                             {"yfov", 0.8}}}});
+  doc["views"].push_back({{"name", "a"},
+                          {"file", "a.exr"},
+                          {"width", kSide},
+                          {"height", kSide},
+                          {"camera",
+                           {{"model", "perspective"},
+                            {"position", {0.0, 0.0, 0.0}},
+                            {"right", {1.0, 0.0, 0.0}},
+                            {"up", {0.0, 1.0, 0.0}},
+                            {"backward", {0.0, 0.0, 1.0}},
+                            {"yfov", 0.8}}}});
   return doc;
 }
 

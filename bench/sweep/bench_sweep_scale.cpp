@@ -173,7 +173,7 @@ int run(int argc, char** argv) {
   settings.spp = spp;
   settings.specular_roughness.clear();
   settings.specular_spp = 0;
-  settings.scene_key = sceneStreamKey(scene.name);
+  settings.view_key = viewStreamKey(scene.name);
   const double cpu_start = cpuSeconds();
   const EscapeImage image =
       traceEscapeImage(tracer, scene.camera, width, height, settings, "", false);

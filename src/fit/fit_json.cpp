@@ -51,10 +51,9 @@ json errorJson(const ErrorTable& table) {
   for (const ErrorRow& row : table.per_albedo) {
     out["per_albedo"].push_back({{"rho", row.rho}, {"rmse", row.rmse}, {"max_abs", row.max_abs}});
   }
-  out["per_scene"] = json::array();
+  out["per_view"] = json::array();  // one row per view (docs/scenes.md "Vocabulary")
   for (const ErrorRow& row : table.per_scene) {
-    out["per_scene"].push_back(
-        {{"scene", row.label}, {"rmse", row.rmse}, {"max_abs", row.max_abs}});
+    out["per_view"].push_back({{"view", row.label}, {"rmse", row.rmse}, {"max_abs", row.max_abs}});
   }
   return out;
 }
@@ -204,11 +203,11 @@ json floorJson(const FitAnalysis& a) {
                        {"floor", a.floor.per_albedo[j].floor},
                        {"eq10_rmse", a.refit_errors.per_albedo[j].rmse}});
   }
-  json scenes = json::array();
+  json views = json::array();
   for (std::size_t s = 0; s < a.floor.per_scene.size(); ++s) {
-    scenes.push_back({{"scene", a.floor.per_scene[s].label},
-                      {"floor", a.floor.per_scene[s].floor},
-                      {"eq10_rmse", a.refit_errors.per_scene[s].rmse}});
+    views.push_back({{"view", a.floor.per_scene[s].label},
+                     {"floor", a.floor.per_scene[s].floor},
+                     {"eq10_rmse", a.refit_errors.per_scene[s].rmse}});
   }
   return {{"method",
            "RMSE about the conditional mean of G in 1024 equal bins of A per albedo, divided by "
@@ -219,7 +218,7 @@ json floorJson(const FitAnalysis& a) {
           {"floor_share_of_eq10_mse",
            a.floor.rmse * a.floor.rmse / (a.refit_errors.rmse * a.refit_errors.rmse)},
           {"per_albedo", albedos},
-          {"per_scene", scenes}};
+          {"per_view", views}};
 }
 
 // The shape checks, adequacy, monotone table and gate of an engine profile (docs/profiles.md
@@ -319,9 +318,9 @@ json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceC
   out["weighting_alternatives"] = alternativesJson(a);
   json weights = json::array();
   for (const SceneWeight& w : a.scene_weights) {
-    weights.push_back({{"scene", w.scene}, {"points", w.points}, {"weight_share", w.share}});
+    weights.push_back({{"view", w.scene}, {"points", w.points}, {"weight_share", w.share}});
   }
-  out["scene_weights"] = weights;
+  out["view_weights"] = weights;
   out["floor"] = floorJson(a);
   out["errors"] = {{"refit", errorJson(a.refit_errors)}, {"shipped", errorJson(a.shipped_errors)}};
   if (a.held_out_errors) {

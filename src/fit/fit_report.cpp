@@ -197,11 +197,10 @@ void figure7(const FitAnalysis& a, const MultiBounceCoeffs& shipped, Figures& fi
   }
 }
 
-// Figure 6: A vs G per scene, every albedo, with the pooled per-albedo cubics.
+// Figure 6: A vs G per view, every albedo, with the pooled per-albedo cubics.
 void figure6(const FitAnalysis& a, Figures& figures) {
   const std::size_t M = a.data.albedos.size();
-  figures.heading(
-      "<h2>Figure 6: A vs G per scene, every albedo, with the per-albedo cubics</h2>\n");
+  figures.heading("<h2>Figure 6: A vs G per view, every albedo, with the per-albedo cubics</h2>\n");
   for (const SweepScene& scene : a.data.scenes) {
     SvgPlot plot(0, 1, 0, 1, escapeHtml(scene.name), "A (ambient occlusion)", "G (multi-bounce)");
     const std::size_t stride =
@@ -349,7 +348,7 @@ std::string errorTables(const FitAnalysis& a) {
          "mean in " +
          std::to_string(kFloorBins) +
          " bins of A, small-sample corrected): the scatter no G(A, &rho;) can remove. Weight: the "
-         "scene's share of the fit's total weight.</p>\n";
+         "view's share of the fit's total weight.</p>\n";
 }
 
 std::string leaveOneOutTable(const SceneJackknife& jk) {

@@ -164,7 +164,7 @@ void printErrorTables(const FitAnalysis& a, const ErrorTable& left, const ErrorT
               right.rmse, right.max_abs, a.floor.rmse);
   std::printf(
       "floor: RMSE of the best function of (A, rho) alone (conditional mean in %d A bins); "
-      "weight: the scene's share of the fit's weight\n",
+      "weight: the view's share of the fit's weight\n",
       kFloorBins);
 }
 

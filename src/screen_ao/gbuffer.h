@@ -68,7 +68,7 @@ struct SweepTruth {
 };
 
 struct SweepImage {
-  std::string name;   // the scenes[] entry's name (the EXR's stem)
+  std::string name;   // the views[] entry's name (the EXR's stem)
   std::string group;  // its "scene" field if present, else its name: the statistics' grouping
   GBuffer gbuffer;
   SweepTruth truth;

@@ -1,5 +1,5 @@
 // Errors of one estimator against the sweep's ray-traced answers (docs/screen_ao.md,
-// "Statistics"), per group of images (the scenes[] entry's scene, else its name) and bin of the
+// "Statistics"), per group of images (the views[] entry's scene, else its name) and bin of the
 // ray-traced A (width 0.1), over the unmasked pixels.
 #pragma once
 

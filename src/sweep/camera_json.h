@@ -1,4 +1,4 @@
-// The camera a sweep traces with, as the "camera" object of each sweep.json scenes[] entry, so a
+// The camera a sweep traces with, as the "camera" object of each sweep.json views[] entry, so a
 // screen-space pass can rebuild view-space positions from the Z channel (docs/sweep.md,
 // "G-buffer").
 #pragma once

@@ -60,7 +60,7 @@ std::uint64_t tracePixel(const EmbreeTracer& tracer, const PerspectiveCamera& ca
   if (!tracer.intersect(camera_ray, INFINITY, &hit)) return 1;
   image->mask[p] = 1;
   const std::uint64_t stream =
-      pixelStream(settings.scene_key, static_cast<std::uint64_t>(j) * width + i);
+      pixelStream(settings.view_key, static_cast<std::uint64_t>(j) * width + i);
   const std::size_t per_pixel = 2 * static_cast<std::size_t>(settings.bounces + 1);
   double bent[3] = {0.0, 0.0, 0.0};
   const std::size_t radii = settings.gbuffer_radii.size();

@@ -84,7 +84,7 @@ struct PixelScratch {
 
 // Everything the sweep records for pixel (i, j) of a width × height image, stored at `slot` of
 // `image` (whose arrays makeEscapeImage sized): the camera ray, and on a hit the walks, the bent
-// normal and the specular samples, all from the random stream pixelStream(settings.scene_key,
+// normal and the specular samples, all from the random stream pixelStream(settings.view_key,
 // j·width + i). Returns the rays traced. A pixel's values depend only on (seed, scene, pixel), so
 // any rectangle, thread count or shard gives the same bits.
 std::uint64_t tracePixel(const EmbreeTracer& tracer, const PerspectiveCamera& camera, int width,

@@ -10,9 +10,9 @@
 
 namespace gtbake {
 
-std::uint32_t sceneStreamKey(const std::string& scene_name) {
+std::uint32_t viewStreamKey(const std::string& view_name) {
   std::uint32_t h = 2166136261u;  // FNV-1a offset basis and prime (32 bit)
-  for (unsigned char c : scene_name) h = (h ^ c) * 16777619u;
+  for (unsigned char c : view_name) h = (h ^ c) * 16777619u;
   return h;
 }
 

@@ -58,10 +58,10 @@ struct WalkSettings {
   // instead of one rtcIntersect1 / rtcOccluded1 call per ray. Same rays, same counts, bit for
   // bit; the two are within measurement noise of each other (bench_sweep, docs/sweep.md).
   bool streams = true;
-  // High 32 bits of every pixel's random stream (sceneStreamKey of the scene's name; the pixel
-  // index fills the low 32 bits), so no two scenes share draws and a pixel's value depends only on
-  // (seed, scene, pixel), never on threads, tiles or shards.
-  std::uint32_t scene_key = 0;
+  // High 32 bits of every pixel's random stream (viewStreamKey of the view's name; the pixel
+  // index fills the low 32 bits), so no two views share draws and a pixel's value depends only on
+  // (seed, view, pixel), never on threads, tiles or shards.
+  std::uint32_t view_key = 0;
   // True specular occlusion (specular_occlusion.h): perceptual roughness values r_p (α = r_p²) and
   // VNDF samples per value (even: two half-sample estimates). Empty: not traced.
   std::vector<double> specular_roughness;
@@ -76,12 +76,13 @@ struct WalkSettings {
   bool transfer = false;
 };
 
-// The scene part of the random streams: 32-bit FNV-1a of the scene's name (its glTF file stem).
-std::uint32_t sceneStreamKey(const std::string& scene_name);
+// The view part of the random streams: 32-bit FNV-1a of the view's name (its glTF file stem, or
+// <stem>_v<k> for an automatic view).
+std::uint32_t viewStreamKey(const std::string& view_name);
 
-// The random stream of pixel p of the scene with key scene_key.
-inline std::uint64_t pixelStream(std::uint32_t scene_key, std::uint64_t p) {
-  return (static_cast<std::uint64_t>(scene_key) << 32) | (p & 0xffffffffu);
+// The random stream of pixel p of the view with key view_key.
+inline std::uint64_t pixelStream(std::uint32_t view_key, std::uint64_t p) {
+  return (static_cast<std::uint64_t>(view_key) << 32) | (p & 0xffffffffu);
 }
 
 // A cosine-distributed unit direction about the unit normal n, from (u0, u1) ∈ [0,1)² through the

@@ -37,10 +37,12 @@ std::vector<Shard> readShards(const MergeOptions& o) {
 // The first setting (in sweep.json's order) whose values differ, for the error message.
 std::string firstDifference(const SweepIdentity& a, const SweepIdentity& b) {
   if (a.version != b.version) return "gtbake version " + a.version + " vs " + b.version;
-  if (a.scenes != b.scenes) return "scene lists";
+  if (a.views != b.views) return "view lists";
   if (a.camera != b.camera) return "--camera '" + a.camera + "' vs '" + b.camera + "'";
-  for (std::size_t s = 0; s < a.scenes.size(); ++s) {
-    if (a.scene_sha256[s] != b.scene_sha256[s]) return "contents of scene " + a.scenes[s];
+  for (std::size_t s = 0; s < a.views.size(); ++s) {
+    if (a.view_sha256[s] != b.view_sha256[s]) {
+      return "contents of scene " + a.view_scene[s] + " (view " + a.views[s] + ")";
+    }
   }
   for (const auto& [key, value] : a.settings.items()) {
     if (!b.settings.contains(key) || b.settings[key] != value) {
@@ -73,7 +75,7 @@ std::string nameTiles(const TilePlan& plan, const SweepIdentity& id,
   std::string names;
   for (std::size_t k = 0; k < tiles.size() && k < 4; ++k) {
     const Tile& tile = plan.tiles[tiles[k]];
-    names += (k ? ", " : "") + id.scenes[tile.scene] + ":" + std::to_string(tile.index);
+    names += (k ? ", " : "") + id.views[tile.view] + ":" + std::to_string(tile.index);
   }
   if (tiles.size() > 4) names += ", ... (" + std::to_string(tiles.size()) + " in all)";
   return names;
@@ -123,11 +125,11 @@ SweepResult runMerge(const MergeOptions& options) {
   const ShardManifest& first = shards.front().manifest;
   const SweepIdentity& id = first.identity;
   const TilePlan plan =
-      planTiles(static_cast<int>(id.scenes.size()), id.width, id.height, first.shards);
+      planTiles(static_cast<int>(id.views.size()), id.width, id.height, first.shards);
   const std::vector<int> owner = checkCoverage(shards, plan);
   for (const Shard& shard : shards) checkShardFiles(shard.dir, shard.manifest, plan);
 
-  std::vector<SceneRun> runs(id.scenes.size());
+  std::vector<ViewRun> runs(id.views.size());
   int threads = 0;
   for (const Shard& shard : shards) {
     threads = std::max(threads, shard.manifest.threads);
@@ -144,7 +146,7 @@ SweepResult runMerge(const MergeOptions& options) {
     std::printf("%s%d: %s, %zu tiles", k ? "; " : "", shards[k].manifest.shard,
                 shards[k].dir.c_str(), shards[k].manifest.tiles.size());
   }
-  std::printf("), %zu tiles of %zu scenes -> %s\n", plan.tiles.size(), id.scenes.size(),
+  std::printf("), %zu tiles of %zu views -> %s\n", plan.tiles.size(), id.views.size(),
               options.out.c_str());
   try {
     // Each tile file is checked against its shard's SHA-256 as it is read; the outputs are one

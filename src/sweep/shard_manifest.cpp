@@ -13,13 +13,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kFormat = "gtbake-shard 1";
+// 2: the per-view list is "views" (it was "scenes"; docs/scenes.md "Vocabulary").
+constexpr const char* kFormat = "gtbake-shard 2";
 
 }  // namespace
 
 std::string tilePath(const SweepIdentity& identity, const TilePlan& plan, int t) {
   const Tile& tile = plan.tiles[t];
-  return std::string(kTileDirectory) + "/" + tileFileName(identity.scenes[tile.scene], tile.index);
+  return std::string(kTileDirectory) + "/" + tileFileName(identity.views[tile.view], tile.index);
 }
 
 void writeShardManifest(const fs::path& dir, const ShardManifest& manifest, const TilePlan& plan) {
@@ -34,19 +35,19 @@ void writeShardManifest(const fs::path& dir, const ShardManifest& manifest, cons
   j["height"] = id.height;
   j["camera"] = id.camera;
   j["tile_side"] = kTileSide;
-  nlohmann::ordered_json scenes = nlohmann::ordered_json::array();
-  for (std::size_t s = 0; s < id.scenes.size(); ++s) {
-    scenes.push_back({{"name", id.scenes[s]},
-                      {"scene", id.view_scene[s]},
-                      {"type", id.view_type[s]},
-                      {"sha256", id.scene_sha256[s]},
-                      {"triangles", id.scene_triangles[s]},
-                      {"camera", id.scene_cameras[s]},
-                      {"gltf", manifest.runs[s].gltf.string()},
-                      {"build_seconds", manifest.runs[s].build_seconds},
-                      {"trace_seconds", manifest.runs[s].trace_seconds}});
+  nlohmann::ordered_json views = nlohmann::ordered_json::array();
+  for (std::size_t s = 0; s < id.views.size(); ++s) {
+    views.push_back({{"name", id.views[s]},
+                     {"scene", id.view_scene[s]},
+                     {"type", id.view_type[s]},
+                     {"sha256", id.view_sha256[s]},
+                     {"triangles", id.view_triangles[s]},
+                     {"camera", id.view_cameras[s]},
+                     {"gltf", manifest.runs[s].gltf.string()},
+                     {"build_seconds", manifest.runs[s].build_seconds},
+                     {"trace_seconds", manifest.runs[s].trace_seconds}});
   }
-  j["scenes"] = std::move(scenes);
+  j["views"] = std::move(views);
   j["shard"] = manifest.shard;
   j["shards"] = manifest.shards;
   j["tiles"] = manifest.tiles;
@@ -68,29 +69,29 @@ void removeShardManifest(const fs::path& dir) {
 
 namespace {
 
-// The scenes of shard.json: names, scene hashes and cameras as written (`ordered`), counts and
-// times range-checked (`plain`, the same text).
-void readShardScenes(const nlohmann::ordered_json& ordered, const nlohmann::json& plain,
-                     const std::string& at, ShardManifest* m) {
+// The views of shard.json: names, their scenes' hashes and cameras as written (`ordered`), counts
+// and times range-checked (`plain`, the same text).
+void readShardViews(const nlohmann::ordered_json& ordered, const nlohmann::json& plain,
+                    const std::string& at, ShardManifest* m) {
   SweepIdentity& id = m->identity;
   if (ordered.size() > static_cast<std::size_t>(kMaxSweepViews)) {
-    throw Error(at + ": more than " + std::to_string(kMaxSweepViews) + " scenes");
+    throw Error(at + ": more than " + std::to_string(kMaxSweepViews) + " views");
   }
   std::set<std::string> names;
   for (std::size_t k = 0; k < ordered.size(); ++k) {
     const auto& s = ordered.at(k);
     const nlohmann::json& p = plain.at(k);
-    id.scenes.push_back(s.at("name").get<std::string>());
+    id.views.push_back(s.at("name").get<std::string>());
     // merge names each view's outputs by its name: each once.
-    if (!names.insert(id.scenes.back()).second) {
-      throw Error(at + ": scene '" + id.scenes.back() + "' is listed twice");
+    if (!names.insert(id.views.back()).second) {
+      throw Error(at + ": view '" + id.views.back() + "' is listed twice");
     }
     id.view_scene.push_back(s.at("scene").get<std::string>());
     id.view_type.push_back(s.at("type").get<std::string>());
-    id.scene_sha256.push_back(s.at("sha256").get<std::string>());
-    id.scene_triangles.push_back(static_cast<std::uint64_t>(
+    id.view_sha256.push_back(s.at("sha256").get<std::string>());
+    id.view_triangles.push_back(static_cast<std::uint64_t>(
         jsonInteger(p, "triangles", 1, static_cast<std::int64_t>(limitValue(kMaxTriangles)), at)));
-    id.scene_cameras.push_back(s.at("camera"));
+    id.view_cameras.push_back(s.at("camera"));
     m->runs.push_back({fs::path(s.at("gltf").get<std::string>()),
                        jsonNumber(p, "build_seconds", 0.0, kMaxRecordedSeconds, at),
                        jsonNumber(p, "trace_seconds", 0.0, kMaxRecordedSeconds, at)});
@@ -117,7 +118,9 @@ ShardManifest readShardManifest(const fs::path& dir) {
   try {
     const nlohmann::ordered_json j = nlohmann::ordered_json::parse(text);
     if (j.at("format").get<std::string>() != kFormat) {
-      throw Error(where + "shard.json is not a " + std::string(kFormat) + " record");
+      throw Error(where + "shard.json is not a " + std::string(kFormat) +
+                  " record (another gtbake version wrote it: run its gtbake sweep --shard "
+                  "command again)");
     }
     SweepIdentity& id = m.identity;
     id.version = j.at("gtbake_version").get<std::string>();
@@ -130,7 +133,7 @@ ShardManifest readShardManifest(const fs::path& dir) {
     if (jsonInteger(plain, "tile_side", 1, kMaxImageSide, at) != kTileSide) {
       throw Error(where + "cut into tiles of another size (by another gtbake version)");
     }
-    readShardScenes(j.at("scenes"), plain.at("scenes"), at, &m);
+    readShardViews(j.at("views"), plain.at("views"), at, &m);
     m.shards = static_cast<int>(jsonInteger(plain, "shards", 1, kMaxSweepShards, at));
     m.shard = static_cast<int>(jsonInteger(plain, "shard", 0, m.shards - 1, at));
     m.tiles = j.at("tiles").get<std::vector<int>>();

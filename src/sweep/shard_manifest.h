@@ -21,7 +21,7 @@ inline constexpr const char* kShardSet = "shard";
 
 struct ShardManifest {
   SweepIdentity identity;
-  std::vector<SceneRun> runs;  // per scene: glTF (relative to the shard directory), timings
+  std::vector<ViewRun> runs;  // per view: its glTF (relative to the shard directory), timings
   int shard = 0;
   int shards = 1;
   std::vector<int> tiles;  // plan indices of the tiles covered, ascending

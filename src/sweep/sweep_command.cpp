@@ -269,12 +269,12 @@ SweepIdentity describeSweep(const SweepOptions& o, const SweepInputs& in) {
       {"gtbake.transfer", o.transfer ? "1" : "0"}};
   for (const SweepView& v : in.views) {
     const Scene& scene = in.scenes[v.scene];
-    id.scenes.push_back(v.name);
+    id.views.push_back(v.name);
     id.view_scene.push_back(scene.name);
     id.view_type.push_back(scene.type.empty() ? scene.name : scene.type);
-    id.scene_sha256.push_back(in.sha256[v.scene]);
-    id.scene_triangles.push_back(scene.triangles.size());
-    id.scene_cameras.push_back(cameraJson(v.camera));
+    id.view_sha256.push_back(in.sha256[v.scene]);
+    id.view_triangles.push_back(scene.triangles.size());
+    id.view_cameras.push_back(cameraJson(v.camera));
   }
   id.width = o.width;
   id.height = o.height;
@@ -357,7 +357,7 @@ bool haveTile(const fs::path& path, const SweepIdentity& id, const Tile& tile) {
   if (!fs::is_regular_file(path, ec)) return false;
   try {
     const TileData t = readTile(path);
-    return t.key == id.key && t.scene == id.scenes[tile.scene] && t.index == tile.index &&
+    return t.key == id.key && t.view == id.views[tile.view] && t.index == tile.index &&
            t.rect.x0 == tile.rect.x0 && t.rect.y0 == tile.rect.y0 && t.rect.x1 == tile.rect.x1 &&
            t.rect.y1 == tile.rect.y1;
   } catch (const Error& e) {
@@ -367,14 +367,14 @@ bool haveTile(const fs::path& path, const SweepIdentity& id, const Tile& tile) {
 }
 
 struct TraceReport {
-  std::vector<SceneRun> runs;  // per scene: glTF, build and trace time of this run
-  std::size_t traced = 0;      // tiles traced by this run
-  std::size_t reused = 0;      // tiles found checkpointed
-  std::uint64_t rays = 0;      // traced by this run
-  int signal = 0;              // the stop signal, or 0 if every tile is done
+  std::vector<ViewRun> runs;  // per view: glTF, build and trace time of this run
+  std::size_t traced = 0;     // tiles traced by this run
+  std::size_t reused = 0;     // tiles found checkpointed
+  std::uint64_t rays = 0;     // traced by this run
+  int signal = 0;             // the stop signal, or 0 if every tile is done
 };
 
-// Traces the tiles `mine` that are not checkpointed yet, scene by scene (TBB over the tiles, and
+// Traces the tiles `mine` that are not checkpointed yet, view by view (TBB over the tiles, and
 // inside each tile over 8×8 blocks), saving each tile as it finishes. Stops starting tiles after
 // SIGINT/SIGTERM.
 TraceReport traceTiles(const SweepOptions& o, const SweepInputs& in, const SweepIdentity& id,
@@ -392,8 +392,8 @@ TraceReport traceTiles(const SweepOptions& o, const SweepInputs& in, const Sweep
     report.runs.push_back({in.files[view.scene], 0.0, 0.0});
     std::vector<int> pending;
     for (int t : mine) {
-      if (plan.tiles[t].scene != static_cast<int>(s)) continue;
-      const fs::path path = dir / tileFileName(id.scenes[s], plan.tiles[t].index);
+      if (plan.tiles[t].view != static_cast<int>(s)) continue;
+      const fs::path path = dir / tileFileName(id.views[s], plan.tiles[t].index);
       if (haveTile(path, id, plan.tiles[t])) {
         ++report.reused;
       } else {
@@ -407,12 +407,12 @@ TraceReport traceTiles(const SweepOptions& o, const SweepInputs& in, const Sweep
       tracer = std::make_unique<EmbreeTracer>(in.scenes[view.scene]);
       built = view.scene;
     }
-    settings.scene_key = sceneStreamKey(view.name);
+    settings.view_key = viewStreamKey(view.name);
     const auto trace_start = std::chrono::steady_clock::now();
     report.runs[s].build_seconds = std::chrono::duration<double>(trace_start - build_start).count();
     std::uint64_t pixels = 0;
     for (int t : pending) pixels += plan.tiles[t].rect.pixels();
-    Progress bar(prefix + id.scenes[s], pixels, o.progress);
+    Progress bar(prefix + id.views[s], pixels, o.progress);
     std::atomic<std::size_t> traced{0};
     std::atomic<std::uint64_t> rays{0};
     tbb::parallel_for(std::size_t{0}, pending.size(), [&](std::size_t k) {
@@ -420,8 +420,8 @@ TraceReport traceTiles(const SweepOptions& o, const SweepInputs& in, const Sweep
       const Tile& tile = plan.tiles[pending[k]];
       const EscapeImage image =
           traceEscapeImage(*tracer, view.camera, o.width, o.height, tile.rect, settings, "", false);
-      writeTile(dir / tileFileName(id.scenes[s], tile.index),
-                makeTile(image, id.key, id.scenes[s], tile.index, tile.rect));
+      writeTile(dir / tileFileName(id.views[s], tile.index),
+                makeTile(image, id.key, id.views[s], tile.index, tile.rect));
       rays += image.rays;
       ++traced;
       bar.add(tile.rect.pixels());
@@ -458,7 +458,7 @@ SweepResult finishShard(const SweepOptions& o, const SweepIdentity& id, const Ti
                         double seconds) {
   ShardManifest manifest;
   manifest.identity = id;
-  for (SceneRun& run : report.runs) run.gltf = relativePath(run.gltf, o.out);
+  for (ViewRun& run : report.runs) run.gltf = relativePath(run.gltf, o.out);
   manifest.runs = report.runs;
   manifest.shard = o.shard;
   manifest.shards = o.shards;
@@ -467,9 +467,9 @@ SweepResult finishShard(const SweepOptions& o, const SweepIdentity& id, const Ti
   manifest.seconds = seconds;
   writeShardManifest(o.out, manifest, plan);
   std::printf(
-      "shard %d/%d: %zu of %zu tiles of %zu scenes (%zu traced now, %zu checkpointed), "
+      "shard %d/%d: %zu of %zu tiles of %zu views (%zu traced now, %zu checkpointed), "
       "%.1f Mrays in %.2f s -> %s\n",
-      o.shard, o.shards, mine.size(), plan.tiles.size(), id.scenes.size(), report.traced,
+      o.shard, o.shards, mine.size(), plan.tiles.size(), id.views.size(), report.traced,
       report.reused, 1e-6 * static_cast<double>(report.rays), seconds,
       (o.out / "shard.json").c_str());
   SweepResult result;
@@ -512,7 +512,7 @@ SweepResult runSweep(const SweepOptions& options) {
 
   const SweepResult result =
       writeSweepOutputs(options.out, id, plan, report.runs, threads.threads(), [&](int t) {
-        return readTile(dir / tileFileName(id.scenes[plan.tiles[t].scene], plan.tiles[t].index));
+        return readTile(dir / tileFileName(id.views[plan.tiles[t].view], plan.tiles[t].index));
       });
   std::error_code ec;
   fs::remove_all(dir, ec);  // the outputs are complete; a leftover checkpoint only costs space

@@ -62,14 +62,14 @@ struct SweepOptions {
   std::string command_line;  // quoted in the message that says how to resume
 };
 
-struct SweepSceneResult {
+struct SweepViewResult {
   std::filesystem::path exr;
   double seconds = 0.0;
   std::uint64_t rays = 0;
 };
 
 struct SweepResult {
-  std::vector<SweepSceneResult> scenes;
+  std::vector<SweepViewResult> views;  // one per view, in sweep order
   double seconds = 0.0;
   std::uint64_t rays = 0;
 };
@@ -85,10 +85,10 @@ class SweepInterrupted : public Error {
   int signal_;
 };
 
-// Writes <out>/<scene>.exr per scene and <out>/sweep.json; prints a summary to stdout. Tiles
+// Writes <out>/<view>.exr per view and <out>/sweep.json; prints a summary to stdout. Tiles
 // are checkpointed in <out>/sweep-tiles as they finish (removed once the outputs are written); a
 // sweep stopped by a signal or killed resumes from them. Sharded: writes <out>/sweep-tiles and
-// <out>/shard.json instead (result.scenes is then empty).
+// <out>/shard.json instead (result.views is then empty).
 inline constexpr int kMaxShards = kMaxSweepShards;  // common/input_limits.h
 
 SweepResult runSweep(const SweepOptions& options);

@@ -21,25 +21,25 @@ nlohmann::ordered_json rate(double seconds, std::uint64_t rays) {
                        : nlohmann::ordered_json(nullptr);
 }
 
-struct SceneImage {
+struct ViewImage {
   std::vector<ExrChannel> channels;
   std::uint64_t unmasked = 0;
   std::uint64_t rays = 0;
 };
 
-// Places every tile of scene s into whole-image channels, checking each tile belongs there.
-SceneImage assembleScene(const SweepIdentity& identity, const TilePlan& plan, int s,
-                         const std::function<TileData(int)>& load) {
-  SceneImage image;
+// Places every tile of view v into whole-image channels, checking each tile belongs there.
+ViewImage assembleView(const SweepIdentity& identity, const TilePlan& plan, int s,
+                       const std::function<TileData(int)>& load) {
+  ViewImage image;
   const std::size_t pixels = static_cast<std::size_t>(plan.width) * plan.height;
-  const std::string& name = identity.scenes[s];
+  const std::string& name = identity.views[s];
   for (int index = 0; index < plan.tiles_of[s]; ++index) {
     const int t = plan.find(s, index);
     const Tile& planned = plan.tiles[t];
     const TileData tile = load(t);
     const std::string where = "tile " + name + ":" + std::to_string(index);
     if (tile.key != identity.key) throw Error(where + " belongs to a different sweep");
-    if (tile.scene != name || tile.index != index || tile.rect.x0 != planned.rect.x0 ||
+    if (tile.view != name || tile.index != index || tile.rect.x0 != planned.rect.x0 ||
         tile.rect.y0 != planned.rect.y0 || tile.rect.x1 != planned.rect.x1 ||
         tile.rect.y1 != planned.rect.y1) {
       throw Error(where + " holds other pixels than the plan's");
@@ -69,9 +69,9 @@ SceneImage assembleScene(const SweepIdentity& identity, const TilePlan& plan, in
   return image;
 }
 
-// A scene's EXR (every channel) and its A and G050 previews (8-bit PNG, [0, 1]).
-void addSceneImages(OutputSet& output, const TilePlan& plan, const SceneImage& image,
-                    const std::map<std::string, std::string>& attributes, const std::string& slug) {
+// A view's EXR (every channel) and its A and G050 previews (8-bit PNG, [0, 1]).
+void addViewImages(OutputSet& output, const TilePlan& plan, const ViewImage& image,
+                   const std::map<std::string, std::string>& attributes, const std::string& slug) {
   output.add(slug + ".exr", encodeExr(plan.width, plan.height, image.channels, attributes));
   for (const ExrChannel& c : image.channels) {
     if (c.name == "A" || c.name == "G050") {
@@ -88,12 +88,12 @@ void sealIdentity(SweepIdentity* identity) {
   j["version"] = identity->version;
   j["settings"] = identity->settings;
   j["attributes"] = identity->attributes;
-  j["scenes"] = identity->scenes;
+  j["views"] = identity->views;
   j["view_scene"] = identity->view_scene;
   j["view_type"] = identity->view_type;
-  j["scene_sha256"] = identity->scene_sha256;
-  j["scene_triangles"] = identity->scene_triangles;
-  j["scene_cameras"] = identity->scene_cameras;
+  j["view_sha256"] = identity->view_sha256;
+  j["view_triangles"] = identity->view_triangles;
+  j["view_cameras"] = identity->view_cameras;
   j["width"] = identity->width;
   j["height"] = identity->height;
   j["camera"] = identity->camera;
@@ -102,19 +102,19 @@ void sealIdentity(SweepIdentity* identity) {
 }
 
 SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity,
-                              const TilePlan& plan, const std::vector<SceneRun>& runs, int threads,
+                              const TilePlan& plan, const std::vector<ViewRun>& runs, int threads,
                               const std::function<TileData(int)>& load) {
   OutputSet output(out, "sweep");  // committed whole at the end (output_set.h)
   SweepResult result;
-  nlohmann::ordered_json scene_entries = nlohmann::ordered_json::array();
-  std::printf("%-16s %9s %8s %9s %9s\n", "scene", "pixels", "mean A", "seconds", "Mrays/s");
-  for (std::size_t s = 0; s < identity.scenes.size(); ++s) {
+  nlohmann::ordered_json view_entries = nlohmann::ordered_json::array();
+  std::printf("%-16s %9s %8s %9s %9s\n", "view", "pixels", "mean A", "seconds", "Mrays/s");
+  for (std::size_t s = 0; s < identity.views.size(); ++s) {
     const auto start = std::chrono::steady_clock::now();
-    const std::string& name = identity.scenes[s];
-    const SceneImage image = assembleScene(identity, plan, static_cast<int>(s), load);
+    const std::string& name = identity.views[s];
+    const ViewImage image = assembleView(identity, plan, static_cast<int>(s), load);
     if (image.unmasked == 0) {
       throw Error(
-          "scene " + runs[s].gltf.string() +
+          "view " + name + " of " + runs[s].gltf.string() +
           ": no pixel sees geometry (every camera ray escapes); aim the camera at the scene");
     }
     const std::string gltf = relativePath(runs[s].gltf, out);
@@ -122,7 +122,7 @@ SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity
     attributes["gtbake.scene"] = gltf;
     const std::string slug = fileSlug(name);  // docs/limits.md §Names in outputs
     const fs::path exr = out / (slug + ".exr");
-    addSceneImages(output, plan, image, attributes, slug);
+    addViewImages(output, plan, image, attributes, slug);
     const double write_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double trace_seconds = runs[s].trace_seconds;
@@ -136,7 +136,7 @@ SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity
                 trace_seconds > 0.0 ? 1e-6 * static_cast<double>(image.rays) / trace_seconds : 0.0);
     std::fflush(stdout);
 
-    result.scenes.push_back({exr, seconds, image.rays});
+    result.views.push_back({exr, seconds, image.rays});
     result.seconds += seconds;
     result.rays += image.rays;
     nlohmann::ordered_json entry;
@@ -147,8 +147,8 @@ SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity
     entry["gltf"] = gltf;
     entry["width"] = plan.width;
     entry["height"] = plan.height;
-    entry["triangles"] = identity.scene_triangles[s];
-    entry["camera"] = identity.scene_cameras[s];
+    entry["triangles"] = identity.view_triangles[s];
+    entry["camera"] = identity.view_cameras[s];
     entry["unmasked_pixels"] = image.unmasked;
     entry["mean_A"] = mean_a;
     entry["seconds"] = seconds;
@@ -156,7 +156,7 @@ SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity
     entry["trace_seconds"] = trace_seconds;
     entry["rays"] = image.rays;
     entry["rays_per_second"] = rate(trace_seconds, image.rays);
-    scene_entries.push_back(std::move(entry));
+    view_entries.push_back(std::move(entry));
   }
   std::printf(
       "%-16s %9s %8s %9.2f %9.2f\n", "total", "", "", result.seconds,
@@ -166,7 +166,7 @@ SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity
   json["gtbake_version"] = identity.version;
   json["settings"] = identity.settings;
   json["settings"]["threads"] = threads;
-  json["scenes"] = std::move(scene_entries);
+  json["views"] = std::move(view_entries);
   json["totals"] = {{"seconds", result.seconds},
                     {"rays", result.rays},
                     {"rays_per_second", rate(result.seconds, result.rays)}};

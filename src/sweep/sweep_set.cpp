@@ -114,8 +114,8 @@ SweepSettings readSettings(const json& doc, const std::string& where) {
 SweepView readView(const fs::path& dir, const json& entry, const SweepSettings& settings,
                    const std::string& where) {
   SweepView v;
-  v.name = requireString(entry, "name", where + " scene");
-  const std::string at = where + " scene " + v.name;
+  v.name = requireString(entry, "name", where + " view");
+  const std::string at = where + " view " + v.name;
   v.scene = optionalString(entry, "scene", v.name, at);
   v.type = optionalString(entry, "type", v.scene, at);
   v.file = requireString(entry, "file", at);
@@ -143,7 +143,7 @@ void requireDistinct(const std::vector<SweepView>& views, const std::string& whe
   for (const SweepView& v : views) {
     if (!names.insert(v.name).second ||
         !files.insert(fs::path(v.file).lexically_normal().string()).second) {
-      throw Error(where + ": scene '" + v.name + "' (" + v.file + ") is listed twice");
+      throw Error(where + ": view '" + v.name + "' (" + v.file + ") is listed twice");
     }
   }
 }
@@ -167,14 +167,18 @@ SweepSet readSweepSet(const fs::path& dir) {
   if (doc.contains("gtbake_version") && doc["gtbake_version"].is_string()) {
     set.version = doc["gtbake_version"].get<std::string>();
   }
-  if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty()) {
-    throw Error(set.where + ": 'scenes' must be a non-empty array");
+  if (doc.contains("scenes")) {
+    throw Error(set.where + " lists its views as 'scenes', an older layout that this gtbake " +
+                "does not read: re-run `gtbake sweep` to write it with 'views'");
   }
-  if (doc["scenes"].size() > static_cast<std::size_t>(kMaxSweepViews)) {
+  if (!doc.contains("views") || !doc["views"].is_array() || doc["views"].empty()) {
+    throw Error(set.where + ": 'views' must be a non-empty array");
+  }
+  if (doc["views"].size() > static_cast<std::size_t>(kMaxSweepViews)) {
     throw Error(set.where + ": more than " + std::to_string(kMaxSweepViews) + " views");
   }
-  for (const json& entry : doc["scenes"]) {
-    if (!entry.is_object()) throw Error(set.where + ": every scenes[] entry must be an object");
+  for (const json& entry : doc["views"]) {
+    if (!entry.is_object()) throw Error(set.where + ": every views[] entry must be an object");
     set.views.push_back(readView(dir, entry, set.settings, set.where));
   }
   requireDistinct(set.views, set.where);

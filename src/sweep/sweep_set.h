@@ -30,11 +30,11 @@ struct SweepSettings {
   bool transfer = false;  // T<k>_SH<i> channels (docs/sweep.md "Transfer"); absent: false
 };
 
-// One image of the sweep (a sweep.json "scenes" entry: a view of a scene).
+// One image of the sweep (a sweep.json "views" entry: a view of a scene).
 struct SweepView {
   std::string name;   // the view: its outputs are named after it (the EXR's stem)
-  std::string scene;  // the scene it shows: the cluster of scene-level uncertainties (its name
-                      // in sweeps before views, where each image was its own scene)
+  std::string scene;  // the scene it shows: the cluster of scene-level uncertainties (its own
+                      // name when the entry has no "scene": the image is its own scene)
   std::string type;   // the scene type (its scene when absent)
   std::string file;   // the EXR, a plain file name inside the sweep directory
   std::string gltf;   // the scene file traced (empty when not recorded)

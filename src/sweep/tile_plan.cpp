@@ -26,7 +26,7 @@ std::vector<int> TilePlan::tilesOfShard(int shard) const {
   return mine;
 }
 
-TilePlan planTiles(int scenes, int width, int height, int shards) {
+TilePlan planTiles(int views, int width, int height, int shards) {
   TilePlan plan;
   plan.width = width;
   plan.height = height;
@@ -34,7 +34,7 @@ TilePlan planTiles(int scenes, int width, int height, int shards) {
   const int columns = (width + kTileSide - 1) / kTileSide;
   const int rows = (height + kTileSide - 1) / kTileSide;
   std::vector<std::uint64_t> load(static_cast<std::size_t>(shards), 0);
-  for (int s = 0; s < scenes; ++s) {
+  for (int s = 0; s < views; ++s) {
     plan.first_of.push_back(static_cast<int>(plan.tiles.size()));
     plan.tiles_of.push_back(columns * rows);
     for (int index = 0; index < columns * rows; ++index) {
@@ -46,10 +46,10 @@ TilePlan planTiles(int scenes, int width, int height, int shards) {
     }
     std::vector<int> order(static_cast<std::size_t>(columns * rows));
     std::iota(order.begin(), order.end(), 0);
-    const std::uint64_t scene_key = scramble(static_cast<std::uint64_t>(s));
+    const std::uint64_t view_key = scramble(static_cast<std::uint64_t>(s));
     std::sort(order.begin(), order.end(), [&](int a, int b) {
-      const std::uint64_t ka = scramble(scene_key ^ static_cast<std::uint64_t>(a));
-      const std::uint64_t kb = scramble(scene_key ^ static_cast<std::uint64_t>(b));
+      const std::uint64_t ka = scramble(view_key ^ static_cast<std::uint64_t>(a));
+      const std::uint64_t kb = scramble(view_key ^ static_cast<std::uint64_t>(b));
       return ka != kb ? ka < kb : a < b;
     });
     plan.shard_of.resize(plan.tiles.size());

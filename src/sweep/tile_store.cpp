@@ -18,7 +18,7 @@ namespace {
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
               "tile files are little-endian; add byte swapping for this machine");
 
-constexpr std::string_view kMagic = "gtbake-tile 1\n";
+constexpr std::string_view kMagic = "gtbake-tile 2\n";
 
 template <typename T>
 void append(std::string* out, const std::vector<T>& values) {
@@ -44,11 +44,11 @@ std::string payload(const TileData& tile) {
 
 }  // namespace
 
-TileData makeTile(const EscapeImage& image, const std::string& key, const std::string& scene,
+TileData makeTile(const EscapeImage& image, const std::string& key, const std::string& view,
                   int index, const PixelRect& rect) {
   TileData tile;
   tile.key = key;
-  tile.scene = scene;
+  tile.view = view;
   tile.index = index;
   tile.rect = rect;
   tile.mask = image.mask;
@@ -63,7 +63,7 @@ std::string encodeTile(const TileData& tile) {
   const std::string body = payload(tile);
   nlohmann::ordered_json header;
   header["key"] = tile.key;
-  header["scene"] = tile.scene;
+  header["view"] = tile.view;
   header["index"] = tile.index;
   header["rect"] = {tile.rect.x0, tile.rect.y0, tile.rect.x1, tile.rect.y1};
   header["counts_per_pixel"] = tile.counts_per_pixel;
@@ -95,7 +95,7 @@ TileData decodeTile(std::string_view bytes, const std::string& file) {
     // two counts per bounce and pixel.
     const nlohmann::json header = parseJsonText(bytes.substr(0, eol), file);
     tile.key = header.at("key").get<std::string>();
-    tile.scene = header.at("scene").get<std::string>();
+    tile.view = header.at("view").get<std::string>();
     tile.index = static_cast<int>(jsonInteger(header, "index", 0, INT32_MAX, corrupt + "header"));
     const nlohmann::json& rect = header.at("rect");
     if (!rect.is_array() || rect.size() != 4) throw Error(corrupt + "bad rectangle");
@@ -130,10 +130,10 @@ TileData decodeTile(std::string_view bytes, const std::string& file) {
   return tile;
 }
 
-std::string tileFileName(const std::string& scene, int index) {
+std::string tileFileName(const std::string& view, int index) {
   char number[16];
   std::snprintf(number, sizeof(number), "%05d", index);
-  return fileSlug(scene) + "." + number + ".tile";  // docs/limits.md §Names in outputs
+  return fileSlug(view) + "." + number + ".tile";  // docs/limits.md §Names in outputs
 }
 
 void writeTile(const std::filesystem::path& path, const TileData& tile) {

@@ -15,7 +15,7 @@ namespace gtbake {
 
 struct SpecularScene {
   std::string name;
-  // The scene this entry views (sweep.json scenes[].scene; empty: its own name): views of one
+  // The scene this entry views (sweep.json views[].scene; empty: its own name): views of one
   // scene are one unit of every scene-level statistic (docs/validate_gtso.md §3).
   std::string cluster;
   std::string type;  // sweep.json "type" (else the cluster): the delete-one-type jackknife's unit

@@ -78,7 +78,7 @@ TEST(FitCommand, CavityLawRefitMatchesItsOwnCubicWithinMonteCarloError) {
   EXPECT_LT(worst, 4.0);
   for (const char* key :
        {"settings", "per_albedo", "linear", "linear_se", "scene_jackknife", "rho_line_lack_of_fit",
-        "open_surface", "constrain_open_alternative", "weighting_alternatives", "scene_weights",
+        "open_surface", "constrain_open_alternative", "weighting_alternatives", "view_weights",
         "floor", "errors", "shipped", "eiv_bias", "sweep", "version"}) {
     EXPECT_TRUE(doc.contains(key)) << key;
   }
@@ -87,7 +87,12 @@ TEST(FitCommand, CavityLawRefitMatchesItsOwnCubicWithinMonteCarloError) {
   EXPECT_NE(doc["scene_jackknife"]["message"].get<std::string>().find("at least 3"),
             std::string::npos);
   EXPECT_EQ(doc["per_albedo"].size(), test::kAlbedos.size());
-  EXPECT_EQ(doc["errors"]["refit"]["per_scene"].size(), 2u);
+  EXPECT_EQ(doc["errors"]["refit"]["per_view"].size(), 2u);
+  for (std::size_t v = 0; v < 2; ++v) {  // per-view rows name their view (docs/scenes.md)
+    EXPECT_EQ(doc["errors"]["refit"]["per_view"][v]["view"], doc["sweep"]["views"][v]);
+    EXPECT_EQ(doc["floor"]["per_view"][v]["view"], doc["sweep"]["views"][v]);
+    EXPECT_EQ(doc["view_weights"][v]["view"], doc["sweep"]["views"][v]);
+  }
   EXPECT_EQ(doc["sweep"]["points"].get<std::size_t>(), 2u * 96 * 95);
   const fs::path report = out.parent_path() / "report";
   EXPECT_TRUE(fs::is_regular_file(report / "index.html"));
@@ -182,7 +187,7 @@ TEST(FitCommand, BadInputIsAOneLineError) {
   expectFitError(dir, "H1.P2");
 
   dir = copyOfSweep("size_mismatch");
-  editJson(dir, [](json& doc) { doc["scenes"][1]["width"] = 95; });
+  editJson(dir, [](json& doc) { doc["views"][1]["width"] = 95; });
   expectFitError(dir, "does not match");
 
   dir = copyOfSweep("nan");
@@ -204,7 +209,7 @@ TEST(FitCommand, BadInputIsAOneLineError) {
   expectFitError(dir, "inconsistent with albedo");
 
   dir = copyOfSweep("unmasked_count");
-  editJson(dir, [](json& doc) { doc["scenes"][0]["unmasked_pixels"] = 5; });
+  editJson(dir, [](json& doc) { doc["views"][0]["unmasked_pixels"] = 5; });
   expectFitError(dir, "unmasked pixels");
 
   dir = test::freshDir("too_few");

@@ -103,7 +103,7 @@ void writeWalkSweep(const fs::path& dir, const std::vector<std::string>& scenes,
   doc["settings"] = {{"spp", spp},         {"width", width},     {"height", height},
                      {"bounces", bounces}, {"radius", nullptr},  {"seed", seed},
                      {"threads", 1},       {"albedos", kAlbedos}};
-  doc["scenes"] = nlohmann::json::array();
+  doc["views"] = nlohmann::json::array();
   doc["version"] = "test";
   std::vector<std::string> files;
   std::mt19937_64 rng(seed);
@@ -160,15 +160,15 @@ void writeWalkSweep(const fs::path& dir, const std::vector<std::string>& scenes,
               {"gtbake.seed", std::to_string(seed)},
               {"gtbake.scene", name + ".gltf"}});
     files.push_back(name + ".exr");
-    doc["scenes"].push_back({{"name", name},
-                             {"file", name + ".exr"},
-                             {"gltf", name + ".gltf"},
-                             {"width", width},
-                             {"height", height},
-                             {"unmasked_pixels", unmasked},
-                             {"seconds", 0.0},
-                             {"rays", 0},
-                             {"rays_per_second", 0.0}});
+    doc["views"].push_back({{"name", name},
+                            {"file", name + ".exr"},
+                            {"gltf", name + ".gltf"},
+                            {"width", width},
+                            {"height", height},
+                            {"unmasked_pixels", unmasked},
+                            {"seconds", 0.0},
+                            {"rays", 0},
+                            {"rays_per_second", 0.0}});
   }
   writeFileAtomically(dir / "sweep.json", doc.dump(2));
   files.push_back("sweep.json");

@@ -273,7 +273,7 @@ TEST(SceneDirectories, GlbFilesAreTakenFromADirectory) {
   o.bounces = 1;
   o.threads = 1;
   o.progress = false;
-  EXPECT_EQ(runSweep(o).scenes.size(), 1u);
+  EXPECT_EQ(runSweep(o).views.size(), 1u);
   EXPECT_NE(readOutputSet(o.out, "sweep").find("floor.exr"), nullptr);
 }
 

@@ -98,7 +98,7 @@ TEST(SweepSet, ReadersRefuseMixedSeedsDuplicatesAndForeignScenes) {
   // The same scene listed twice.
   const fs::path four = sweepInto(dir.path() / "dup");
   json doc = json::parse(readBytes(four / "sweep.json"));
-  doc["scenes"][1] = doc["scenes"][0];
+  doc["views"][1] = doc["views"][0];
   spit(four / "sweep.json", doc.dump());
   resealOutputSet(four, "sweep");
   EXPECT_ERROR(loadSweep(four), "listed twice");
@@ -122,20 +122,50 @@ TEST(SweepSet, EveryReaderRefusesANameOrFileListedTwice) {
   const std::string good = readBytes(o.out.parent_path() / "s" / "sweep.json");
   for (const char* key : {"name", "file"}) {
     json doc = json::parse(good);
-    doc["scenes"][1][key] = doc["scenes"][0][key];
+    doc["views"][1][key] = doc["views"][0][key];
     spit(dir.path() / "s" / "sweep.json", doc.dump());
     resealOutputSet(dir.path() / "s", "sweep");
-    const std::string twice = "scene '" + doc["scenes"][1]["name"].get<std::string>() + "' (" +
-                              doc["scenes"][1]["file"].get<std::string>() + ") is listed twice";
+    const std::string twice = "view '" + doc["views"][1]["name"].get<std::string>() + "' (" +
+                              doc["views"][1]["file"].get<std::string>() + ") is listed twice";
     EXPECT_ERROR(loadSweep(dir.path() / "s"), twice);
     EXPECT_ERROR(readSweepImages(dir.path() / "s"), twice);
     EXPECT_ERROR(readSpecularSweep(dir.path() / "s"), twice);
   }
   json shard = json::parse(readBytes(o.out / "shard.json"));
-  shard["scenes"][1]["name"] = shard["scenes"][0]["name"];
+  shard["views"][1]["name"] = shard["views"][0]["name"];
   spit(o.out / "shard.json", shard.dump());
   resealOutputSet(o.out, kShardSet);
-  EXPECT_ERROR(readShardManifest(o.out), "scene 'box_a' is listed twice");
+  EXPECT_ERROR(readShardManifest(o.out), "view 'box_a' is listed twice");
+}
+
+// A sweep or shard of the older layout, whose per-view list was named "scenes" (docs/scenes.md
+// "Vocabulary"), resealed so only the layout differs: every reader refuses it with one line that
+// says to trace it again, rather than reading it.
+TEST(SweepSet, EveryReaderRefusesTheOlderLayoutWithScenes) {
+  TempDir dir("sweep_old_layout");
+  SweepOptions o = fixture().options(dir.path() / "s", 1, 16);
+  o.specular_roughness = {0.4};
+  o.specular_spp = 2;
+  runSweep(o);
+  json doc = json::parse(readBytes(o.out / "sweep.json"));
+  doc["scenes"] = doc["views"];
+  doc.erase("views");
+  spit(o.out / "sweep.json", doc.dump());
+  resealOutputSet(o.out, "sweep");
+  const std::string rerun = "an older layout that this gtbake does not read: re-run `gtbake sweep`";
+  EXPECT_ERROR(loadSweep(o.out), rerun);
+  EXPECT_ERROR(readSweepImages(o.out), rerun);
+  EXPECT_ERROR(readSpecularSweep(o.out), rerun);
+  o.shards = 2;
+  o.out = dir.path() / "shard";
+  runSweep(o);
+  json shard = json::parse(readBytes(o.out / "shard.json"));
+  shard["format"] = "gtbake-shard 1";
+  shard["scenes"] = shard["views"];
+  shard.erase("views");
+  spit(o.out / "shard.json", shard.dump());
+  resealOutputSet(o.out, kShardSet);
+  EXPECT_ERROR(readShardManifest(o.out), "shard.json is not a gtbake-shard 2 record");
 }
 
 TEST(SweepSet, HostileSweepJsonEntries) {
@@ -151,11 +181,11 @@ TEST(SweepSet, HostileSweepJsonEntries) {
   // get<int>() used to truncate 2^32 + 2 to 2.
   edited([](json& d) { d["settings"]["spp"] = 4294967298ull; });
   EXPECT_ERROR(loadSweep(out), "'spp' must be an integer in");
-  edited([](json& d) { d["scenes"][0]["file"] = "../s/box_a.exr"; });
+  edited([](json& d) { d["views"][0]["file"] = "../s/box_a.exr"; });
   EXPECT_ERROR(loadSweep(out), "'..' is not allowed");
-  edited([&](json& d) { d["scenes"][0]["file"] = (fs::absolute(out) / "box_a.exr").string(); });
+  edited([&](json& d) { d["views"][0]["file"] = (fs::absolute(out) / "box_a.exr").string(); });
   EXPECT_ERROR(loadSweep(out), "must be a relative path");
-  edited([](json& d) { d["scenes"][0]["width"] = 4000000000ull; });
+  edited([](json& d) { d["views"][0]["width"] = 4000000000ull; });
   EXPECT_ERROR(loadSweep(out), "'width' must be an integer");
   spit(out / "sweep.json", std::string(5000, '[') + std::string(5000, ']'));
   resealOutputSet(out, "sweep");

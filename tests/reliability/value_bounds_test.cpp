@@ -95,7 +95,7 @@ TEST(ValueBounds, SweepAndShardSizesAreBounded) {
   TempDir dir("bounds_sizes");
   const fs::path sweep = dir.path() / "s";
   runSweep(fixture().options(sweep));
-  editJson(sweep, "sweep.json", "sweep", [](json& d) { d["scenes"][0]["width"] = 1000000; });
+  editJson(sweep, "sweep.json", "sweep", [](json& d) { d["views"][0]["width"] = 1000000; });
   EXPECT_ERROR(loadSweep(sweep), "'width' must be an integer in [1, 8192]");
   SweepOptions o = fixture().options(dir.path() / "shard");
   o.shards = 2;

@@ -63,7 +63,7 @@ TEST(Slow, RealMeshesSweepAndFitWithAutomaticCameras) {
   ASSERT_EQ(stems.size(), 6u);
   // Four automatic views per mesh, named <stem>_v<k>, clustered and typed by the mesh.
   const nlohmann::json sweep = readJson(dir.path() / "sweep" / "sweep.json");
-  const nlohmann::json& views = sweep["scenes"];
+  const nlohmann::json& views = sweep["views"];
   ASSERT_EQ(views.size(), 4 * stems.size());
   for (std::size_t i = 0; i < views.size(); ++i) {
     const std::string scene = views[i]["scene"];
@@ -131,7 +131,7 @@ TEST(Slow, RealMeshesSweepAndFitWithAutomaticCameras) {
   expectClose(verdict["detectable_difference"]["largest"]["value"],
               f["shipped"]["against_band"]["detectable_difference"]["largest"]["value"],
               "detectable difference");
-  const nlohmann::json want_views = readJson(committed / "sweep.json")["scenes"];
+  const nlohmann::json want_views = readJson(committed / "sweep.json")["views"];
   ASSERT_EQ(want_views.size(), views.size());
   for (std::size_t i = 0; i < views.size(); ++i) {
     EXPECT_EQ(want_views[i]["name"], views[i]["name"]);

@@ -121,7 +121,7 @@ TEST(Estimator, StreamAndSingleRayTraversalsAgreeExactly) {
     for (int i = 0; i < res; ++i) {
       SurfaceHit start;
       if (!tracer.intersect(cameraRay(scene.camera, i, j, res, res), INFINITY, &start)) continue;
-      const std::uint64_t stream = pixelStream(sceneStreamKey("bowl"), j * res + i);
+      const std::uint64_t stream = pixelStream(viewStreamKey("bowl"), j * res + i);
       std::vector<std::uint32_t> counts(2 * (settings.bounces + 1), 0);
       double bent[3] = {0, 0, 0};
       // The transfer sums (docs/sweep.md, "Transfer"): the same bits from both traversals.

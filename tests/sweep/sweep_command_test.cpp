@@ -96,7 +96,7 @@ TEST_F(SweepCommand, ChannelsJsonAndHalves) {
   SweepOptions o = options(scene, "out");
   o.bounces = 2;
   const SweepResult result = runSweep(o);
-  ASSERT_EQ(result.scenes.size(), 1u);
+  ASSERT_EQ(result.views.size(), 1u);
   const ExrImage image = readExr(o.out / "spheres.exr");
   std::vector<std::string> names;
   for (const auto& [name, pixels] : image.channels) names.push_back(name);
@@ -169,18 +169,18 @@ TEST_F(SweepCommand, ChannelsJsonAndHalves) {
   EXPECT_EQ(json["settings"]["albedos"].size(), 7u);
   EXPECT_EQ(json["settings"]["specular_roughness"].size(), 5u);
   EXPECT_EQ(json["settings"]["specular_spp"], 64);
-  ASSERT_EQ(json["scenes"].size(), 1u);
-  EXPECT_EQ(json["scenes"][0]["name"], "spheres");
-  EXPECT_EQ(json["scenes"][0]["file"], "spheres.exr");
+  ASSERT_EQ(json["views"].size(), 1u);
+  EXPECT_EQ(json["views"][0]["name"], "spheres");
+  EXPECT_EQ(json["views"][0]["file"], "spheres.exr");
   // The camera the sweep traced with, serialised whole (docs/sweep.md, "G-buffer").
   const PerspectiveCamera traced = makeSphereOnPlaneScene(1.0).camera;
-  const PerspectiveCamera read = cameraFromJson(json["scenes"][0]["camera"], "sweep.json");
+  const PerspectiveCamera read = cameraFromJson(json["views"][0]["camera"], "sweep.json");
   EXPECT_EQ(read.position, traced.position);
   EXPECT_EQ(read.basis, traced.basis);
   EXPECT_EQ(read.yfov, traced.yfov);
   EXPECT_EQ(json["settings"]["gbuffer_radii"], nlohmann::json::array({1.0}));
-  EXPECT_EQ(json["scenes"][0]["unmasked_pixels"], geometry);
-  EXPECT_EQ(json["scenes"][0]["rays"], result.rays);
+  EXPECT_EQ(json["views"][0]["unmasked_pixels"], geometry);
+  EXPECT_EQ(json["views"][0]["rays"], result.rays);
   EXPECT_TRUE(json["totals"]["rays_per_second"].is_number());
   EXPECT_TRUE(fs::exists(o.out / "spheres_G050.png"));
   for (const auto& entry : fs::directory_iterator(o.out)) {
@@ -318,7 +318,7 @@ TEST_F(SweepCommand, SceneWithoutCameraGetsAutomaticViews) {
   SweepOptions o = options(good, "out");
   o.scenes = {good, path};
   runSweep(o);
-  const nlohmann::json views = nlohmann::json::parse(readFile(o.out / "sweep.json"))["scenes"];
+  const nlohmann::json views = nlohmann::json::parse(readFile(o.out / "sweep.json"))["views"];
   ASSERT_EQ(views.size(), 1u + kAutoViews);
   EXPECT_EQ(views[0]["name"], "plane");
   EXPECT_EQ(views[0]["scene"], "plane");

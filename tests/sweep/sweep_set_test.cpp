@@ -31,7 +31,7 @@ json validDoc() {
                 {"specular_roughness", {0.125, 0.5}},
                 {"specular_spp", 16},
                 {"gbuffer_radii", {0.5, 1.0}}}},
-              {"scenes",
+              {"views",
                {{{"name", "a"},
                  {"scene", "room"},
                  {"type", "box"},
@@ -95,9 +95,9 @@ TEST(SweepSet, WhatTheSweepNeverWritesIsAOneLineError) {
     return d;
   };
   json twice = validDoc();
-  twice["scenes"][1]["name"] = "a";
+  twice["views"][1]["name"] = "a";
   json outside = validDoc();
-  outside["scenes"][1]["file"] = "../b.exr";
+  outside["views"][1]["file"] = "../b.exr";
   const std::pair<json, std::string> cases[] = {
       {with("specular_spp", 1 << 17), "specular_spp"},  // above what the sweep writes
       {with("albedos", {0.1, 0.1}), "distinct hundredths"},
@@ -122,6 +122,22 @@ TEST(SweepSet, WhatTheSweepNeverWritesIsAOneLineError) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("0.5"), std::string::npos) << e.what();
   }
+}
+
+// A sweep.json of the layout before "views" (its per-view list named "scenes") is refused with
+// one line that says to re-run the sweep, never read as an empty or partial set
+// (docs/sweep.md "Outputs").
+TEST(SweepSet, AnOlderLayoutWithScenesIsRefusedWithOneLineSayingToRerunTheSweep) {
+  json old = validDoc();
+  old["scenes"] = old["views"];
+  old.erase("views");
+  const std::string what = errorOf(old);
+  EXPECT_NE(what.find("'scenes', an older layout"), std::string::npos) << what;
+  EXPECT_NE(what.find("re-run `gtbake sweep`"), std::string::npos) << what;
+  EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  json neither = validDoc();
+  neither.erase("views");
+  EXPECT_NE(errorOf(neither).find("'views' must be a non-empty array"), std::string::npos);
 }
 
 }  // namespace

@@ -27,7 +27,7 @@ TEST(Tiles, RectangleEqualsTheSamePixelsOfTheWholeImage) {
   settings.specular_roughness = {0.0, 0.4};
   settings.specular_spp = 8;
   settings.transfer = true;  // the transfer channels too (docs/sweep.md, "Transfer")
-  settings.scene_key = sceneStreamKey("spheres");
+  settings.view_key = viewStreamKey("spheres");
   const int width = 23;
   const int height = 17;
   const EscapeImage whole =
@@ -56,7 +56,7 @@ TEST(Tiles, RectangleEqualsTheSamePixelsOfTheWholeImage) {
   EXPECT_GT(unmasked, rect.pixels() / 2) << "the rectangle should mostly see geometry";
 }
 
-// Every pixel of every scene lies in exactly one tile, every tile in exactly one shard, and the
+// Every pixel of every view lies in exactly one tile, every tile in exactly one shard, and the
 // shards' pixel counts (the expected cost) differ by at most one tile.
 TEST(Tiles, PlanCoversEveryPixelOnceAndBalancesShards) {
   for (int shards : {1, 3, 4, 7}) {
@@ -72,7 +72,7 @@ TEST(Tiles, PlanCoversEveryPixelOnceAndBalancesShards) {
       pixels[plan.shard_of[t]] += tile.rect.pixels();
       for (int j = tile.rect.y0; j < tile.rect.y1; ++j) {
         for (int i = tile.rect.x0; i < tile.rect.x1; ++i)
-          ++covered[(tile.scene * height + j) * width + i];
+          ++covered[(tile.view * height + j) * width + i];
       }
     }
     EXPECT_TRUE(std::all_of(covered.begin(), covered.end(), [](int c) { return c == 1; }));
@@ -90,7 +90,7 @@ TEST(Tiles, PlanCoversEveryPixelOnceAndBalancesShards) {
 TEST(Tiles, TileFileRoundTripsAndRefusesDamage) {
   TileData tile;
   tile.key = "k";
-  tile.scene = "wells";
+  tile.view = "wells";
   tile.index = 3;
   tile.rect = PixelRect{32, 0, 35, 2};
   tile.mask = {1, 0, 1, 1, 1, 0};
@@ -101,7 +101,7 @@ TEST(Tiles, TileFileRoundTripsAndRefusesDamage) {
   const std::string bytes = encodeTile(tile);
   const TileData back = decodeTile(bytes, "t");
   EXPECT_EQ(back.key, tile.key);
-  EXPECT_EQ(back.scene, tile.scene);
+  EXPECT_EQ(back.view, tile.view);
   EXPECT_EQ(back.index, tile.index);
   EXPECT_EQ(back.rect.x1, tile.rect.x1);
   EXPECT_EQ(back.mask, tile.mask);
@@ -114,7 +114,7 @@ TEST(Tiles, TileFileRoundTripsAndRefusesDamage) {
   flipped[flipped.size() - 3] ^= 1;
   EXPECT_THROW(decodeTile(flipped, "t"), Error);
   EXPECT_THROW(decodeTile(bytes.substr(0, bytes.size() - 1), "t"), Error);
-  EXPECT_THROW(decodeTile("gtbake-tile 1\n{", "t"), Error);
+  EXPECT_THROW(decodeTile("gtbake-tile 2\n{", "t"), Error);
 }
 
 }  // namespace
