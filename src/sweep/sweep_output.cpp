@@ -1,7 +1,11 @@
 #include "sweep/sweep_output.h"
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <exception>
 
 #include "common/atomic_file.h"
 #include "common/error.h"
@@ -69,17 +73,64 @@ ViewImage assembleView(const SweepIdentity& identity, const TilePlan& plan, int 
   return image;
 }
 
-// A view's EXR (every channel) and its A and G050 previews (8-bit PNG, [0, 1]).
-void addViewImages(OutputSet& output, const TilePlan& plan, const ViewImage& image,
-                   const std::map<std::string, std::string>& attributes, const std::string& slug) {
-  output.add(slug + ".exr", encodeExr(plan.width, plan.height, image.channels, attributes));
+// A view's files: its EXR (every channel) and its A and G050 previews (8-bit PNG, [0, 1]).
+std::vector<std::pair<std::string, std::string>> viewFiles(
+    const TilePlan& plan, const ViewImage& image,
+    const std::map<std::string, std::string>& attributes, const std::string& slug) {
+  std::vector<std::pair<std::string, std::string>> files;
+  files.emplace_back(slug + ".exr", encodeExr(plan.width, plan.height, image.channels, attributes));
   for (const ExrChannel& c : image.channels) {
     if (c.name == "A" || c.name == "G050") {
-      output.add(slug + "_" + c.name + ".png",
-                 encodePng(plan.width, plan.height, 1, toGray8(c.pixels, 0.0f, 1.0f)));
+      files.emplace_back(slug + "_" + c.name + ".png",
+                         encodePng(plan.width, plan.height, 1, toGray8(c.pixels, 0.0f, 1.0f)));
     }
   }
+  return files;
 }
+
+// One view assembled from its tiles and encoded: what writeSweepOutputs adds and reports.
+struct EncodedView {
+  std::vector<std::pair<std::string, std::string>> files;
+  std::string gltf;  // the scene file, relative to the output
+  double mean_a = 0.0;
+  std::uint64_t unmasked = 0;
+  std::uint64_t rays = 0;
+  double write_seconds = 0.0;
+  std::exception_ptr error;  // rethrown in view order, so the first bad view is the one named
+};
+
+EncodedView encodeView(const fs::path& out, const SweepIdentity& identity, const TilePlan& plan,
+                       const std::vector<ViewRun>& runs, std::size_t s,
+                       const std::function<TileData(int)>& load) {
+  EncodedView v;
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    const std::string& name = identity.views[s];
+    const ViewImage image = assembleView(identity, plan, static_cast<int>(s), load);
+    if (image.unmasked == 0) {
+      throw Error(
+          "view " + name + " of " + runs[s].gltf.string() +
+          ": no pixel sees geometry (every camera ray escapes); aim the camera at the scene");
+    }
+    v.gltf = relativePath(runs[s].gltf, out);
+    std::map<std::string, std::string> attributes = identity.attributes;
+    attributes["gtbake.scene"] = v.gltf;
+    v.files = viewFiles(plan, image, attributes, fileSlug(name));  // docs/limits.md §Names
+    double sum_a = 0.0;
+    for (float a : image.channels.at(0).pixels) sum_a += a;
+    v.mean_a = sum_a / static_cast<double>(image.unmasked);
+    v.unmasked = image.unmasked;
+    v.rays = image.rays;
+    v.write_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  } catch (...) {
+    v.error = std::current_exception();
+  }
+  return v;
+}
+
+// Views assembled and encoded at once, side by side: a batch's images held in memory together.
+constexpr std::size_t kViewBatch = 8;
 
 }  // namespace
 
@@ -101,6 +152,48 @@ void sealIdentity(SweepIdentity* identity) {
   identity->key = sha256Hex(j.dump());
 }
 
+namespace {
+
+// Adds one encoded view (in view order) to the set, the console table, the result and
+// sweep.json's views.
+void addView(OutputSet* output, const SweepIdentity& identity, const TilePlan& plan,
+             const std::vector<ViewRun>& runs, std::size_t s, EncodedView v, SweepResult* result,
+             nlohmann::ordered_json* entries) {
+  if (v.error) std::rethrow_exception(v.error);
+  const std::string& name = identity.views[s];
+  const fs::path exr = output->dir() / v.files.front().first;
+  for (auto& [file, bytes] : v.files) output->add(file, bytes);
+  const double trace_seconds = runs[s].trace_seconds;
+  const double seconds = runs[s].build_seconds + trace_seconds + v.write_seconds;
+  std::printf("%-16s %9llu %8.4f %9.2f %9.2f\n", name.c_str(),
+              static_cast<unsigned long long>(v.unmasked), v.mean_a, seconds,
+              trace_seconds > 0.0 ? 1e-6 * static_cast<double>(v.rays) / trace_seconds : 0.0);
+  std::fflush(stdout);
+  result->views.push_back({exr, seconds, v.rays});
+  result->seconds += runs[s].build_seconds + trace_seconds;  // the writes: their wall, below
+  result->rays += v.rays;
+  nlohmann::ordered_json entry;
+  entry["name"] = name;
+  entry["scene"] = identity.view_scene[s];
+  entry["type"] = identity.view_type[s];
+  entry["file"] = exr.filename().string();
+  entry["gltf"] = v.gltf;
+  entry["width"] = plan.width;
+  entry["height"] = plan.height;
+  entry["triangles"] = identity.view_triangles[s];
+  entry["camera"] = identity.view_cameras[s];
+  entry["unmasked_pixels"] = v.unmasked;
+  entry["mean_A"] = v.mean_a;
+  entry["seconds"] = seconds;
+  entry["build_seconds"] = runs[s].build_seconds;
+  entry["trace_seconds"] = trace_seconds;
+  entry["rays"] = v.rays;
+  entry["rays_per_second"] = rate(trace_seconds, v.rays);
+  entries->push_back(std::move(entry));
+}
+
+}  // namespace
+
 SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity,
                               const TilePlan& plan, const std::vector<ViewRun>& runs, int threads,
                               const std::function<TileData(int)>& load) {
@@ -108,56 +201,22 @@ SweepResult writeSweepOutputs(const fs::path& out, const SweepIdentity& identity
   SweepResult result;
   nlohmann::ordered_json view_entries = nlohmann::ordered_json::array();
   std::printf("%-16s %9s %8s %9s %9s\n", "view", "pixels", "mean A", "seconds", "Mrays/s");
-  for (std::size_t s = 0; s < identity.views.size(); ++s) {
-    const auto start = std::chrono::steady_clock::now();
-    const std::string& name = identity.views[s];
-    const ViewImage image = assembleView(identity, plan, static_cast<int>(s), load);
-    if (image.unmasked == 0) {
-      throw Error(
-          "view " + name + " of " + runs[s].gltf.string() +
-          ": no pixel sees geometry (every camera ray escapes); aim the camera at the scene");
+  const auto writing = std::chrono::steady_clock::now();
+  for (std::size_t first = 0; first < identity.views.size(); first += kViewBatch) {
+    const std::size_t count = std::min(kViewBatch, identity.views.size() - first);
+    std::vector<EncodedView> batch(count);
+    tbb::parallel_for(std::size_t{0}, count, [&](std::size_t k) {
+      batch[k] = encodeView(out, identity, plan, runs, first + k, load);
+    });
+    for (std::size_t k = 0; k < count; ++k) {
+      addView(&output, identity, plan, runs, first + k, std::move(batch[k]), &result,
+              &view_entries);
     }
-    const std::string gltf = relativePath(runs[s].gltf, out);
-    std::map<std::string, std::string> attributes = identity.attributes;
-    attributes["gtbake.scene"] = gltf;
-    const std::string slug = fileSlug(name);  // docs/limits.md §Names in outputs
-    const fs::path exr = out / (slug + ".exr");
-    addViewImages(output, plan, image, attributes, slug);
-    const double write_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const double trace_seconds = runs[s].trace_seconds;
-    const double seconds = runs[s].build_seconds + trace_seconds + write_seconds;
-
-    double sum_a = 0.0;
-    for (float a : image.channels.at(0).pixels) sum_a += a;
-    const double mean_a = image.unmasked > 0 ? sum_a / static_cast<double>(image.unmasked) : 0.0;
-    std::printf("%-16s %9llu %8.4f %9.2f %9.2f\n", name.c_str(),
-                static_cast<unsigned long long>(image.unmasked), mean_a, seconds,
-                trace_seconds > 0.0 ? 1e-6 * static_cast<double>(image.rays) / trace_seconds : 0.0);
-    std::fflush(stdout);
-
-    result.views.push_back({exr, seconds, image.rays});
-    result.seconds += seconds;
-    result.rays += image.rays;
-    nlohmann::ordered_json entry;
-    entry["name"] = name;
-    entry["scene"] = identity.view_scene[s];
-    entry["type"] = identity.view_type[s];
-    entry["file"] = exr.filename().string();
-    entry["gltf"] = gltf;
-    entry["width"] = plan.width;
-    entry["height"] = plan.height;
-    entry["triangles"] = identity.view_triangles[s];
-    entry["camera"] = identity.view_cameras[s];
-    entry["unmasked_pixels"] = image.unmasked;
-    entry["mean_A"] = mean_a;
-    entry["seconds"] = seconds;
-    entry["build_seconds"] = runs[s].build_seconds;
-    entry["trace_seconds"] = trace_seconds;
-    entry["rays"] = image.rays;
-    entry["rays_per_second"] = rate(trace_seconds, image.rays);
-    view_entries.push_back(std::move(entry));
   }
+  // Views are written side by side, so each view's seconds hold its own write and the total the
+  // writing's wall time: the whole sweep's wall time (views are traced one after another).
+  result.seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - writing).count();
   std::printf(
       "%-16s %9s %8s %9.2f %9.2f\n", "total", "", "", result.seconds,
       result.seconds > 0.0 ? 1e-6 * static_cast<double>(result.rays) / result.seconds : 0.0);
