@@ -11,10 +11,10 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
-#include "export/export_inputs.h"
 #include "fuzz_target.h"
 #include "screen_ao/screen_ao_settings.h"
 #include "tune/tune_grid.h"
+#include "tune/tune_set.h"
 
 namespace gtbake::fuzz {
 

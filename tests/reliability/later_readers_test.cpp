@@ -9,12 +9,13 @@
 
 #include "common/image_io.h"
 #include "common/output_set.h"
-#include "export/export_inputs.h"
+#include "fit/fit_set.h"
 #include "fit/screen_estimate.h"
 #include "reliability_fixtures.h"
 #include "scene/scene_corpus.h"
 #include "screen_ao/screen_ao_settings.h"
 #include "tune/tune_grid.h"
+#include "tune/tune_set.h"
 
 namespace gtbake {
 namespace {
