@@ -37,7 +37,7 @@ nlohmann::json tuneJson() {
 }
 
 void readGrid(const std::string& text) {
-  std::vector<SettingGrid> grids = defaultGrids(tunedEstimatorNames());
+  std::vector<SettingGrid> grids = defaultGrids(tunedEstimators());
   applyGridOption(&grids, text);
   for (const SettingGrid& grid : grids) {
     for (const double value : grid.values) {

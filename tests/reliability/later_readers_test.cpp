@@ -131,7 +131,7 @@ TEST(LaterReaders, TunedSettingsGridsAndSettingsAreChecked) {
   sealed(file.parent_path(), "tune", "tune.json", bad.dump());
   EXPECT_ERROR(readTunedSettings(file), "'default' must be a finite number");
   // tune --grid and screen-ao --setting text: non-finite, repeated and unknown values.
-  std::vector<SettingGrid> grids = defaultGrids(tunedEstimatorNames());
+  std::vector<SettingGrid> grids = defaultGrids(tunedEstimators());
   for (const char* text :
        {"gtao-runtime.radius=1,1e999", "gtao-runtime.radius=1,nan", "gtao-runtime.radius=1,1",
         "gtao-runtime.nope=1,2", "x.radius=1,2", "gtao-runtime.radius="}) {
