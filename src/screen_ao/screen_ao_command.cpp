@@ -249,9 +249,9 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
     for (const SweepImage& image : sweep.images) gbuffers.push_back(&image.gbuffer);
     const ReferenceConvergence c = referenceConvergence(gbuffers, o.settings.reference);
     std::printf(
-        "gtao-reference convergence: doubling slices and steps moves A by %.5f RMS "
-        "(max %.4f) over %zu pixels\n",
-        c.rms_change, c.max_change, c.pixels);
+        "%s convergence: doubling slices and steps moves A by %.5f RMS (max %.4f) over %zu "
+        "pixels\n",
+        describe(Estimator::kGtaoReference).name, c.rms_change, c.max_change, c.pixels);
     json["convergence"] = convergenceJson(c);
   }
 
