@@ -455,7 +455,8 @@ Subcommand addLightingCommand(CLI::App& app) {
       ->required();
   parser->add_option("--fit", options->fit, "fit.json of gtbake fit, scored beside the paper's");
   parser->add_option("--out", options->out, "Output directory")->required();
-  return {parser, [options](const RunContext&) {
+  return {parser, [options](const RunContext& context) {
+            options->progress = context.progress;
             runLighting(*options);
             return 0;
           }};

@@ -21,9 +21,7 @@ using gtso::kPointsPerLobe;
 constexpr int kStressDivisor = 4;
 
 const char* axisName(int dims, int axis) {
-  static const char* names3[3] = {"A", "theta_o", "r_p"};
-  static const char* names4[3] = {"A", "beta", "r_p"};
-  return dims == 3 ? names3[axis] : names4[axis];
+  return gtso::axisName(gtso::tableAxis(dims, axis));
 }
 
 bool isIdentity(const GtsoLayout& l) {

@@ -12,6 +12,7 @@
 #include "export/code_templates.h"
 #include "export/generated_code.h"
 #include "fit/multibounce_coeffs.h"
+#include "gtso/gtso_tables.h"
 #include "runtime/gtso_runtime.h"
 
 namespace gtbake {
@@ -128,16 +129,16 @@ std::string tilingText(const GeneratedCodeInput& in) {
   const int down = in.volume_4d[2] / nz;
   return std::string(l.tilesX == 1 ? "fold" : "atlas") + ": " + std::to_string(l.tilesX) + " x " +
          std::to_string(down) + " tiles of " + std::to_string(nx) + "x" + std::to_string(ny) + "x" +
-         std::to_string(nz) + " texels (theta_o slice w at x = " + std::to_string(nx) + " (w mod " +
-         std::to_string(l.tilesX) + "), z = " + std::to_string(nz) + " floor(w / " +
-         std::to_string(l.tilesX) + "))";
+         std::to_string(nz) + " texels (" + gtso::axisName(gtso::tableAxis(4, 3)) +
+         " slice w at x = " + std::to_string(nx) + " (w mod " + std::to_string(l.tilesX) +
+         "), z = " + std::to_string(nz) + " floor(w / " + std::to_string(l.tilesX) + "))";
 }
 
 // "texture x = theta_o, y = r_p, z = A" for a layout.
 std::string layoutText(int dims, const GtsoLayout& l) {
-  const char* names[3] = {"A", dims == 3 ? "theta_o" : "beta", "r_p"};
-  return std::string("x = ") + names[l.axis[0]] + ", y = " + names[l.axis[1]] +
-         ", z = " + names[l.axis[2]];
+  const auto name = [&](int axis) { return gtso::axisName(gtso::tableAxis(dims, axis)); };
+  return std::string("x = ") + name(l.axis[0]) + ", y = " + name(l.axis[1]) +
+         ", z = " + name(l.axis[2]);
 }
 
 // The placeholders of gtbake_tables.h.in that hold fit's, gtso's and encode's numbers.

@@ -42,6 +42,31 @@ double coneThreshold(double alphaV) {
 
 }  // namespace
 
+const char* axisName(TableAxis axis) {
+  switch (axis) {
+    case TableAxis::kA:
+      return "A";
+    case TableAxis::kThetaO:
+      return "theta_o";
+    case TableAxis::kBeta:
+      return "beta";
+    case TableAxis::kRoughness:
+      return "r_p";
+  }
+  return "";
+}
+
+TableAxis tableAxis(int dims, int axis) {
+  static constexpr TableAxis three[3] = {TableAxis::kA, TableAxis::kThetaO, TableAxis::kRoughness};
+  static constexpr TableAxis four[4] = {TableAxis::kA, TableAxis::kBeta, TableAxis::kRoughness,
+                                        TableAxis::kThetaO};
+  if (axis < 0 || axis >= dims || (dims != 3 && dims != 4)) {
+    throw Error("internal: no axis " + std::to_string(axis) + " in a " + std::to_string(dims) +
+                "D table");
+  }
+  return dims == 3 ? three[axis] : four[axis];
+}
+
 const std::vector<AxisDefinition>& axisDefinitions(int dims) {
   static const auto convert = [](const auto& infos) {
     std::vector<AxisDefinition> out;

@@ -25,6 +25,14 @@ struct GtsoPoint {
   double A, beta, r_p, thetaO;
 };
 
+// The quantity along a table axis (docs/gtso.md §1), named as gtso.json, encode.json and the
+// generated code's layout comments spell it: "A", "theta_o", "beta", "r_p".
+enum class TableAxis { kA, kThetaO, kBeta, kRoughness };
+const char* axisName(TableAxis axis);
+// The quantity along axis `axis` (0 = x, 1 = y, 2 = z, 3 = w) of the 3D table (A, theta_o, r_p)
+// or the 4D table (A, beta, r_p, theta_o).
+TableAxis tableAxis(int dims, int axis);
+
 // One table axis as gtso.json names it: its quantity, the forward map a shader evaluates and its
 // ALU cost (the code is gtso_runtime.h and its shader ports).
 struct AxisDefinition {

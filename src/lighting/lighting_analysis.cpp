@@ -1,11 +1,14 @@
 #include "lighting/lighting_analysis.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
 
 #include "common/error.h"
 #include "common/image_io.h"
+#include "common/progress.h"
 #include "fit/multibounce_fit.h"
 #include "fit/sweep_data.h"
 #include "sweep/sweep_set.h"
@@ -151,14 +154,11 @@ double addPixel(Accumulator* acc, const ViewChannels& c, std::size_t p, std::siz
   return reference_error;
 }
 
-// One view into every accumulator's sums; the paper's error map at the reference albedo (masked
-// pixels 0) when `image_name` is not empty.
-void analyzeView(Accumulator* acc, const SweepSet& set, const SweepView& view, std::size_t type,
-                 const std::string& image_name, EnvironmentResult* result) {
-  const std::string file = (set.dir / view.file).string();
-  const ExrImage image = decodeExr(set.manifest.readVerified(view.file), file,
-                                   ExrExpect{view.width, view.height, "sweep.json"});
-  const ViewChannels c = viewChannels(image, file, set);
+// One decoded view into an environment's sums; the paper's error map at the reference albedo
+// (masked pixels 0) when `image_name` is not empty.
+void analyzeView(Accumulator* acc, const ExrImage& image, const ViewChannels& c,
+                 const SweepView& view, std::size_t type, const std::string& image_name,
+                 EnvironmentResult* result) {
   SweepScene scene{view.name, acc->refit.full.A.size(), 0, view.scene, view.type};
   std::vector<float> errors(c.pixels, 0.0f);
   for (std::size_t p = 0; p < c.pixels; ++p) {
@@ -212,10 +212,9 @@ ModelErrors refitErrors(const Accumulator& acc, const EnvironmentRefit& refit) {
   return m;
 }
 
-EnvironmentResult analyzeEnvironment(const SweepSet& set, const LightingAnalysis& a,
-                                     const Environment& env) {
-  EnvironmentResult result;
-  result.environment = env;
+// An environment's empty sums.
+Accumulator startEnvironment(const SweepSet& set, const LightingAnalysis& a,
+                             const Environment& env) {
   Accumulator acc;
   acc.analysis = &a;
   acc.env = &env;
@@ -228,25 +227,58 @@ EnvironmentResult analyzeEnvironment(const SweepSet& set, const LightingAnalysis
   acc.refit.albedos = a.albedos;
   for (PointSet* p : {&acc.refit.full, &acc.refit.half[0], &acc.refit.half[1]})
     p->G.resize(a.albedos.size());
-  std::vector<bool> pictured(a.types.size(), false);
-  for (const SweepView& view : set.views) {
-    const std::size_t type = std::find(a.types.begin(), a.types.end(), view.type) - a.types.begin();
-    const std::string image = pictured[type] ? "" : "images/" + env.name + "_" + view.name + ".png";
-    pictured[type] = true;
-    analyzeView(&acc, set, view, type, image, &result);
+  return acc;
+}
+
+// The environment's result from its sums over every view: the mean open irradiance, the refit
+// and every model's errors.
+void finishEnvironment(const Accumulator& acc, EnvironmentResult* result) {
+  result->mean_open = acc.pixels == 0 ? 0.0 : acc.open_sum / acc.pixels;
+  result->refit = refitEnvironment(acc);
+  result->models = acc.models;
+  result->models.push_back(refitErrors(acc, result->refit));
+}
+
+// Every environment over every view: each view is read and decoded once, then added to every
+// environment's sums side by side (each environment sums in view order, so the bytes are those
+// of one environment at a time); the first view of each scene type is pictured.
+void analyzeEnvironments(const SweepSet& set, const std::vector<Environment>& environments,
+                         bool progress, LightingAnalysis* a) {
+  Progress bar("lighting", set.views.size() + 1, progress);  // the views, then the refits
+  std::vector<Accumulator> sums;
+  a->environments.resize(environments.size());
+  for (std::size_t e = 0; e < environments.size(); ++e) {
+    sums.push_back(startEnvironment(set, *a, environments[e]));
+    a->environments[e].environment = environments[e];
   }
-  result.mean_open = acc.pixels == 0 ? 0.0 : acc.open_sum / acc.pixels;
-  result.refit = refitEnvironment(acc);
-  result.models = std::move(acc.models);
-  result.models.push_back(refitErrors(acc, result.refit));
-  return result;
+  std::vector<bool> pictured(a->types.size(), false);
+  for (const SweepView& view : set.views) {
+    const std::size_t type =
+        std::find(a->types.begin(), a->types.end(), view.type) - a->types.begin();
+    const bool picture = !pictured[type];
+    pictured[type] = true;
+    const std::string file = (set.dir / view.file).string();
+    const ExrImage image = decodeExr(set.manifest.readVerified(view.file), file,
+                                     ExrExpect{view.width, view.height, "sweep.json"});
+    const ViewChannels c = viewChannels(image, file, set);
+    tbb::parallel_for(std::size_t{0}, environments.size(), [&](std::size_t e) {
+      const std::string name =
+          picture ? "images/" + environments[e].name + "_" + view.name + ".png" : "";
+      analyzeView(&sums[e], image, c, view, type, name, &a->environments[e]);
+    });
+    bar.add(1);
+  }
+  tbb::parallel_for(std::size_t{0}, environments.size(),
+                    [&](std::size_t e) { finishEnvironment(sums[e], &a->environments[e]); });
+  bar.add(1);
+  bar.finish();
 }
 
 }  // namespace
 
 LightingAnalysis analyzeLighting(const fs::path& sweep,
                                  const std::vector<Environment>& environments,
-                                 const std::optional<MultiBounceCoeffs>& fit) {
+                                 const std::optional<MultiBounceCoeffs>& fit, bool progress) {
   const SweepSet set = readSweepSet(sweep);
   if (!set.settings.transfer) {
     throw Error(set.where +
@@ -263,9 +295,7 @@ LightingAnalysis analyzeLighting(const fs::path& sweep,
     if (std::find(a.types.begin(), a.types.end(), view.type) == a.types.end())
       a.types.push_back(view.type);
   }
-  for (const Environment& env : environments) {
-    a.environments.push_back(analyzeEnvironment(set, a, env));
-  }
+  analyzeEnvironments(set, environments, progress, &a);
   a.pixels =
       a.environments.empty() ? 0 : a.environments.front().models.front().albedo.front().pixels;
   return a;

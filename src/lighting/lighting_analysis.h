@@ -75,9 +75,9 @@ struct LightingAnalysis {
 };
 
 // Reads the sweep (its transfer channels: a one-line gtbake::Error if it has none) and analyses
-// every environment.
+// every environment, with a progress bar (one step per view) when `progress`.
 LightingAnalysis analyzeLighting(const std::filesystem::path& sweep,
                                  const std::vector<Environment>& environments,
-                                 const std::optional<MultiBounceCoeffs>& fit);
+                                 const std::optional<MultiBounceCoeffs>& fit, bool progress);
 
 }  // namespace gtbake

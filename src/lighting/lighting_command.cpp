@@ -26,7 +26,7 @@ void runLighting(const LightingOptions& o) {
   std::optional<MultiBounceCoeffs> fit;
   if (!o.fit.empty()) fit = readFitInput(o.fit).linear;
   const OutputLock lock(o.out);  // for the whole run (output_lock.h)
-  const LightingAnalysis analysis = analyzeLighting(o.sweep, environments, fit);
+  const LightingAnalysis analysis = analyzeLighting(o.sweep, environments, fit, o.progress);
   OutputSet output(o.out, "lighting");
   nlohmann::ordered_json settings;
   settings["sweep"] = relativePath(o.sweep, o.out);

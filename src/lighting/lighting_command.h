@@ -18,6 +18,7 @@ struct LightingOptions {
   std::filesystem::path fit;              // gtbake fit's fit.json (optional)
   std::filesystem::path out;
   bool print_summary = true;
+  bool progress = true;
 };
 
 // The analysis as lighting.json, the HTML report and the stdout summary.

@@ -2,8 +2,9 @@
 
 #include <tbb/parallel_for.h>
 
-#include <chrono>
 #include <cstdio>
+#include <map>
+#include <optional>
 
 #include "common/atomic_file.h"
 #include "common/output_layout.h"
@@ -16,6 +17,7 @@
 #include "gtso/gtso_command.h"
 #include "lighting/lighting_command.h"
 #include "pipeline/index_page.h"
+#include "pipeline/stage_clock.h"
 #include "scene/scenes_command.h"
 #include "screen_ao/screen_ao_command.h"
 #include "sweep/sweep_command.h"
@@ -35,18 +37,9 @@ constexpr int kCorpusResolution = 128;
 constexpr int kCorpusSpp = 84;
 constexpr int kCorpusSpecularSpp = 14;
 
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 void banner(const char* stage, bool enabled) {
   if (enabled) std::fprintf(stderr, "\n== gtbake all: %s ==\n", stage);
 }
-
-// The seconds of the stages whose results carry no time of their own.
-struct StageTimes {
-  double scenes, fit, profiles, tune, lighting, specular_profiles, exporter, total;
-};
 
 // One estimator's profile: Equation 10 refitted on its Â (docs/profiles.md), and specular
 // occlusion scored on its Â and b̂ (docs/validate_gtso.md §6).
@@ -65,75 +58,80 @@ double specularRmse(const ValidateGtsoResult& r, const char* method) {
 }
 
 // validate-gtso on every profile's estimator, into <out>/profiles/<estimator>/ (after the
-// ray-traced run, whose u it scores); each run is threaded inside, so they run one after another.
-double specularProfiles(const AllOptions& options, std::vector<Profile>* profiles) {
+// ray-traced run, whose u it scores). The truth each reads (S at its estimator's radius, and the
+// unbounded S scored beside it) is read once per radius first; then the runs, each its own output
+// set and threaded inside, run side by side, since their serial parts would leave a core idle.
+void specularProfiles(const AllOptions& options, std::vector<Profile>* profiles) {
   banner("validate-gtso per estimator", options.progress);
-  const auto t = std::chrono::steady_clock::now();
-  // Once for every estimator of the same radius (all of them with the defaults): S_R at it, and
-  // the unbounded S scored beside it.
-  std::optional<SpecularSweep> sweep;
-  std::optional<SpecularSweep> unbounded;
-  for (Profile& p : *profiles) {
-    ValidateGtsoOptions v;
-    v.sweep = options.out / kSweepDir;
+  const std::filesystem::path sweep_dir = options.out / kSweepDir;
+  std::vector<ValidateGtsoOptions> runs(profiles->size());
+  std::map<std::optional<double>, SpecularSweep> truth;  // by radius; none: the unbounded S
+  for (std::size_t k = 0; k < runs.size(); ++k) {
+    ValidateGtsoOptions& v = runs[k];
+    v.sweep = sweep_dir;
     v.luts = options.out;
-    v.input.estimator = p.estimator;
+    v.input.estimator = (*profiles)[k].estimator;
     v.input.screen_ao = options.out / kScreenAoDir;
     const std::optional<double> radius = truthRadius(v.input);
-    if (!sweep || sweep->radius != radius) sweep = readSpecularSweep(v.sweep, radius);
-    v.sweep_data = &*sweep;
-    if (radius && !unbounded) unbounded = readSpecularSweep(v.sweep);
-    v.unbounded_sweep_data = unbounded ? &*unbounded : nullptr;
+    for (const std::optional<double>& r : {radius, std::optional<double>()}) {
+      if (truth.count(r) == 0) truth.emplace(r, readSpecularSweep(sweep_dir, r));
+      if (!radius) break;
+    }
+    v.sweep_data = &truth.at(radius);
+    v.unbounded_sweep_data = radius ? &truth.at(std::nullopt) : nullptr;
     v.write_images = false;  // 72 PNGs per estimator; `gtbake validate-gtso --estimator` draws them
     v.print_summary = false;
-    v.progress = options.progress;
-    p.specular = runValidateGtso(v);
+    v.progress = false;
   }
-  return secondsSince(t);
+  Progress bar("validate-gtso per estimator", runs.size(), options.progress);
+  tbb::parallel_for(std::size_t{0}, runs.size(), [&](std::size_t k) {
+    (*profiles)[k].specular = runValidateGtso(runs[k]);
+    bar.add(1);
+  });
+  bar.finish();
 }
 
-// Screen-space A and bent normals from the sweep's G-buffer into <out>/screen_ao, then one
-// profile per estimator into <out>/profiles/<estimator>/ (fit.json and its report).
-ScreenAoResult screenAndProfiles(const AllOptions& options, int threads,
-                                 std::vector<Profile>* profiles, double* profile_seconds) {
+// Screen-space A and bent normals from the sweep's G-buffer into <out>/screen_ao.
+ScreenAoResult screenAo(const AllOptions& options, int threads) {
   banner("screen-ao", options.progress);
   ScreenAoOptions screen_ao;
   screen_ao.sweep = options.out / kSweepDir;
   screen_ao.out = options.out / kScreenAoDir;
   screen_ao.threads = threads;
   screen_ao.progress = options.progress;
-  const ScreenAoResult screened = runScreenAo(screen_ao);
+  return runScreenAo(screen_ao);
+}
 
+// One profile per estimator of screen-ao's defaults into <out>/profiles/<estimator>/ (fit.json).
+std::vector<Profile> profilesOf(const AllOptions& options) {
   banner("profiles", options.progress);
-  const auto t = std::chrono::steady_clock::now();
   // The fits are independent (each its own output set) and mostly serial inside, so they run side
   // by side; the summary table below prints their results in the estimators' order.
-  const std::vector<Estimator>& estimators = screen_ao.estimators;
-  profiles->assign(estimators.size(), {});
+  const std::vector<Estimator>& estimators = ScreenAoOptions{}.estimators;
+  std::vector<Profile> profiles(estimators.size());
   Progress bar("profiles", estimators.size(), options.progress);
   tbb::parallel_for(std::size_t{0}, estimators.size(), [&](std::size_t k) {
     FitOptions fit;
-    fit.sweep = screen_ao.sweep;
+    fit.sweep = options.out / kSweepDir;
     fit.out = options.out / kProfilesDir / describe(estimators[k]).name / "fit.json";
     fit.input.estimator = describe(estimators[k]).name;
-    fit.input.screen_ao = screen_ao.out;
+    fit.input.screen_ao = options.out / kScreenAoDir;
     fit.write_report = false;  // 72 scatter plots per profile; `gtbake fit --estimator` draws them
     // validate --estimator reads the sweep (the shipped sums are the ray-traced fit's only).
     fit.write_validate_data = false;
     fit.progress = false;
     fit.print_summary = false;
-    (*profiles)[k] = {describe(estimators[k]).name, runFit(fit), {}};
+    profiles[k] = {describe(estimators[k]).name, runFit(fit), {}};
     bar.add(1);
   });
   bar.finish();
-  *profile_seconds = secondsSince(t);
-  return screened;
+  return profiles;
 }
 
 void printSummary(const AllOptions& options, const SweepResult& swept, const FitResult& fitted,
                   const GtsoResult& baked, const EncodeResult& encoded,
                   const ValidateGtsoResult& validated, const ScreenAoResult& screened,
-                  const std::vector<Profile>& profiles, const StageTimes& times) {
+                  const std::vector<Profile>& profiles, const StageClock& clock) {
   std::printf("\ngtbake all: summary (%s)\n", options.out.c_str());
   std::printf("  Equation 10      refit ± SE scenes (SE Monte Carlo)   paper     refit - paper\n");
   for (size_t i = 0; i < 6; ++i) {
@@ -168,30 +166,23 @@ void printSummary(const AllOptions& options, const SweepResult& swept, const Fit
                 specularRmse(p.specular, "cone_ao2_u_0.01"), specularRmse(p.specular, "lagarde"),
                 p.estimator.c_str());
   }
-  std::printf(
-      "  time             scenes %.1f s, sweep %.1f s (%.1f Mrays/s), fit %.1f s, screen-ao %.1f s,"
-      " profiles %.1f s, tune %.1f s, lighting %.1f s, gtso %.1f s, encode %.1f s, validate-gtso"
-      " %.1f s (per estimator %.1f s), export %.1f s; total %.1f s\n",
-      times.scenes, swept.seconds, swept.seconds > 0 ? swept.rays / swept.seconds * 1e-6 : 0.0,
-      times.fit, screened.seconds, times.profiles, times.tune, times.lighting, baked.seconds,
-      encoded.seconds, validated.seconds, times.specular_profiles, times.exporter, times.total);
+  std::printf("  time             %s (timings.json; %.1f Mrays/s in the sweep)\n",
+              stageTimeLine(clock).c_str(),
+              swept.seconds > 0 ? swept.rays / swept.seconds * 1e-6 : 0.0);
 }
 
-// The scenes (the user's, or the built-in corpus written into <out>/scenes at its settings) and
-// their sweep into <out>; *scenes_seconds is the time spent writing the corpus.
-SweepResult sweepScenes(const AllOptions& options, int threads, double* scenes_seconds) {
-  const auto t = std::chrono::steady_clock::now();
-  std::vector<std::filesystem::path> gltf = options.scenes;
-  const bool corpus = gltf.empty();
-  if (corpus) {
-    banner("scenes", options.progress);
-    ScenesOptions scenes;
-    scenes.out = options.out / "scenes";
-    scenes.progress = options.progress;
-    gltf = runScenes(scenes);
-  }
-  *scenes_seconds = secondsSince(t);
+// The built-in corpus, written into <out>/scenes.
+std::vector<std::filesystem::path> corpusScenes(const AllOptions& options) {
+  banner("scenes", options.progress);
+  ScenesOptions scenes;
+  scenes.out = options.out / "scenes";
+  scenes.progress = options.progress;
+  return runScenes(scenes);
+}
 
+// The sweep of `gltf` into <out>/sweep, at the corpus settings when `corpus`.
+SweepResult sweepScenes(const AllOptions& options, int threads,
+                        const std::vector<std::filesystem::path>& gltf, bool corpus) {
   banner("sweep", options.progress);
   SweepOptions sweep;
   sweep.scenes = gltf;
@@ -226,18 +217,72 @@ TuneResult tuneSettings(const AllOptions& options, int threads) {
 
 // Equation 10 under the built-in environment classes against the sweep's transfer channels
 // (docs/lighting.md) into <out>/lighting.
-// Returns its seconds.
-double lightingStage(const AllOptions& options, const std::filesystem::path& fit) {
+void lightingStage(const AllOptions& options, const std::filesystem::path& fit) {
   banner("lighting", options.progress);
-  const auto t = std::chrono::steady_clock::now();
   LightingOptions lighting;
   lighting.sweep = options.out / kSweepDir;
   lighting.environments = environmentClasses();
   lighting.fit = fit;
   lighting.out = options.out / kLightingDir;
   lighting.print_summary = false;  // lighting/lighting.json and its report hold it
+  lighting.progress = options.progress;
   runLighting(lighting);
-  return secondsSince(t);
+}
+
+// The ray-traced fit into <out>/fit (fit.json and its report).
+FitResult fitStage(const AllOptions& options) {
+  banner("fit", options.progress);
+  FitOptions fit;
+  fit.sweep = options.out / kSweepDir;
+  fit.out = options.out / kFitDir / "fit.json";
+  fit.report = options.out / kFitDir / "report";
+  fit.progress = options.progress;
+  return runFit(fit);
+}
+
+// The GTSO tables into <out>/gtso and their BC4 volumes into <out>/encode.
+GtsoResult gtsoStage(const AllOptions& options, int threads) {
+  banner("gtso", options.progress);
+  GtsoOptions gtso;
+  gtso.out = options.out / kGtsoDir;
+  gtso.threads = threads;
+  gtso.progress = options.progress;
+  return runGtso(gtso);
+}
+
+EncodeResult encodeStage(const AllOptions& options, int threads) {
+  banner("encode", options.progress);
+  EncodeOptions encode;
+  encode.gtso = options.out / kGtsoDir;
+  encode.out = options.out / kEncodeDir;  // gtso{3d,4d}*.dds/.ktx2, encode.json
+  encode.threads = threads;
+  encode.progress = options.progress;
+  encode.layout_4d = parseLayout4D(options.layout_4d);
+  return runEncode(encode);
+}
+
+ValidateGtsoResult validateGtsoStage(const AllOptions& options) {
+  banner("validate-gtso", options.progress);
+  ValidateGtsoOptions validate_gtso;
+  validate_gtso.sweep = options.out / kSweepDir;
+  validate_gtso.luts = options.out;  // <out>/gtso, <out>/encode; writes <out>/validate_gtso
+  validate_gtso.progress = options.progress;
+  return runValidateGtso(validate_gtso);
+}
+
+void exportStage(const AllOptions& options, const TuneResult& tuned,
+                 const ValidateGtsoResult& validated) {
+  banner("export", options.progress);
+  ExportOptions exporter;
+  exporter.fit = options.out / kFitDir / "fit.json";
+  exporter.gtso = options.out / kGtsoDir;
+  exporter.encode = options.out / kEncodeDir;
+  exporter.validate_gtso = validated.json;
+  exporter.profiles = options.out / kProfilesDir;
+  exporter.tune = tuned.json;             // empty when tune was skipped
+  exporter.out = options.out / kShipDir;  // the header, the includes, the volumes, README.md
+  exporter.command_line = options.command_line;
+  runExport(exporter);
 }
 
 }  // namespace
@@ -247,73 +292,33 @@ void runAll(const AllOptions& options) {
   refuseFlatLayout(options.out, "gtbake all");
   ensureDirectory(options.out);
   const ThreadLimit limit(options.threads);
-  const auto start = std::chrono::steady_clock::now();
+  const int threads = limit.threads();
+  StageClock clock;
 
-  double scenes_seconds = 0.0;
-  const SweepResult swept = sweepScenes(options, limit.threads(), &scenes_seconds);
-  const std::filesystem::path swept_dir = options.out / kSweepDir;
-
-  banner("fit", options.progress);
-  FitOptions fit;
-  fit.sweep = swept_dir;
-  fit.out = options.out / kFitDir / "fit.json";
-  fit.report = options.out / kFitDir / "report";
-  fit.progress = options.progress;
-  auto t = std::chrono::steady_clock::now();
-  const FitResult fitted = runFit(fit);
-  const double fit_seconds = secondsSince(t);
-
+  std::vector<std::filesystem::path> gltf = options.scenes;
+  if (gltf.empty()) clock.run("scenes", [&] { gltf = corpusScenes(options); });
+  SweepResult swept;
+  clock.run("sweep", [&] { swept = sweepScenes(options, threads, gltf, options.scenes.empty()); });
+  FitResult fitted;
+  clock.run("fit", [&] { fitted = fitStage(options); });
+  ScreenAoResult screened;
+  clock.run("screen-ao", [&] { screened = screenAo(options, threads); });
   std::vector<Profile> profiles;
-  double profile_seconds = 0.0;
-  const ScreenAoResult screened =
-      screenAndProfiles(options, limit.threads(), &profiles, &profile_seconds);
-
-  const TuneResult tuned = tuneSettings(options, limit.threads());
-  const double lighting_seconds = lightingStage(options, fit.out);
-
-  banner("gtso", options.progress);
-  GtsoOptions gtso;
-  gtso.out = options.out / kGtsoDir;
-  gtso.threads = limit.threads();
-  gtso.progress = options.progress;
-  const GtsoResult baked = runGtso(gtso);
-
-  banner("encode", options.progress);
-  EncodeOptions encode;
-  encode.gtso = gtso.out;
-  encode.out = options.out / kEncodeDir;  // gtso{3d,4d}*.dds/.ktx2, encode.json
-  encode.threads = limit.threads();
-  encode.progress = options.progress;
-  encode.layout_4d = parseLayout4D(options.layout_4d);
-  const EncodeResult encoded = runEncode(encode);
-
-  banner("validate-gtso", options.progress);
-  ValidateGtsoOptions validate_gtso;
-  validate_gtso.sweep = swept_dir;
-  validate_gtso.luts = options.out;  // <out>/gtso, <out>/encode; writes <out>/validate_gtso
-  validate_gtso.progress = options.progress;
-  const ValidateGtsoResult validated = runValidateGtso(validate_gtso);
-  const double specular_profile_seconds = specularProfiles(options, &profiles);
-
-  banner("export", options.progress);
-  ExportOptions exporter;
-  exporter.fit = fit.out;
-  exporter.gtso = gtso.out;
-  exporter.encode = encode.out;
-  exporter.validate_gtso = validated.json;
-  exporter.profiles = options.out / kProfilesDir;
-  exporter.tune = tuned.json;             // empty when tune was skipped
-  exporter.out = options.out / kShipDir;  // the header, the includes, the volumes, README.md
-  exporter.command_line = options.command_line;
-  t = std::chrono::steady_clock::now();
-  runExport(exporter);
-  const double export_seconds = secondsSince(t);
+  clock.run("profiles", [&] { profiles = profilesOf(options); });
+  TuneResult tuned;
+  clock.run("tune", [&] { tuned = tuneSettings(options, threads); });
+  clock.run("lighting", [&] { lightingStage(options, options.out / kFitDir / "fit.json"); });
+  GtsoResult baked;
+  clock.run("gtso", [&] { baked = gtsoStage(options, threads); });
+  EncodeResult encoded;
+  clock.run("encode", [&] { encoded = encodeStage(options, threads); });
+  ValidateGtsoResult validated;
+  clock.run("validate-gtso", [&] { validated = validateGtsoStage(options); });
+  clock.run("validate-gtso per estimator", [&] { specularProfiles(options, &profiles); });
+  clock.run("export", [&] { exportStage(options, tuned, validated); });
+  writeTimings(options.out, clock, threads);
   writeIndexPage(options.out);
-
-  StageTimes times{scenes_seconds, fit_seconds,        profile_seconds,
-                   tuned.seconds,  lighting_seconds,   specular_profile_seconds,
-                   export_seconds, secondsSince(start)};
-  printSummary(options, swept, fitted, baked, encoded, validated, screened, profiles, times);
+  printSummary(options, swept, fitted, baked, encoded, validated, screened, profiles, clock);
 }
 
 }  // namespace gtbake

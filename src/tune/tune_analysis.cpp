@@ -7,6 +7,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 
 #include "common/error.h"
 #include "common/output_set.h"
@@ -67,60 +68,75 @@ GridValueScore scoreEstimates(const Scoring& sc, const std::string& estimator,
                   sc.data->albedos, profileFitSettings());
 }
 
-// Every value's estimate of one image in one pass: the bitmasks' thickness values share the
-// samples (visibilityBitmasks), the runtime pass's values its slices, horizons and filter weights
-// (gtaoRuntimeRuns); Â alone (tune reads no b̂), with the bytes of a run at that value alone.
-std::vector<AoEstimate> runImage(const GBuffer& g, const SettingGrid& grid,
-                                 const std::vector<double>& values) {
-  const EstimatorDescriptor& d = describe(grid.estimator, "tune");
-  if (d.bitmask != nullptr && grid.key == "thickness") {
-    const ScreenAoSettings s;
-    return visibilityBitmasks(g, s.*d.bitmask, values, EstimateParts::kAoOnly);
+// Whether a grid is a visibility bitmask's thickness grid, whose values share one pass.
+bool isBitmaskThickness(const SettingGrid& grid) {
+  return describe(grid.estimator, "tune").bitmask != nullptr && grid.key == "thickness";
+}
+
+// Every value's estimate of one image in one pass, [grid][value]: the bitmasks' thickness values
+// share the samples (visibilityBitmasks; both bitmasks' grids, with the same values, from one pass
+// when the group holds both), the runtime pass's values of all of the group's grids share its
+// slices, and each radius its horizons and filter weights (gtaoRuntimeRuns); Â alone (tune reads
+// no b̂), with the bytes of a run at that value alone.
+std::vector<std::vector<AoEstimate>> imageEstimates(
+    const GBuffer& g, const std::vector<SettingGrid>& group,
+    const std::vector<std::vector<double>>& to_run) {
+  const ScreenAoSettings s;
+  if (isBitmaskThickness(group[0]) && group.size() == 1) {
+    return {visibilityBitmasks(g, s.*describe(group[0].estimator, "tune").bitmask, to_run[0],
+                               EstimateParts::kAoOnly)};
   }
-  if (d.id != Estimator::kGtaoRuntime) {
-    throw Error("internal: tune has no pass for " + grid.estimator + "." + grid.key);
+  if (isBitmaskThickness(group[0])) {
+    std::vector<SectorWeights> weights;
+    for (const SettingGrid& grid : group) {
+      weights.push_back((s.*describe(grid.estimator, "tune").bitmask).weights);
+    }
+    return visibilityBitmasks(g, s.bitmask_uniform, weights, to_run[0], EstimateParts::kAoOnly);
   }
   std::vector<GtaoRuntimeSettings> runs;
-  for (double value : values) runs.push_back(settingsAt(grid, value).runtime);
-  return gtaoRuntimeRuns(g, runs, EstimateParts::kAoOnly);
-}
-
-// A bitmask estimator's sector weights (its descriptor's settings).
-SectorWeights weightsOf(const std::string& estimator) {
-  const ScreenAoSettings s;
-  return (s.*describe(estimator, "tune").bitmask).weights;
-}
-
-// Â of every image at each value of to_run, [grid][value][image]: one grid's pass, or both
-// bitmasks' thickness grids (group of two, bitmasksSharePass) from one pass per image.
-std::vector<std::vector<std::vector<std::vector<float>>>> groupEstimates(
-    const SweepImages& images, const std::vector<SettingGrid>& group,
-    const std::vector<double>& to_run, Progress& bar) {
-  const ScreenAoSettings defaults;
-  std::vector<std::vector<std::vector<std::vector<float>>>> out(
-      group.size(), std::vector<std::vector<std::vector<float>>>(to_run.size()));
-  for (const SweepImage& image : images.images) {
-    std::vector<std::vector<AoEstimate>> e;
-    if (group.size() == 2) {
-      e = visibilityBitmasks(image.gbuffer, defaults.bitmask_uniform,
-                             {weightsOf(group[0].estimator), weightsOf(group[1].estimator)}, to_run,
-                             EstimateParts::kAoOnly);
-    } else {
-      e = {runImage(image.gbuffer, group[0], to_run)};
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    if (describe(group[k].estimator, "tune").id != Estimator::kGtaoRuntime) {
+      throw Error("internal: tune has no pass for " + group[k].estimator + "." + group[k].key);
     }
-    for (std::size_t w = 0; w < group.size(); ++w) {
-      for (std::size_t k = 0; k < to_run.size(); ++k) out[w][k].push_back(std::move(e[w][k].a));
-    }
-    bar.add(group.size() * to_run.size());
+    for (double value : to_run[k]) runs.push_back(settingsAt(group[k], value).runtime);
+  }
+  std::vector<AoEstimate> all = gtaoRuntimeRuns(g, runs, EstimateParts::kAoOnly);
+  std::vector<std::vector<AoEstimate>> out(group.size());
+  auto next = std::make_move_iterator(all.begin());
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    out[k].assign(next, next + static_cast<std::ptrdiff_t>(to_run[k].size()));
+    next += static_cast<std::ptrdiff_t>(to_run[k].size());
   }
   return out;
 }
 
-// The values of a grid that need a run: all but the default when its score is known.
-std::vector<double> valuesToRun(const SettingGrid& grid, const DefaultScores& defaults) {
+// Â of every image at each value of to_run[grid], [grid][value][image], one pass per image for
+// the whole group (imageEstimates).
+std::vector<std::vector<std::vector<std::vector<float>>>> groupEstimates(
+    const SweepImages& images, const std::vector<SettingGrid>& group,
+    const std::vector<std::vector<double>>& to_run, Progress& bar) {
+  std::vector<std::vector<std::vector<std::vector<float>>>> out(group.size());
+  std::size_t runs = 0;
+  for (std::size_t k = 0; k < group.size(); ++k) {
+    out[k].resize(to_run[k].size());
+    runs += to_run[k].size();
+  }
+  for (const SweepImage& image : images.images) {
+    std::vector<std::vector<AoEstimate>> e = imageEstimates(image.gbuffer, group, to_run);
+    for (std::size_t w = 0; w < group.size(); ++w) {
+      for (std::size_t k = 0; k < to_run[w].size(); ++k) out[w][k].push_back(std::move(e[w][k].a));
+    }
+    bar.add(runs);
+  }
+  return out;
+}
+
+// The values of a grid that need a run: all but the default when its score is known (or another
+// grid of the same pass runs it).
+std::vector<double> valuesToRun(const SettingGrid& grid, bool default_known) {
   std::vector<double> to_run;
   for (double value : grid.values) {
-    if (value != grid.default_value || defaults.count(grid.estimator) == 0) {
+    if (value != grid.default_value || !default_known) {
       to_run.push_back(value);
     }
   }
@@ -148,22 +164,34 @@ std::vector<GridValueScore> scoreValues(const Scoring& sc, const SettingGrid& gr
   return scores;
 }
 
-// One timed part: to_run's values of the group's grids (one, or both bitmasks in one pass), each
+// A part's name: "ESTIMATOR KEY" joined by '+' on the side that differs
+// ("gtao-runtime radius+intensity", "bitmask-uniform+bitmask-cosine thickness").
+std::string partName(const std::vector<SettingGrid>& group) {
+  std::string estimators = group[0].estimator;
+  std::string keys = group[0].key;
+  for (std::size_t g = 1; g < group.size(); ++g) {
+    if (group[g].estimator != group[0].estimator) estimators += "+" + group[g].estimator;
+    if (group[g].key != group[0].key) keys += "+" + group[g].key;
+  }
+  return estimators + " " + keys;
+}
+
+// One timed part: to_run[g]'s values of each of the group's grids in one pass per image, each
 // grid's `values[g]` scored ([grid][value]).
 std::vector<std::vector<GridValueScore>> runPart(StageParts& parts, const Scoring& sc,
                                                  const std::vector<SettingGrid>& group,
                                                  const std::vector<std::vector<double>>& values,
-                                                 const std::vector<double>& to_run,
+                                                 const std::vector<std::vector<double>>& to_run,
                                                  const std::string& suffix,
                                                  DefaultScores* defaults) {
-  std::string name = group[0].estimator;
-  for (std::size_t g = 1; g < group.size(); ++g) name += "+" + group[g].estimator;
-  const std::size_t units = group.size() * to_run.size() * sc.images->images.size();
-  return parts.run(name + " " + group[0].key + suffix, units, [&](Progress& bar) {
+  std::size_t runs = 0;
+  for (const std::vector<double>& v : to_run) runs += v.size();
+  const std::size_t units = runs * sc.images->images.size();
+  return parts.run(partName(group) + suffix, units, [&](Progress& bar) {
     const auto est = groupEstimates(*sc.images, group, to_run, bar);
     std::vector<std::vector<GridValueScore>> scores;
     for (std::size_t g = 0; g < group.size(); ++g) {
-      scores.push_back(scoreValues(sc, group[g], values[g], to_run, est[g], defaults));
+      scores.push_back(scoreValues(sc, group[g], values[g], to_run[g], est[g], defaults));
     }
     return scores;
   });
@@ -181,31 +209,47 @@ bool bitmasksSharePass(const std::vector<SettingGrid>& grids, std::size_t k,
   const std::optional<Estimator> eb = findEstimator(b.estimator);
   const bool both = ea && eb && *ea != *eb && describe(*ea).bitmask && describe(*eb).bitmask;
   return both && a.key == "thickness" && b.key == "thickness" &&
-         valuesToRun(a, defaults) == valuesToRun(b, defaults) &&
+         valuesToRun(a, defaults.count(a.estimator) != 0) ==
+             valuesToRun(b, defaults.count(b.estimator) != 0) &&
          sameBitmaskSamples(s.*describe(*ea).bitmask, s.*describe(*eb).bitmask);
 }
 
-// Runs, scores and widens every grid in order; the two bitmasks' thickness grids under one part
-// when they share a pass (bitmasksSharePass, docs/tune.md §7).
+// The grids from grids[k] on that one pass per image serves (docs/tune.md §7): both bitmasks'
+// thickness grids when they share a pass, every consecutive grid of the runtime pass, else one.
+std::size_t passGroupSize(const std::vector<SettingGrid>& grids, std::size_t k,
+                          const DefaultScores& defaults) {
+  if (isBitmaskThickness(grids[k])) return bitmasksSharePass(grids, k, defaults) ? 2 : 1;
+  std::size_t n = 1;
+  while (k + n < grids.size() && grids[k + n].estimator == grids[k].estimator) ++n;
+  return n;
+}
+
+// Runs, scores and widens every grid in order, the grids that share a pass under one part
+// (passGroupSize, docs/tune.md §7); a default not yet scored runs once per estimator.
 void runGrids(StageParts& parts, const Scoring& sc, const std::vector<SettingGrid>& grids,
               DefaultScores* defaults, TuneAnalysis* a) {
-  for (std::size_t k = 0; k < grids.size(); ++k) {
-    const std::vector<double> to_run = valuesToRun(grids[k], *defaults);
-    std::vector<SettingGrid> group = {grids[k]};
-    if (bitmasksSharePass(grids, k, *defaults)) group.push_back(grids[++k]);
-    std::vector<std::vector<double>> values;
-    for (const SettingGrid& g : group) values.push_back(g.values);
+  for (std::size_t k = 0; k < grids.size();) {
+    const std::size_t n = passGroupSize(grids, k, *defaults);
+    const std::vector<SettingGrid> group(grids.begin() + k, grids.begin() + k + n);
+    k += n;
+    std::vector<std::vector<double>> values, to_run;
+    std::set<std::string> scheduled;  // estimators whose default this pass runs once
+    for (const SettingGrid& g : group) {
+      values.push_back(g.values);
+      const bool known = defaults->count(g.estimator) != 0 || !scheduled.insert(g.estimator).second;
+      to_run.push_back(valuesToRun(g, known));
+      a->estimator_runs += to_run.back().size();
+    }
     const auto scores = runPart(parts, sc, group, values, to_run, "", defaults);
     std::vector<SettingResult> results(group.size());
     for (std::size_t g = 0; g < group.size(); ++g) {
       results[g].grid = group[g];
       results[g].scores = scores[g];
     }
-    a->estimator_runs += group.size() * to_run.size();
     widenGroup(&results, *a, [&](std::size_t first, std::size_t count, const auto& add) {
       const std::vector<SettingGrid> grids(group.begin() + first, group.begin() + first + count);
       a->estimator_runs += count * add.size();
-      return runPart(parts, sc, grids, std::vector(count, add), add,
+      return runPart(parts, sc, grids, std::vector(count, add), std::vector(count, add),
                      " widened to " + formatNumberList(add), defaults);
     });
     for (SettingResult& r : results) a->settings.push_back(std::move(r));

@@ -60,6 +60,46 @@ TEST(GtsoTables, AxisMapsRoundTrip) {
 
 // Texels beyond the A range hold the continuation of S in alpha_v: an empty cone below A = 0
 // (S = 0) and, in 3D (b = n), a cap wider than the hemisphere above A = 1 (S = 1).
+double along(const GtsoPoint& p, TableAxis axis) {
+  switch (axis) {
+    case TableAxis::kA:
+      return p.A;
+    case TableAxis::kThetaO:
+      return p.thetaO;
+    case TableAxis::kBeta:
+      return p.beta;
+    case TableAxis::kRoughness:
+      return p.r_p;
+  }
+  return 0.0;
+}
+
+// Each axis's name is a physical parameter that grows along it, texel after texel (the axes are
+// warped: A's step warp and theta_o's map depend on the other coordinates too, docs/gtso.md §1).
+TEST(GtsoTables, AxisNamesGrowAlongTheirAxes) {
+  for (int dims : {3, 4}) {
+    Table t;
+    t.dims = dims;
+    t.size = 8;
+    for (int axis = 0; axis < dims; ++axis) {
+      const TableAxis named = tableAxis(dims, axis);
+      std::array<int, 4> i = {3, 3, 3, 3};
+      double last = -1.0;
+      for (int k = 1; k + 1 < t.size; ++k) {  // the continuation texels at the ends repeat
+        i[axis] = k;
+        const double value = along(t.point(i), named);
+        EXPECT_GT(value, last) << dims << "D " << axisName(named) << " at texel " << k;
+        last = value;
+      }
+    }
+  }
+  EXPECT_STREQ(axisName(tableAxis(4, 1)), "beta");
+  EXPECT_STREQ(axisName(tableAxis(4, 3)), "theta_o");
+  EXPECT_STREQ(axisName(tableAxis(3, 1)), "theta_o");
+  EXPECT_STREQ(axisName(tableAxis(3, 2)), "r_p");
+  EXPECT_THROW(tableAxis(3, 3), Error);
+}
+
 TEST(GtsoTables, ContinuationTexelsHoldTheLimits) {
   const Table t = bakeTable(3, 8, 8, nullptr);
   const int n[4] = {8, 8, 8, 1};

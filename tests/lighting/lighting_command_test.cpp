@@ -10,6 +10,7 @@
 
 #include "common/error.h"
 #include "common/output_set.h"
+#include "common/threads.h"
 #include "fit/multibounce_fit.h"
 #include "fit/sweep_data.h"
 #include "lighting/lighting_command.h"
@@ -92,6 +93,27 @@ TEST_F(LightingCommand, UniformSkyIsTheWhiteSkyAndAWindowGlows) {
   EXPECT_FALSE(window["refit"]["scene_band"].get<bool>());  // one scene: no jackknife
   EXPECT_NE(manifest.find("lighting.html"), nullptr);
   EXPECT_NE(manifest.find("images/window_spheres.png"), nullptr);
+}
+
+// The environments run side by side (docs/lighting.md §3): every output byte is the same on one
+// thread and on two.
+TEST_F(LightingCommand, SameBytesOnOneAndTwoThreads) {
+  const fs::path swept = sweep(true);
+  std::vector<std::string> json, page;
+  for (int threads : {1, 2}) {
+    const ThreadLimit limit(threads);
+    LightingOptions o;
+    o.sweep = swept;
+    o.environments = {"uniform", "overcast", "horizon", "sun-sky", "window"};
+    o.out = root_ / ("lighting_" + std::to_string(threads));
+    o.print_summary = false;
+    runLighting(o);
+    const OutputManifest manifest = readOutputSet(o.out, "lighting");
+    json.push_back(manifest.readVerified("lighting.json"));
+    page.push_back(manifest.readVerified("lighting.html"));
+  }
+  EXPECT_EQ(json[0], json[1]);
+  EXPECT_EQ(page[0], page[1]);
 }
 
 TEST_F(LightingCommand, BadInputIsOneLineAndWritesNothing) {
