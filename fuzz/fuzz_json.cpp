@@ -9,9 +9,10 @@
 #include "common/error.h"
 #include "common/image_io.h"
 #include "common/output_set.h"
-#include "export/export_inputs.h"
+#include "fit/fit_set.h"
 #include "fit/sweep_data.h"
 #include "fuzz_target.h"
+#include "gtso/gtso_set.h"
 #include "screen_ao/gbuffer.h"
 
 namespace gtbake::fuzz {

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
-#include "export/export_inputs.h"
+#include "fit/fit_set.h"
 #include "fuzz_target.h"
 
 namespace gtbake::fuzz {

@@ -15,7 +15,6 @@
 #include "common/output_set.h"
 #include "encode/encode_command.h"
 #include "encode/shipped_volumes.h"
-#include "export/export_inputs.h"
 #include "fuzz_target.h"
 #include "gtso/gtso_command.h"
 #include "scene/procedural_scenes.h"
@@ -23,7 +22,9 @@
 #include "sweep/shard_manifest.h"
 #include "sweep/sweep_command.h"
 #include "sweep/tile_store.h"
+#include "tune/tune_set.h"
 #include "validate_gtso/specular_sweep.h"
+#include "validate_gtso/validate_gtso_set.h"
 
 namespace gtbake::fuzz {
 

@@ -11,10 +11,10 @@
 #include <nlohmann/json.hpp>
 
 #include "common/error.h"
-#include "export/export_inputs.h"
 #include "fuzz_target.h"
 #include "screen_ao/screen_ao_settings.h"
 #include "tune/tune_grid.h"
+#include "tune/tune_set.h"
 
 namespace gtbake::fuzz {
 
@@ -37,7 +37,7 @@ nlohmann::json tuneJson() {
 }
 
 void readGrid(const std::string& text) {
-  std::vector<SettingGrid> grids = defaultGrids(tunedEstimatorNames());
+  std::vector<SettingGrid> grids = defaultGrids(tunedEstimators());
   applyGridOption(&grids, text);
   for (const SettingGrid& grid : grids) {
     for (const double value : grid.values) {

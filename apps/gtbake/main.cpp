@@ -364,7 +364,7 @@ Subcommand addScreenAoCommand(CLI::App& app) {
   parser->add_option("--out", options->out, "Output directory")->required();
   parser
       ->add_option("--estimators", *estimators,
-                   "gtao-reference,gtao-runtime,hbao,bitmask-uniform,bitmask-cosine, all or none")
+                   estimatorListText(screenAoEstimators(), ",") + ", all or none")
       ->capture_default_str();
   parser->add_option("--setting", *settings,
                      "ESTIMATOR.KEY=VALUE, repeatable (e.g. gtao-runtime.directions=8, "
@@ -400,7 +400,7 @@ Subcommand addGbufferCommand(CLI::App& app) {
 
 Subcommand addTuneCommand(CLI::App& app) {
   auto options = std::make_shared<TuneOptions>();
-  auto estimators = std::make_shared<std::string>("gtao-runtime,bitmask-uniform,bitmask-cosine");
+  auto estimators = std::make_shared<std::string>(estimatorListText(tunedEstimators(), ","));
   auto* parser = app.add_subcommand(
       "tune",
       "Find the screen-space AO settings whose A, fed to Equation 10, best matches path-traced "
@@ -417,7 +417,7 @@ Subcommand addTuneCommand(CLI::App& app) {
   parser->add_option("--out", options->out, "Output directory")->required();
   parser
       ->add_option("--estimators", *estimators,
-                   "Comma-separated: gtao-runtime, bitmask-uniform, bitmask-cosine")
+                   "Comma-separated: " + estimatorListText(tunedEstimators(), ", "))
       ->capture_default_str();
   parser->add_option("--grid", options->grids,
                      "ESTIMATOR.KEY=v1,v2,... replaces a default grid, repeatable; must hold the "

@@ -123,9 +123,10 @@ int main(int argc, char** argv) {
                 "cpu s/MP", "base s/MP", "ratio");
     const gtbake::ScreenAoSettings settings;
     double total = 0.0;
-    for (const std::string& name : gtbake::screenAoEstimatorNames()) {
+    for (const gtbake::Estimator e : gtbake::screenAoEstimators()) {
+      const std::string name = gtbake::describe(e).name;
       const Timed t = timed([&] {
-        for (const auto& image : images.images) gtbake::runEstimator(settings, name, image.gbuffer);
+        for (const auto& image : images.images) gtbake::runEstimator(settings, e, image.gbuffer);
       });
       total += t.wall;
       printRow(name, t, megapixels, baselineRate(baseline, name));

@@ -12,9 +12,11 @@
 #include "common/output_set.h"
 #include "encode/bc4_layout.h"
 #include "encode/shipped_volumes.h"
-#include "export/export_inputs.h"
 #include "export/generated_code.h"
+#include "fit/fit_set.h"
 #include "gtbake_version.h"
+#include "tune/tune_set.h"
+#include "validate_gtso/validate_gtso_set.h"
 
 namespace gtbake {
 namespace {

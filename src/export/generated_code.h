@@ -12,9 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "export/export_inputs.h"
+#include "fit/fit_set.h"
+#include "gtso/gtso_set.h"
 #include "runtime/gtso_runtime.h"
 #include "texture/bc4_encoder.h"
+#include "tune/tune_set.h"
 
 namespace gtbake {
 

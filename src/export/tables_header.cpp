@@ -263,7 +263,8 @@ TemplateValues closedFormValues(const GeneratedCodeInput& in) {
 }  // namespace
 
 std::string floatLiteral(float value) {
-  // The readers bound every shipped number (export_inputs.cpp); this keeps the header compiling.
+  // The readers bound every shipped number (fit/fit_set.cpp, tune/tune_set.cpp); this keeps the
+  // header compiling.
   if (!std::isfinite(value)) throw Error("internal: a non-finite constant reached generated code");
   char buf[40];
   std::snprintf(buf, sizeof(buf), "%.9g", static_cast<double>(value));

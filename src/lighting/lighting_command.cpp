@@ -6,7 +6,7 @@
 #include "common/error.h"
 #include "common/output_lock.h"
 #include "common/output_set.h"
-#include "export/export_inputs.h"
+#include "fit/fit_set.h"
 
 namespace gtbake {
 

@@ -107,21 +107,21 @@ std::vector<Profile> profilesOf(const AllOptions& options) {
   banner("profiles", options.progress);
   // The fits are independent (each its own output set) and mostly serial inside, so they run side
   // by side; the summary table below prints their results in the estimators' order.
-  const std::vector<std::string>& estimators = ScreenAoOptions{}.estimators;
+  const std::vector<Estimator>& estimators = ScreenAoOptions{}.estimators;
   std::vector<Profile> profiles(estimators.size());
   Progress bar("profiles", estimators.size(), options.progress);
   tbb::parallel_for(std::size_t{0}, estimators.size(), [&](std::size_t k) {
     FitOptions fit;
     fit.sweep = options.out / kSweepDir;
-    fit.out = options.out / kProfilesDir / estimators[k] / "fit.json";
-    fit.input.estimator = estimators[k];
+    fit.out = options.out / kProfilesDir / describe(estimators[k]).name / "fit.json";
+    fit.input.estimator = describe(estimators[k]).name;
     fit.input.screen_ao = options.out / kScreenAoDir;
     fit.write_report = false;  // 72 scatter plots per profile; `gtbake fit --estimator` draws them
     // validate --estimator reads the sweep (the shipped sums are the ray-traced fit's only).
     fit.write_validate_data = false;
     fit.progress = false;
     fit.print_summary = false;
-    profiles[k] = {estimators[k], runFit(fit), {}};
+    profiles[k] = {describe(estimators[k]).name, runFit(fit), {}};
     bar.add(1);
   });
   bar.finish();

@@ -150,24 +150,30 @@ AoEstimate runBitmask(const ScreenAoSettings& s, const GBuffer& g) {
 // exponent (each value is a full run of the pass; the optimum is refined by the parabola, §3).
 std::vector<TunedKey> runtimeTuned() {
   return {{"radius",
+           [](ScreenAoSettings& s) -> double& { return s.runtime.radius; },
            true,
            {0.5, 1.0, 2.0, 4.0},
            {0.0625, "search floor: 1/16 m, three halvings below the 0.5 m grid start"},
            {4.0, "screen-space maximum: 4 m, past it the horizon search leaves the view"}},
           {"intensity",
+           [](ScreenAoSettings& s) -> double& { return s.runtime.intensity; },
            true,
            {0.5, 1.0, 2.0, 4.0, 8.0},
            {0.25, "search floor: A^0.25, the pass's occlusion all but erased"},
            {16.0, "the pass's range: intensity <= 16 (docs/screen_ao.md)"}},
           {"thin_compensation",
+           [](ScreenAoSettings& s) -> double& { return s.runtime.thin_compensation; },
            false,
            {0.0, 0.5, 1.0},
            {0.0, "physical: thin compensation >= 0 (0 is off)"},
            {10.0, "the pass's range: thin_compensation <= 10 (docs/screen_ao.md)"}}};
 }
 
+// A bitmask estimator's searched setting, on its own settings `member`.
+template <BitmaskSettings ScreenAoSettings::*member>
 std::vector<TunedKey> bitmaskTuned() {
   return {{"thickness",
+           [](ScreenAoSettings& s) -> double& { return (s.*member).thickness; },
            true,
            {0.125, 0.25, 0.5, 1.0, 2.0, 4.0},
            {0.03125, "search floor: 1/32 m, two halvings below the 0.125 m grid start"},
@@ -203,12 +209,12 @@ const std::array<EstimatorDescriptor, 5>& estimatorDescriptors() {
        applyBitmask<&ScreenAoSettings::bitmask_uniform>,
        bitmaskJson<&ScreenAoSettings::bitmask_uniform>,
        runBitmask<&ScreenAoSettings::bitmask_uniform>, &ScreenAoSettings::bitmask_uniform,
-       bitmaskTuned()},
+       bitmaskTuned<&ScreenAoSettings::bitmask_uniform>()},
       {Estimator::kBitmaskCosine, "bitmask-cosine", "radius, slices, steps, thickness",
        applyBitmask<&ScreenAoSettings::bitmask_cosine>,
        bitmaskJson<&ScreenAoSettings::bitmask_cosine>,
        runBitmask<&ScreenAoSettings::bitmask_cosine>, &ScreenAoSettings::bitmask_cosine,
-       bitmaskTuned()},
+       bitmaskTuned<&ScreenAoSettings::bitmask_cosine>()},
   }};
   return table;
 }

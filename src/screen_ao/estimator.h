@@ -34,10 +34,12 @@ struct SettingLimit {
   std::string reason;
 };
 
-// A setting tune searches: its key, its axis, the grid it starts from (holding the default) and
-// the limits its widening stops at (docs/tune.md §1, §3).
+// A setting tune searches: its key, the setting itself in ScreenAoSettings (tune sets and reads
+// it as a number, docs/tune.md §1), its axis, the grid it starts from (holding the default) and
+// the limits its widening stops at (docs/tune.md §1, §3). Every tuned setting is a double.
 struct TunedKey {
   const char* key;
+  double& (*field)(ScreenAoSettings& s);
   bool log_axis;
   std::vector<double> grid;
   SettingLimit lower, upper;

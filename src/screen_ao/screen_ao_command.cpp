@@ -33,8 +33,7 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 // pass serves both (docs/screen_ao.md §4).
 bool bitmasksSharePass(const ScreenAoOptions& o) {
   const auto requested = [&](Estimator e) {
-    return std::find(o.estimators.begin(), o.estimators.end(), describe(e).name) !=
-           o.estimators.end();
+    return std::find(o.estimators.begin(), o.estimators.end(), e) != o.estimators.end();
   };
   const BitmaskSettings& u = o.settings.bitmask_uniform;
   const BitmaskSettings& c = o.settings.bitmask_cosine;
@@ -46,12 +45,10 @@ bool bitmasksSharePass(const ScreenAoOptions& o) {
 // [name][image]), with a progress bar over images; the pass's wall seconds are split evenly
 // between them (docs/screen_ao.md §4).
 std::vector<std::vector<AoEstimate>> runPass(const ScreenAoOptions& o,
-                                             const std::vector<std::string>& names,
+                                             const std::vector<Estimator>& names,
                                              const std::vector<SweepImage>& images,
                                              double* seconds) {
-  std::string label = names.front();
-  for (std::size_t k = 1; k < names.size(); ++k) label += "+" + names[k];
-  Progress bar("screen-ao " + label, images.size(), o.progress);
+  Progress bar("screen-ao " + estimatorListText(names, "+"), images.size(), o.progress);
   const auto start = std::chrono::steady_clock::now();
   std::vector<std::vector<AoEstimate>> out(names.size());
   for (const SweepImage& image : images) {
@@ -108,7 +105,7 @@ std::vector<EstimatorRun> runEstimators(const ScreenAoOptions& o,
                                         const std::vector<SweepImage>& images,
                                         std::vector<std::vector<AoEstimate>>* estimates) {
   const bool share = bitmasksSharePass(o);
-  const auto index = [&](const std::string& name) {
+  const auto index = [&](Estimator name) {
     return static_cast<std::size_t>(std::find(o.estimators.begin(), o.estimators.end(), name) -
                                     o.estimators.begin());
   };
@@ -117,11 +114,11 @@ std::vector<EstimatorRun> runEstimators(const ScreenAoOptions& o,
   std::vector<EstimatorRun> runs;
   for (std::size_t e = 0; e < o.estimators.size(); ++e) {
     if (!done[e]) {
-      const bool bitmask = describe(o.estimators[e], "screen-ao").bitmask != nullptr;
-      const std::vector<std::string> names =
-          share && bitmask ? std::vector<std::string>{describe(Estimator::kBitmaskUniform).name,
-                                                      describe(Estimator::kBitmaskCosine).name}
-                           : std::vector<std::string>{o.estimators[e]};
+      const bool bitmask = describe(o.estimators[e]).bitmask != nullptr;
+      const std::vector<Estimator> names =
+          share && bitmask
+              ? std::vector<Estimator>{Estimator::kBitmaskUniform, Estimator::kBitmaskCosine}
+              : std::vector<Estimator>{o.estimators[e]};
       double pass_seconds = 0.0;
       auto out = runPass(o, names, images, &pass_seconds);
       for (std::size_t k = 0; k < names.size(); ++k) {
@@ -131,8 +128,8 @@ std::vector<EstimatorRun> runEstimators(const ScreenAoOptions& o,
         done[at] = true;
       }
     }
-    const std::string& name = o.estimators[e];
-    runs.push_back(describeRun(name, settingsJson(o.settings, name),
+    const Estimator name = o.estimators[e];
+    runs.push_back(describeRun(describe(name).name, settingsJson(o.settings, name),
                                estimatorRadius(o.settings, name), images, (*estimates)[e],
                                seconds[e]));
     printRun(runs.back());
@@ -183,8 +180,9 @@ std::vector<std::vector<AoEstimate>> readImports(const ScreenAoOptions& o,
 nlohmann::ordered_json runSettingsJson(const ScreenAoOptions& o) {
   nlohmann::ordered_json settings;
   settings["sweep"] = relativePath(o.sweep, o.out);
-  settings["estimators"] = o.estimators;
-  for (const std::string& name : o.estimators) settings[name] = settingsJson(o.settings, name);
+  settings["estimators"] = nlohmann::ordered_json::array();
+  for (const Estimator e : o.estimators) settings["estimators"].push_back(describe(e).name);
+  for (const Estimator e : o.estimators) settings[describe(e).name] = settingsJson(o.settings, e);
   for (const ImportedEstimator& e : o.imports) {
     settings["estimators"].push_back(e.name);
     settings[e.name] = importSettingsJson(e, o.out);
@@ -245,15 +243,15 @@ ScreenAoResult runScreenAo(const ScreenAoOptions& o) {
   json["settings"] = settings;
   json["images"] = imagesJson(sweep.images);
   json["estimators"] = std::move(estimators_json);
-  const char* reference = describe(Estimator::kGtaoReference).name;
-  if (std::find(o.estimators.begin(), o.estimators.end(), reference) != o.estimators.end()) {
+  if (std::find(o.estimators.begin(), o.estimators.end(), Estimator::kGtaoReference) !=
+      o.estimators.end()) {
     std::vector<const GBuffer*> gbuffers;
     for (const SweepImage& image : sweep.images) gbuffers.push_back(&image.gbuffer);
     const ReferenceConvergence c = referenceConvergence(gbuffers, o.settings.reference);
     std::printf(
-        "gtao-reference convergence: doubling slices and steps moves A by %.5f RMS "
-        "(max %.4f) over %zu pixels\n",
-        c.rms_change, c.max_change, c.pixels);
+        "%s convergence: doubling slices and steps moves A by %.5f RMS (max %.4f) over %zu "
+        "pixels\n",
+        describe(Estimator::kGtaoReference).name, c.rms_change, c.max_change, c.pixels);
     json["convergence"] = convergenceJson(c);
   }
 

@@ -14,7 +14,7 @@ namespace gtbake {
 struct ScreenAoOptions {
   std::filesystem::path sweep;  // a directory written by gtbake sweep (with G-buffer channels)
   std::filesystem::path out;
-  std::vector<std::string> estimators = screenAoEstimatorNames();  // built-in, may be empty
+  std::vector<Estimator> estimators = screenAoEstimators();  // built-in, may be empty
   // Engines' own passes (docs/screen_ao.md §8), scored after the built-in ones, in this order.
   std::vector<ImportedEstimator> imports;
   ScreenAoSettings settings;

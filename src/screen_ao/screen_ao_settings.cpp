@@ -6,6 +6,15 @@
 
 namespace gtbake {
 
+const std::vector<Estimator>& screenAoEstimators() {
+  static const std::vector<Estimator> list = [] {
+    std::vector<Estimator> out;
+    for (const EstimatorDescriptor& d : estimatorDescriptors()) out.push_back(d.id);
+    return out;
+  }();
+  return list;
+}
+
 const std::vector<std::string>& screenAoEstimatorNames() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> out;
@@ -15,28 +24,33 @@ const std::vector<std::string>& screenAoEstimatorNames() {
   return names;
 }
 
-std::vector<std::string> parseEstimatorList(const std::string& text) {
-  if (text == "all") return screenAoEstimatorNames();
+std::vector<Estimator> parseEstimatorList(const std::string& text) {
+  if (text == "all") return screenAoEstimators();
   if (text == "none") return {};  // only imported passes (docs/screen_ao.md §8)
-  std::vector<std::string> list;
+  std::vector<Estimator> list;
   std::size_t begin = 0;
   while (true) {
     const std::size_t end = text.find(',', begin);
     const std::string word = text.substr(begin, end == std::string::npos ? end : end - begin);
-    if (!findEstimator(word)) {
-      std::string known;
-      for (const std::string& name : screenAoEstimatorNames()) known += name + ", ";
-      throw Error("--estimators: unknown estimator '" + word + "' (known: " + known +
-                  "all or none)");
+    const std::optional<Estimator> e = findEstimator(word);
+    if (!e) {
+      throw Error("--estimators: unknown estimator '" + word +
+                  "' (known: " + estimatorListText(screenAoEstimators(), ", ") + ", all or none)");
     }
-    if (std::find(list.begin(), list.end(), word) != list.end()) {
+    if (std::find(list.begin(), list.end(), *e) != list.end()) {
       throw Error("--estimators: '" + word + "' is listed twice");
     }
-    list.push_back(word);
+    list.push_back(*e);
     if (end == std::string::npos) break;
     begin = end + 1;
   }
   return list;
+}
+
+std::string estimatorListText(const std::vector<Estimator>& list, const std::string& separator) {
+  std::string text;
+  for (const Estimator e : list) text += (text.empty() ? "" : separator) + describe(e).name;
+  return text;
 }
 
 void applySetting(ScreenAoSettings* s, const std::string& text) {
@@ -68,16 +82,20 @@ void validateSettings(const ScreenAoSettings& s) {
   validate(s.bitmask_cosine);
 }
 
+nlohmann::ordered_json settingsJson(const ScreenAoSettings& s, Estimator estimator) {
+  return describe(estimator).settings(s);
+}
+
 nlohmann::ordered_json settingsJson(const ScreenAoSettings& s, const std::string& estimator) {
   return describe(estimator, "settings").settings(s);
 }
 
-double estimatorRadius(const ScreenAoSettings& s, const std::string& estimator) {
+double estimatorRadius(const ScreenAoSettings& s, Estimator estimator) {
   return settingsJson(s, estimator).at("radius").get<double>();
 }
 
-AoEstimate runEstimator(const ScreenAoSettings& s, const std::string& estimator, const GBuffer& g) {
-  return describe(estimator, "screen-ao").run(s, g);
+AoEstimate runEstimator(const ScreenAoSettings& s, Estimator estimator, const GBuffer& g) {
+  return describe(estimator).run(s, g);
 }
 
 }  // namespace gtbake

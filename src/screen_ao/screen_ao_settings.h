@@ -11,11 +11,15 @@
 namespace gtbake {
 
 // In output order: gtao-reference, gtao-runtime, hbao, bitmask-uniform, bitmask-cosine.
+const std::vector<Estimator>& screenAoEstimators();
+// Their names, in the same order.
 const std::vector<std::string>& screenAoEstimatorNames();
 
-// "a,b,c" of known names, no repeats ("all" = every one, "none" = no built-in one). Throws
-// gtbake::Error naming the word.
-std::vector<std::string> parseEstimatorList(const std::string& text);
+// "a,b,c" of known names, no repeats ("all" = every one, "none" = no built-in one), parsed once by
+// the shell (apps/gtbake). Throws gtbake::Error naming the word.
+std::vector<Estimator> parseEstimatorList(const std::string& text);
+// The names of `list` joined by `separator` (a default of --estimators, or a list in a message).
+std::string estimatorListText(const std::vector<Estimator>& list, const std::string& separator);
 
 // Applies "ESTIMATOR.KEY=VALUE" (ESTIMATOR "all" with KEY radius sets every radius); throws a
 // one-line gtbake::Error on an unknown estimator or key or a value that does not parse. Ranges
@@ -23,10 +27,12 @@ std::vector<std::string> parseEstimatorList(const std::string& text);
 void applySetting(ScreenAoSettings* s, const std::string& text);
 void validateSettings(const ScreenAoSettings& s);
 
+nlohmann::ordered_json settingsJson(const ScreenAoSettings& s, Estimator estimator);
+// The same by name, for a name read from a file (throws for one that is not built in).
 nlohmann::ordered_json settingsJson(const ScreenAoSettings& s, const std::string& estimator);
-double estimatorRadius(const ScreenAoSettings& s, const std::string& estimator);
+double estimatorRadius(const ScreenAoSettings& s, Estimator estimator);
 
 // Runs one estimator on one image.
-AoEstimate runEstimator(const ScreenAoSettings& s, const std::string& estimator, const GBuffer& g);
+AoEstimate runEstimator(const ScreenAoSettings& s, Estimator estimator, const GBuffer& g);
 
 }  // namespace gtbake

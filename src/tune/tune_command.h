@@ -20,7 +20,7 @@ inline constexpr double kTuneTruthRadius = 1.0;
 struct TuneOptions {
   std::filesystem::path sweep;  // a directory written by gtbake sweep (with G-buffer channels)
   std::filesystem::path out;
-  std::vector<std::string> estimators = tunedEstimatorNames();
+  std::vector<Estimator> estimators = tunedEstimators();
   std::vector<std::string> grids;  // "ESTIMATOR.KEY=v1,v2,..." replacing a default grid
   // A screen-ao set of the same sweep (empty = none): each estimator it ran at tune's defaults
   // has its default run read from it instead of run again (docs/tune.md §7).

@@ -17,8 +17,10 @@ std::string settingText(const std::string& estimator, const std::string& key, do
   return estimator + "." + key + "=" + buffer;
 }
 
-double defaultValue(const std::string& estimator, const std::string& key) {
-  return settingsJson(ScreenAoSettings{}, estimator).at(key).get<double>();
+// The tuned setting's default value.
+double defaultValue(const TunedKey& spec) {
+  ScreenAoSettings s;
+  return spec.field(s);
 }
 
 // Parses "v1,v2,..." through applySetting (so a value parses exactly as --setting would) and
@@ -37,7 +39,7 @@ std::vector<double> parseValues(const SettingGrid& g, const std::string& list,
     } catch (const Error& e) {
       throw Error("--grid " + text + ": " + e.what());
     }
-    values.push_back(settingsJson(s, g.estimator).at(g.key).get<double>());
+    values.push_back(g.field(s));
     if (end == std::string::npos) break;
     begin = end + 1;
   }
@@ -46,36 +48,33 @@ std::vector<double> parseValues(const SettingGrid& g, const std::string& list,
 
 // The tuned estimators' names, comma-separated, for an error.
 std::string tunedList() {
-  std::string text;
-  const auto& names = tunedEstimatorNames();
-  for (std::size_t k = 0; k < names.size(); ++k) text += (k == 0 ? "" : ", ") + names[k];
-  return text;
+  return estimatorListText(tunedEstimators(), ", ");
 }
 
 }  // namespace
 
-const std::vector<std::string>& tunedEstimatorNames() {
-  static const std::vector<std::string> names = [] {
-    std::vector<std::string> out;
+const std::vector<Estimator>& tunedEstimators() {
+  static const std::vector<Estimator> list = [] {
+    std::vector<Estimator> out;
     for (const EstimatorDescriptor& d : estimatorDescriptors()) {
-      if (!d.tuned.empty()) out.emplace_back(d.name);
+      if (!d.tuned.empty()) out.push_back(d.id);
     }
     return out;
   }();
-  return names;
+  return list;
 }
 
-std::vector<SettingGrid> defaultGrids(const std::vector<std::string>& estimators) {
+std::vector<SettingGrid> defaultGrids(const std::vector<Estimator>& estimators) {
   std::vector<SettingGrid> grids;
-  for (const std::string& e : estimators) {
-    const std::optional<Estimator> id = findEstimator(e);
-    if (!id || describe(*id).tuned.empty()) {
-      throw Error("--estimators: tune does not search '" + e + "' (it searches " + tunedList() +
-                  ")");
+  for (const Estimator e : estimators) {
+    const EstimatorDescriptor& d = describe(e);
+    if (d.tuned.empty()) {
+      throw Error("--estimators: tune does not search '" + std::string(d.name) + "' (it searches " +
+                  tunedList() + ")");
     }
-    for (const TunedKey& spec : describe(*id).tuned) {
-      grids.push_back({e, spec.key, spec.log_axis, defaultValue(e, spec.key), spec.grid, spec.lower,
-                       spec.upper});
+    for (const TunedKey& spec : d.tuned) {
+      grids.push_back({d.name, spec.key, spec.field, spec.log_axis, defaultValue(spec), spec.grid,
+                       spec.lower, spec.upper});
     }
   }
   return grids;
@@ -140,7 +139,7 @@ std::optional<double> widenedEnd(const SettingGrid& grid, bool upper) {
 
 ScreenAoSettings settingsAt(const SettingGrid& grid, double value) {
   ScreenAoSettings s;
-  applySetting(&s, settingText(grid.estimator, grid.key, value));
+  grid.field(s) = value;
   return s;
 }
 

@@ -12,8 +12,10 @@
 namespace gtbake {
 
 struct SettingGrid {
-  std::string estimator;  // a screen-ao estimator name ("gtao-runtime")
+  std::string estimator;  // a screen-ao estimator's name (describe(e).name)
   std::string key;        // its setting ("radius")
+  // The setting in ScreenAoSettings (its TunedKey's field): settingsAt sets it as a number.
+  double& (*field)(ScreenAoSettings& s) = nullptr;
   bool log_axis = false;  // searched and plotted on log10 of the value (lengths in metres)
   double default_value = 0.0;
   std::vector<double> values;  // ascending, distinct, holding default_value, within the limits
@@ -29,11 +31,11 @@ inline constexpr int kMaxWidenings = 4;
 std::optional<double> widenedEnd(const SettingGrid& grid, bool upper);
 
 // The estimators tune covers, in output order: gtao-runtime, bitmask-uniform, bitmask-cosine.
-const std::vector<std::string>& tunedEstimatorNames();
+const std::vector<Estimator>& tunedEstimators();
 
 // The default grids of the estimators listed (every one must be a tuned estimator; throws a
 // one-line gtbake::Error naming it otherwise), estimator by estimator, settings in a fixed order.
-std::vector<SettingGrid> defaultGrids(const std::vector<std::string>& estimators);
+std::vector<SettingGrid> defaultGrids(const std::vector<Estimator>& estimators);
 
 // Applies one "ESTIMATOR.KEY=v1,v2,..." to `grids` (replacing that setting's values). Throws a
 // one-line gtbake::Error for an estimator not in `grids`, a key tune does not search, a value that
@@ -41,7 +43,7 @@ std::vector<SettingGrid> defaultGrids(const std::vector<std::string>& estimators
 // repeated value, fewer than two values or a grid without the default.
 void applyGridOption(std::vector<SettingGrid>* grids, const std::string& text);
 
-// The defaults with `grid`'s setting at `value`.
+// The defaults with `grid`'s setting at `value` (set as a number through grid.field).
 ScreenAoSettings settingsAt(const SettingGrid& grid, double value);
 
 // The value on the grid's search axis: log10(value) on a log axis, else the value.

@@ -35,4 +35,13 @@ ValidateGtsoU readValidateGtsoU(const std::filesystem::path& file) {
   return v;
 }
 
+void applyValidateGtsoU(const std::filesystem::path& file, GtsoInput* gtso) {
+  const ValidateGtsoU v = readValidateGtsoU(file);
+  gtso->u = v.u;
+  gtso->u_se = v.u_se;
+  gtso->u_low = v.low;
+  gtso->u_high = v.high;
+  gtso->validate_gtso = v.json;
+}
+
 }  // namespace gtbake

@@ -1,10 +1,13 @@
 // The reader of `gtbake validate-gtso`'s result on the ray-traced inputs (docs/validate_gtso.md
 // §5): the cone-aperture constant u fitted to path-traced S and its scene-level interval, which
-// export ships and validate-gtso --estimator scores. Every problem is one gtbake::Error line.
+// export ships (applyValidateGtsoU) and validate-gtso --estimator scores. Every problem is one
+// gtbake::Error line.
 #pragma once
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+
+#include "gtso/gtso_set.h"
 
 namespace gtbake {
 
@@ -19,5 +22,8 @@ struct ValidateGtsoU {
 // validate_gtso.json (its manifest verified). Throws unless u lies in (0, 1) inside u_interval
 // and u_interval in (0, 1].
 ValidateGtsoU readValidateGtsoU(const std::filesystem::path& file);
+
+// Takes u, its SE and u_interval from validate_gtso.json (readValidateGtsoU) into `gtso`.
+void applyValidateGtsoU(const std::filesystem::path& file, GtsoInput* gtso);
 
 }  // namespace gtbake

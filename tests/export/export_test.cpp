@@ -19,7 +19,6 @@
 #include "encode/bc4_layout.h"
 #include "encode/encode_command.h"
 #include "export/export_command.h"
-#include "export/export_inputs.h"
 #include "export/generated_code.h"
 #include "export_fixture.h"
 #include "texture/bc4_block.h"

@@ -9,12 +9,13 @@
 
 #include "common/image_io.h"
 #include "common/output_set.h"
-#include "export/export_inputs.h"
+#include "fit/fit_set.h"
 #include "fit/screen_estimate.h"
 #include "reliability_fixtures.h"
 #include "scene/scene_corpus.h"
 #include "screen_ao/screen_ao_settings.h"
 #include "tune/tune_grid.h"
+#include "tune/tune_set.h"
 
 namespace gtbake {
 namespace {
@@ -130,7 +131,7 @@ TEST(LaterReaders, TunedSettingsGridsAndSettingsAreChecked) {
   sealed(file.parent_path(), "tune", "tune.json", bad.dump());
   EXPECT_ERROR(readTunedSettings(file), "'default' must be a finite number");
   // tune --grid and screen-ao --setting text: non-finite, repeated and unknown values.
-  std::vector<SettingGrid> grids = defaultGrids(tunedEstimatorNames());
+  std::vector<SettingGrid> grids = defaultGrids(tunedEstimators());
   for (const char* text :
        {"gtao-runtime.radius=1,1e999", "gtao-runtime.radius=1,nan", "gtao-runtime.radius=1,1",
         "gtao-runtime.nope=1,2", "x.radius=1,2", "gtao-runtime.radius="}) {

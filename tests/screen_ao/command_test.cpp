@@ -89,6 +89,16 @@ TEST_F(ScreenAoCommand, RejectsBadInput) {
   test::expectScreenAoError(bad, "refine_tolerance");
   EXPECT_THROW(parseEstimatorList("gtao,hbao"), Error);
   EXPECT_THROW(parseEstimatorList("hbao,hbao"), Error);
+  // Parsed once into the table's values, in the order given; "all" is the table's order.
+  EXPECT_EQ(parseEstimatorList("hbao,gtao-runtime"),
+            (std::vector<Estimator>{Estimator::kHbao, Estimator::kGtaoRuntime}));
+  EXPECT_EQ(
+      parseEstimatorList("all"),
+      (std::vector<Estimator>{Estimator::kGtaoReference, Estimator::kGtaoRuntime, Estimator::kHbao,
+                              Estimator::kBitmaskUniform, Estimator::kBitmaskCosine}));
+  EXPECT_TRUE(parseEstimatorList("none").empty());
+  EXPECT_EQ(estimatorListText(parseEstimatorList("bitmask-cosine,hbao"), "+"),
+            "bitmask-cosine+hbao");
   ScreenAoSettings s;
   EXPECT_THROW(applySetting(&s, "hbao.directions=two"), Error);
   EXPECT_THROW(applySetting(&s, "hbao.thickness=1"), Error);

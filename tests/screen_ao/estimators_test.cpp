@@ -68,9 +68,9 @@ TEST(Estimators, OpenPlaneIsUnoccluded) {
     applySetting(&settings, s);
   }
   const double tolerance[] = {0.0, 0.0, 1e-5, 0.0, 0.0};
-  for (std::size_t e = 0; e < screenAoEstimatorNames().size(); ++e) {
-    const std::string& name = screenAoEstimatorNames()[e];
-    const AoEstimate a = runEstimator(settings, name, image.gbuffer);
+  for (std::size_t e = 0; e < screenAoEstimators().size(); ++e) {
+    const std::string name = describe(screenAoEstimators()[e]).name;
+    const AoEstimate a = runEstimator(settings, screenAoEstimators()[e], image.gbuffer);
     double worst = 0.0;
     for (std::size_t p = 0; p < a.a.size(); ++p) {
       if (image.gbuffer.mask[p] == 0) continue;
@@ -194,19 +194,19 @@ TEST(Estimators, RuntimeOneDirectionOneFrameMatchesHandEvaluation) {
 TEST(Estimators, SameBytesOnOneAndTwoThreads) {
   const SweepImage image = test::traceImage(test::cornerField(0.3), 40, 40, 2, 0.3, 1);
   ScreenAoSettings settings;
-  for (const std::string& name : screenAoEstimatorNames()) {
+  for (const Estimator e : screenAoEstimators()) {
     AoEstimate one;
     AoEstimate two;
     {
       const ThreadLimit limit(1);
-      one = runEstimator(settings, name, image.gbuffer);
+      one = runEstimator(settings, e, image.gbuffer);
     }
     {
       const ThreadLimit limit(2);
-      two = runEstimator(settings, name, image.gbuffer);
+      two = runEstimator(settings, e, image.gbuffer);
     }
-    EXPECT_EQ(one.a, two.a) << name;
-    EXPECT_EQ(one.bent, two.bent) << name;
+    EXPECT_EQ(one.a, two.a) << describe(e).name;
+    EXPECT_EQ(one.bent, two.bent) << describe(e).name;
   }
 }
 

@@ -157,7 +157,7 @@ const RoundTrip& roundTrip() {
     ScreenAoOptions s;
     s.sweep = t.sweep;
     s.out = t.builtin = t.root / "builtin";
-    s.estimators = {"hbao"};
+    s.estimators = {Estimator::kHbao};
     s.progress = false;
     runScreenAo(s);
     runGbufferExport({t.sweep, t.root / "gbuffer", 0});
@@ -184,7 +184,7 @@ ScreenAoOptions importOptions(const fs::path& out, const fs::path& user, double 
   ScreenAoOptions o;
   o.sweep = roundTrip().sweep;
   o.out = out;
-  o.estimators = {"hbao"};
+  o.estimators = {Estimator::kHbao};
   o.imports = {{"my-pass", user, radius}};
   o.progress = false;
   return o;

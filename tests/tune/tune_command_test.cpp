@@ -21,7 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const std::vector<std::string> kEstimators = {"gtao-runtime", "bitmask-cosine"};
+const std::vector<Estimator> kEstimators = {Estimator::kGtaoRuntime, Estimator::kBitmaskCosine};
 // Small grids (every one holds its default) so a run stays within seconds.
 const std::vector<std::string> kGrids = {"gtao-runtime.radius=0.5,1", "gtao-runtime.intensity=1,2",
                                          "gtao-runtime.thin_compensation=0,1",
@@ -65,7 +65,8 @@ TEST(TuneCommand, DefaultSettingMatchesTheProfileFit) {
   const fs::path out = test::freshDir("tune_match");
   runTune(tuneOptions(out / "tune"));
   const json tune = readJson(out / "tune" / "tune.json");
-  for (const std::string& e : kEstimators) {
+  for (const Estimator id : kEstimators) {
+    const std::string e = describe(id).name;
     FitOptions f;
     f.sweep = sweepDir();
     f.out = out / (e + ".json");
@@ -145,13 +146,13 @@ void expectOneLineError(const TuneOptions& o, const std::string& needle) {
 
 TEST(TuneCommand, BadGridsAreOneLineErrors) {
   const fs::path out = test::freshDir("tune_bad") / "out";
-  const auto with = [&](std::vector<std::string> estimators, std::vector<std::string> grids) {
+  const auto with = [&](std::vector<Estimator> estimators, std::vector<std::string> grids) {
     TuneOptions o = tuneOptions(out);
     o.estimators = std::move(estimators);
     o.grids = std::move(grids);
     return o;
   };
-  expectOneLineError(with({"hbao"}, {}), "does not search 'hbao'");
+  expectOneLineError(with({Estimator::kHbao}, {}), "does not search 'hbao'");
   expectOneLineError(with(kEstimators, {"bitmask-uniform.thickness=0.5,1"}), "not tuned");
   expectOneLineError(with(kEstimators, {"gtao-runtime.steps=2,4"}), "does not search");
   expectOneLineError(with(kEstimators, {"gtao-runtime.radius=0.5,2"}), "default");

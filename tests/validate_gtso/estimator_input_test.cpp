@@ -51,7 +51,7 @@ struct EstimatorFixture {
     ScreenAoOptions a;
     a.sweep = sweep;
     a.out = screen_ao;
-    a.estimators = {"gtao-runtime", "hbao"};
+    a.estimators = {Estimator::kGtaoRuntime, Estimator::kHbao};
     a.threads = 1;
     a.progress = false;
     runScreenAo(a);
@@ -226,7 +226,7 @@ TEST(ValidateGtsoEstimator, BadInputsAreOneLineErrorsAndWriteNothing) {
   ScreenAoOptions a;
   a.sweep = s.out;
   a.out = f.dir.path() / "other_screen_ao";
-  a.estimators = {"hbao"};
+  a.estimators = {Estimator::kHbao};
   a.threads = 1;
   a.progress = false;
   runScreenAo(a);

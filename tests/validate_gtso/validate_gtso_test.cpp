@@ -16,7 +16,6 @@
 #include "encode/bc4_layout.h"
 #include "encode/encode_command.h"
 #include "encode/shipped_volumes.h"
-#include "export/export_inputs.h"
 #include "gtso/cone_intersection.h"
 #include "gtso/gtso_command.h"
 #include "runtime/gtso_runtime.h"

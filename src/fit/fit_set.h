@@ -1,6 +1,7 @@
-// The inputs of `gtbake export` besides the gtso set (gtso/gtso_set.h): fit.json from `gtbake
-// fit`, the engine profiles, tune.json and the u of validate_gtso.json, read and validated into
-// plain structs. Every problem is one gtbake::Error line.
+// The reader of `gtbake fit`'s result (docs/fit.md, docs/profiles.md): fit.json's six
+// coefficients and their standard errors, and the engine profiles `gtbake fit --estimator` wrote
+// into <profiles>/<estimator>/fit.json, read and validated into plain structs for export and
+// lighting. Every problem is one gtbake::Error line.
 #pragma once
 
 #include <array>
@@ -10,7 +11,6 @@
 #include <vector>
 
 #include "fit/profile_shape.h"
-#include "gtso/gtso_set.h"
 
 namespace gtbake {
 
@@ -40,33 +40,9 @@ struct ProfileInput {
   double table_held_out_rmse = 0.0;
 };
 
-// One tuned setting of a screen-space estimator (docs/tune.md), from tune.json: the value that
-// minimises the RMSE of G with the paper's constants and with the profile refitted at each value
-// (one setting at a time), the latter's scene-level interval, and the evaluated grid value with
-// the lowest RMSE under the refit, with the profile refitted there: what an engine can ship
-// together.
-struct TunedSettingInput {
-  std::string estimator;  // lower-case letters, digits and '-' (checked)
-  std::string setting;    // lower-case letters and '_' (checked)
-  double default_value = 0.0;
-  double paper_best = 0.0, profile_best = 0.0;
-  double profile_low = 0.0, profile_high = 0.0;  // 95% scene-level interval of profile_best
-  bool at_bound = false;                         // profile_best at the grid's end
-  double grid_value = 0.0;         // the evaluated value with the lowest RMSE under the refit
-  std::array<double, 6> linear{};  // the profile refitted at grid_value
-  double rmse_held_out = 0.0;      // RMSE of G there, each scene held out
-};
-
 FitInput readFitInput(const std::filesystem::path& file);
 // Every <dir>/<estimator>/fit.json with a fit manifest, in name order; each must be a profile
 // (fit.json /input/estimator equal to its directory's name). Throws gtbake::Error.
 std::vector<ProfileInput> readProfiles(const std::filesystem::path& dir);
-
-// Every setting of tune.json (`gtbake tune`, its manifest verified), in the file's order. Throws
-// gtbake::Error on a malformed file.
-std::vector<TunedSettingInput> readTunedSettings(const std::filesystem::path& file);
-
-// Takes u and u_interval from validate_gtso.json (`gtbake validate-gtso`) into `gtso`.
-void applyValidateGtsoU(const std::filesystem::path& file, GtsoInput* gtso);
 
 }  // namespace gtbake

@@ -1,5 +1,6 @@
-// export takes u, its scene-level interval and its SE from validate_gtso.json: the SE goes into
-// kConeApertureUStdError; a file without u_se carries none.
+// validate-gtso's reader (validate_gtso/validate_gtso_set.h) gives export u, its scene-level
+// interval and its SE from validate_gtso.json: the SE goes into kConeApertureUStdError; a file
+// without u_se carries none.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -7,7 +8,7 @@
 
 #include "common/error.h"
 #include "common/output_set.h"
-#include "export/export_inputs.h"
+#include "validate_gtso/validate_gtso_set.h"
 
 namespace gtbake {
 namespace {
@@ -23,7 +24,7 @@ fs::path writeValidateGtso(const std::string& name, const nlohmann::json& j) {
   return dir / "validate_gtso.json";
 }
 
-TEST(ExportValidateU, ShipsTheSceneLevelStandardError) {
+TEST(ValidateGtsoSetU, ShipsTheSceneLevelStandardError) {
   nlohmann::json j = {{"u", 0.004}, {"u_interval", {0.0005, 0.03}}, {"u_se", 0.0033}};
   GtsoInput gtso;
   applyValidateGtsoU(writeValidateGtso("se", j), &gtso);
@@ -41,7 +42,7 @@ TEST(ExportValidateU, ShipsTheSceneLevelStandardError) {
 
 // With few scenes validate-gtso's interval reaches its clamp at u = 1 (u_scene_interval.cpp): such
 // a file is shipped, and an interval beyond 1 or not around u is refused.
-TEST(ExportValidateU, AnIntervalClampedAtOneIsShippedAndBadOnesAreRefused) {
+TEST(ValidateGtsoSetU, AnIntervalClampedAtOneIsShippedAndBadOnesAreRefused) {
   GtsoInput gtso;
   applyValidateGtsoU(
       writeValidateGtso("clamped", {{"u", 0.3}, {"u_interval", {0.01, 1.0}}, {"u_se", 0.2}}),
