@@ -86,10 +86,6 @@ nlohmann::ordered_json settingsJson(const ScreenAoSettings& s, Estimator estimat
   return describe(estimator).settings(s);
 }
 
-nlohmann::ordered_json settingsJson(const ScreenAoSettings& s, const std::string& estimator) {
-  return describe(estimator, "settings").settings(s);
-}
-
 double estimatorRadius(const ScreenAoSettings& s, Estimator estimator) {
   return settingsJson(s, estimator).at("radius").get<double>();
 }

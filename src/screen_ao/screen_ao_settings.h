@@ -28,8 +28,6 @@ void applySetting(ScreenAoSettings* s, const std::string& text);
 void validateSettings(const ScreenAoSettings& s);
 
 nlohmann::ordered_json settingsJson(const ScreenAoSettings& s, Estimator estimator);
-// The same by name, for a name read from a file (throws for one that is not built in).
-nlohmann::ordered_json settingsJson(const ScreenAoSettings& s, const std::string& estimator);
 double estimatorRadius(const ScreenAoSettings& s, Estimator estimator);
 
 // Runs one estimator on one image.

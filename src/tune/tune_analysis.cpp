@@ -58,19 +58,19 @@ struct Scoring {
 
 // The score of the estimator's defaults, by estimator: run once and shared by its settings, or
 // read from a screen-ao set.
-using DefaultScores = std::map<std::string, GridValueScore>;
+using DefaultScores = std::map<Estimator, GridValueScore>;
 
 // One run's Â ([image]) scored.
-GridValueScore scoreEstimates(const Scoring& sc, const std::string& estimator,
+GridValueScore scoreEstimates(const Scoring& sc, Estimator estimator,
                               const std::vector<std::vector<float>>& a) {
-  useEstimates(sc.data, sc.images->images, a, estimator);
+  useEstimates(sc.data, sc.images->images, a, describe(estimator).name);
   return scoreRun(clusterStatistics(*sc.data, *sc.clusters, *sc.q), sc.clusters->names,
                   sc.data->albedos, profileFitSettings());
 }
 
 // Whether a grid is a visibility bitmask's thickness grid, whose values share one pass.
 bool isBitmaskThickness(const SettingGrid& grid) {
-  return describe(grid.estimator, "tune").bitmask != nullptr && grid.key == "thickness";
+  return describe(grid.estimator).bitmask != nullptr && grid.key == "thickness";
 }
 
 // Every value's estimate of one image in one pass, [grid][value]: the bitmasks' thickness values
@@ -83,20 +83,21 @@ std::vector<std::vector<AoEstimate>> imageEstimates(
     const std::vector<std::vector<double>>& to_run) {
   const ScreenAoSettings s;
   if (isBitmaskThickness(group[0]) && group.size() == 1) {
-    return {visibilityBitmasks(g, s.*describe(group[0].estimator, "tune").bitmask, to_run[0],
+    return {visibilityBitmasks(g, s.*describe(group[0].estimator).bitmask, to_run[0],
                                EstimateParts::kAoOnly)};
   }
   if (isBitmaskThickness(group[0])) {
     std::vector<SectorWeights> weights;
     for (const SettingGrid& grid : group) {
-      weights.push_back((s.*describe(grid.estimator, "tune").bitmask).weights);
+      weights.push_back((s.*describe(grid.estimator).bitmask).weights);
     }
     return visibilityBitmasks(g, s.bitmask_uniform, weights, to_run[0], EstimateParts::kAoOnly);
   }
   std::vector<GtaoRuntimeSettings> runs;
   for (std::size_t k = 0; k < group.size(); ++k) {
-    if (describe(group[k].estimator, "tune").id != Estimator::kGtaoRuntime) {
-      throw Error("internal: tune has no pass for " + group[k].estimator + "." + group[k].key);
+    if (group[k].estimator != Estimator::kGtaoRuntime) {
+      throw Error("internal: tune has no pass for " + std::string(group[k].name()) + "." +
+                  group[k].key);
     }
     for (double value : to_run[k]) runs.push_back(settingsAt(group[k], value).runtime);
   }
@@ -167,10 +168,10 @@ std::vector<GridValueScore> scoreValues(const Scoring& sc, const SettingGrid& gr
 // A part's name: "ESTIMATOR KEY" joined by '+' on the side that differs
 // ("gtao-runtime radius+intensity", "bitmask-uniform+bitmask-cosine thickness").
 std::string partName(const std::vector<SettingGrid>& group) {
-  std::string estimators = group[0].estimator;
+  std::string estimators = group[0].name();
   std::string keys = group[0].key;
   for (std::size_t g = 1; g < group.size(); ++g) {
-    if (group[g].estimator != group[0].estimator) estimators += "+" + group[g].estimator;
+    if (group[g].estimator != group[0].estimator) estimators += "+" + std::string(group[g].name());
     if (group[g].key != group[0].key) keys += "+" + group[g].key;
   }
   return estimators + " " + keys;
@@ -205,13 +206,12 @@ bool bitmasksSharePass(const std::vector<SettingGrid>& grids, std::size_t k,
   const SettingGrid& a = grids[k];
   const SettingGrid& b = grids[k + 1];
   const ScreenAoSettings s;
-  const std::optional<Estimator> ea = findEstimator(a.estimator);
-  const std::optional<Estimator> eb = findEstimator(b.estimator);
-  const bool both = ea && eb && *ea != *eb && describe(*ea).bitmask && describe(*eb).bitmask;
+  const bool both =
+      a.estimator != b.estimator && describe(a.estimator).bitmask && describe(b.estimator).bitmask;
   return both && a.key == "thickness" && b.key == "thickness" &&
          valuesToRun(a, defaults.count(a.estimator) != 0) ==
              valuesToRun(b, defaults.count(b.estimator) != 0) &&
-         sameBitmaskSamples(s.*describe(*ea).bitmask, s.*describe(*eb).bitmask);
+         sameBitmaskSamples(s.*describe(a.estimator).bitmask, s.*describe(b.estimator).bitmask);
 }
 
 // The grids from grids[k] on that one pass per image serves (docs/tune.md §7): both bitmasks'
@@ -233,7 +233,7 @@ void runGrids(StageParts& parts, const Scoring& sc, const std::vector<SettingGri
     const std::vector<SettingGrid> group(grids.begin() + k, grids.begin() + k + n);
     k += n;
     std::vector<std::vector<double>> values, to_run;
-    std::set<std::string> scheduled;  // estimators whose default this pass runs once
+    std::set<Estimator> scheduled;  // estimators whose default this pass runs once
     for (const SettingGrid& g : group) {
       values.push_back(g.values);
       const bool known = defaults->count(g.estimator) != 0 || !scheduled.insert(g.estimator).second;
@@ -258,12 +258,13 @@ void runGrids(StageParts& parts, const Scoring& sc, const std::vector<SettingGri
 
 // Whether the screen-ao set in `dir` ran `estimator` at tune's defaults (its screen_ao.json
 // settings), so its Â is the default run's, the same floats (docs/tune.md §7).
-bool screenAoHasDefaults(const std::filesystem::path& dir, const std::string& estimator) {
+bool screenAoHasDefaults(const std::filesystem::path& dir, Estimator e) {
+  const char* estimator = describe(e).name;
   const nlohmann::json doc = readOutputSet(dir, "screen_ao").readVerifiedJson("screen_ao.json");
   const nlohmann::json* settings = doc.contains("settings") ? &doc["settings"] : nullptr;
   return settings != nullptr && settings->contains(estimator) && doc.contains("estimators") &&
          doc["estimators"].contains(estimator) &&
-         (*settings)[estimator] == nlohmann::json(settingsJson(ScreenAoSettings{}, estimator));
+         (*settings)[estimator] == nlohmann::json(settingsJson(ScreenAoSettings{}, e));
 }
 
 // The defaults' scores of every tuned estimator that the screen-ao set in `dir` holds at tune's
@@ -275,7 +276,7 @@ void readDefaults(const Scoring& sc, const std::filesystem::path& dir,
     if (defaults->count(grid.estimator) != 0 || !screenAoHasDefaults(dir, grid.estimator)) {
       continue;
     }
-    const ScreenEstimateSet set({grid.estimator, dir});
+    const ScreenEstimateSet set({grid.name(), dir});
     std::vector<std::vector<float>> a;
     for (const SweepImage& image : sc.images->images) {
       ImageEstimate e = set.read(image.name, sweep, false);

@@ -34,7 +34,7 @@ std::vector<double> parseValues(const SettingGrid& g, const std::string& list,
     const std::string word = list.substr(begin, end == std::string::npos ? end : end - begin);
     ScreenAoSettings s;
     try {
-      applySetting(&s, g.estimator + "." + g.key + "=" + word);
+      applySetting(&s, std::string(g.name()) + "." + g.key + "=" + word);
       validateSettings(s);
     } catch (const Error& e) {
       throw Error("--grid " + text + ": " + e.what());
@@ -73,7 +73,7 @@ std::vector<SettingGrid> defaultGrids(const std::vector<Estimator>& estimators) 
                   tunedList() + ")");
     }
     for (const TunedKey& spec : d.tuned) {
-      grids.push_back({d.name, spec.key, spec.field, spec.log_axis, defaultValue(spec), spec.grid,
+      grids.push_back({d.id, spec.key, spec.field, spec.log_axis, defaultValue(spec), spec.grid,
                        spec.lower, spec.upper});
     }
   }
@@ -88,11 +88,13 @@ void applyGridOption(std::vector<SettingGrid>* grids, const std::string& text) {
   }
   const std::string estimator = text.substr(0, dot);
   const std::string key = text.substr(dot + 1, eq - dot - 1);
+  const std::optional<Estimator> named = findEstimator(estimator);
   bool estimator_known = false;
   SettingGrid* grid = nullptr;
   for (SettingGrid& g : *grids) {
-    estimator_known = estimator_known || g.estimator == estimator;
-    if (g.estimator == estimator && g.key == key) grid = &g;
+    const bool same = named && g.estimator == *named;
+    estimator_known = estimator_known || same;
+    if (same && g.key == key) grid = &g;
   }
   if (!estimator_known) {
     throw Error("--grid " + text + ": estimator '" + estimator +

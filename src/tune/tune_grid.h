@@ -12,14 +12,16 @@
 namespace gtbake {
 
 struct SettingGrid {
-  std::string estimator;  // a screen-ao estimator's name (describe(e).name)
-  std::string key;        // its setting ("radius")
+  Estimator estimator = Estimator::kGtaoRuntime;
+  std::string key;  // its setting ("radius")
   // The setting in ScreenAoSettings (its TunedKey's field): settingsAt sets it as a number.
   double& (*field)(ScreenAoSettings& s) = nullptr;
   bool log_axis = false;  // searched and plotted on log10 of the value (lengths in metres)
   double default_value = 0.0;
   std::vector<double> values;  // ascending, distinct, holding default_value, within the limits
   SettingLimit lower, upper;   // values never pass them
+  // The estimator's name, as tune.json, the report and the console spell it.
+  const char* name() const { return describe(estimator).name; }
 };
 
 // Widening steps allowed at each end of a grid (docs/tune.md §3).

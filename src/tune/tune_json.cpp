@@ -109,8 +109,8 @@ Json tuneSettingsJson(const std::vector<SettingGrid>& grids, const std::string& 
   Json g = Json::array();
   std::vector<std::string> estimators;
   for (const SettingGrid& s : grids) {
-    if (estimators.empty() || estimators.back() != s.estimator) estimators.push_back(s.estimator);
-    g.push_back({{"estimator", s.estimator},
+    if (estimators.empty() || estimators.back() != s.name()) estimators.push_back(s.name());
+    g.push_back({{"estimator", s.name()},
                  {"key", s.key},
                  {"axis", s.log_axis ? "log10" : "linear"},
                  {"default", s.default_value},
@@ -134,7 +134,7 @@ Json tuneJson(const TuneAnalysis& a, const std::vector<SettingGrid>& grids,
               const TuneProvenance& provenance) {
   Json results = Json::object();
   for (const SettingResult& r : a.settings) {
-    results[r.grid.estimator][r.grid.key] = settingJson(r, a);
+    results[r.grid.name()][r.grid.key] = settingJson(r, a);
   }
   Json seconds = Json::object();
   for (const auto& [part, s] : a.part_seconds) seconds[part] = s;
@@ -170,8 +170,8 @@ void printTuneSummary(const TuneAnalysis& a) {
     char flat[64];
     std::snprintf(flat, sizeof flat, "%.3g-%.3g", r.grid.values[r.profile.flat_first],
                   r.grid.values[r.profile.flat_last]);
-    std::printf("%-16s %-18s %7.3g | %-34s | %-34s | %s\n", r.grid.estimator.c_str(),
-                r.grid.key.c_str(), r.grid.default_value, cells[0].c_str(), cells[1].c_str(), flat);
+    std::printf("%-16s %-18s %7.3g | %-34s | %-34s | %s\n", r.grid.name(), r.grid.key.c_str(),
+                r.grid.default_value, cells[0].c_str(), cells[1].c_str(), flat);
   }
   std::fflush(stdout);
 }

@@ -48,7 +48,8 @@ std::string settingPlot(const SettingResult& r) {
   }
   const double pad = 0.05 * std::max(hi - lo, 1e-6);
   SvgPlot plot(x.front(), x.back(), lo - pad, hi + pad,
-               escapeHtml(r.grid.estimator + ": " + r.grid.key), axisLabel(r.grid), "RMSE of G");
+               escapeHtml(std::string(r.grid.name()) + ": " + r.grid.key), axisLabel(r.grid),
+               "RMSE of G");
   plot.legendBelow(3);  // the curves cross every corner of the axes
   plot.curve(x, paper, kPaperColor);
   plot.points(x, paper, kPaperColor, 2.5);
@@ -91,7 +92,7 @@ std::string tuneReportHtml(const TuneAnalysis& a) {
       "<th>setting</th><th>default</th><th>paper: optimum [interval]</th><th>profile: optimum "
       "[interval]</th></tr>\n";
   for (const SettingResult& r : a.settings) {
-    html += "<tr><td>" + escapeHtml(r.grid.estimator) + "</td><td>" + escapeHtml(r.grid.key) +
+    html += "<tr><td>" + escapeHtml(r.grid.name()) + "</td><td>" + escapeHtml(r.grid.key) +
             "</td><td>" + formatNumber(r.grid.default_value, "%.3g") + "</td><td>" +
             optimumCell(r, r.paper) + "</td><td>" + optimumCell(r, r.profile) + "</td></tr>\n";
   }

@@ -31,9 +31,9 @@ TEST(TuneGrid, SettingsAtSetsTheValueTheSettingTextSets) {
       char text[64];
       std::snprintf(text, sizeof text, "%.17g", v);
       ScreenAoSettings parsed;
-      applySetting(&parsed, grid.estimator + "." + grid.key + "=" + text);
+      applySetting(&parsed, std::string(grid.name()) + "." + grid.key + "=" + text);
       const ScreenAoSettings set = settingsAt(grid, v);
-      EXPECT_EQ(allSettings(set), allSettings(parsed)) << grid.estimator << "." << grid.key << v;
+      EXPECT_EQ(allSettings(set), allSettings(parsed)) << grid.name() << "." << grid.key << v;
       EXPECT_EQ(settingsJson(set, grid.estimator).at(grid.key).get<double>(), v);
     }
     // The default is the settings' own default (read through the JSON, not the field).
@@ -46,9 +46,9 @@ TEST(TuneGrid, DefaultGridsFollowTheEstimatorsGivenAndRefuseAnUntunedOne) {
   const std::vector<SettingGrid> grids =
       defaultGrids({Estimator::kBitmaskCosine, Estimator::kGtaoRuntime});
   ASSERT_EQ(grids.size(), 4u);
-  EXPECT_EQ(grids[0].estimator, "bitmask-cosine");
+  EXPECT_EQ(grids[0].estimator, Estimator::kBitmaskCosine);
   EXPECT_EQ(grids[0].key, "thickness");
-  EXPECT_EQ(grids[1].estimator, "gtao-runtime");
+  EXPECT_EQ(grids[1].estimator, Estimator::kGtaoRuntime);
   EXPECT_EQ(grids[1].key, "radius");
   try {
     defaultGrids({Estimator::kHbao});

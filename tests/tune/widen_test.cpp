@@ -87,7 +87,7 @@ Synthetic scattered(double centre, double spread) {
 
 SettingGrid radiusLike() {
   SettingGrid g;
-  g.estimator = "gtao-runtime";
+  g.estimator = Estimator::kGtaoRuntime;
   g.key = "radius";
   g.log_axis = true;
   g.default_value = 1.0;
