@@ -39,7 +39,7 @@ void printBands(const Table& t, const EncodedTable& e, const ErrorPoints& p) {
   for (std::size_t i = 0; i < p.points.size(); ++i) {
     const double d = runtimeLookup(t, e, p.points[i]) - p.exact[i];
     const int r = std::min(3, static_cast<int>(p.points[i].r_p * 4));
-    const double th = p.points[i].thetaO;
+    const double th = p.points[i].theta_o;
     band[r][th < 0.5 ? 0 : (th < 1.3 ? 1 : 2)] += d * d;
     total += d * d;
   }
@@ -97,7 +97,7 @@ int main(int argc, char** argv) {
             "%-7s %-7s seed %d: max %.4f rms %.5f  worst A %.5f beta %.4f r_p %.4f "
             "theta_o %.4f\n",
             texelFormatName(f), pointSetName(set), s, st.max, st.rms, st.worst.A, st.worst.beta,
-            st.worst.r_p, st.worst.thetaO);
+            st.worst.r_p, st.worst.theta_o);
         if (f == TexelFormat::kFloat32) printBands(t, e, p);
       }
     }

@@ -28,7 +28,7 @@ void print(const char* name, const ClosedFormErrors& e) {
               e.smooth.stats.rms, e.smooth.count);
   const GtsoPoint& w = e.rough.stats.worst;
   std::printf("  %-22s worst r_p >= 0.1 at A %.4f cos theta_o %.4f r_p %.4f\n", "", w.A,
-              std::cos(w.thetaO), w.r_p);
+              std::cos(w.theta_o), w.r_p);
 }
 
 }  // namespace

@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
               lines.size(), which.c_str(), texels, kTexelCheckFactor * kTexelCheckFactor, max,
               std::sqrt(sum2 / static_cast<double>(texels)));
   std::printf("  worst texel (%d %d %d %d): A %.6g beta %.5f r_p %.5f theta_o %.5f, %.6g vs %.6g\n",
-              w[0], w[1], w[2], w[3], p.A, p.beta, p.r_p, p.thetaO, t.values[t.index(w)],
+              w[0], w[1], w[2], w[3], p.A, p.beta, p.r_p, p.theta_o, t.values[t.index(w)],
               ref.values[t.index(w)]);
   std::printf("  texels > 1.6e-4: %d, > 2.5e-4: %d\n  max by r_p row:", over16, over25);
   for (const auto& [k, v] : byRow) std::printf(" %d:%.2g", k, v);

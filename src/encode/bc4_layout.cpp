@@ -165,7 +165,7 @@ gtso::ErrorStats layoutLookupError(const GtsoTable& t, const GtsoVolume& v,
     const float rp = static_cast<float>(p.r_p);
     const float s = rank == 3 ? gtso3DLookup(v, t.dims.data(), A, cb, rp, layout)
                               : gtso4DLookup(v, t.dims.data(), A, cb, rp,
-                                             static_cast<float>(std::cos(p.thetaO)), layout);
+                                             static_cast<float>(std::cos(p.theta_o)), layout);
     err[i] = std::abs(s - pts.exact[i]);
   });
   return gtso::errorStats(err, pts);

@@ -34,10 +34,10 @@ struct ConeResidual {
 };
 
 template <typename F>
-void forEachFitSample(const S3Samples& s3, double rpMin, F&& f) {
+void forEachFitSample(const S3Samples& s3, double rp_min, F&& f) {
   for (std::size_t i = 0; i < s3.points.size(); ++i) {
     const GtsoPoint& p = s3.points[i];
-    if (p.r_p > 0.0 && p.r_p >= rpMin - 1e-12) f(p, s3.values[i]);
+    if (p.r_p > 0.0 && p.r_p >= rp_min - 1e-12) f(p, s3.values[i]);
   }
 }
 
@@ -46,13 +46,14 @@ void forEachFitSample(const S3Samples& s3, double rpMin, F&& f) {
 double coneModel(const GtsoPoint& p, double u, RoughnessConvention convention) {
   const double w = convention == RoughnessConvention::kAlpha ? p.r_p * p.r_p : p.r_p;
   const double alphaV = std::acos(std::sqrt(std::clamp(1.0 - p.A, 0.0, 1.0)));
-  return coneSpecularOcclusion(alphaV, specularConeAperture(u, w), p.thetaO);
+  return coneSpecularOcclusion(alphaV, specularConeAperture(u, w), p.theta_o);
 }
 
-ConeErrors coneErrors(const S3Samples& s3, double u, RoughnessConvention convention, double rpMin) {
+ConeErrors coneErrors(const S3Samples& s3, double u, RoughnessConvention convention,
+                      double rp_min) {
   ConeErrors e;
   double sum = 0.0;
-  forEachFitSample(s3, rpMin, [&](const GtsoPoint& p, double s) {
+  forEachFitSample(s3, rp_min, [&](const GtsoPoint& p, double s) {
     const double d = coneModel(p, u, convention) - s;
     sum += d * d;
     e.max_abs = std::max(e.max_abs, std::abs(d));
@@ -62,10 +63,10 @@ ConeErrors coneErrors(const S3Samples& s3, double u, RoughnessConvention convent
   return e;
 }
 
-ConeFit fitConeU(const S3Samples& s3, RoughnessConvention convention, double rpMin) {
+ConeFit fitConeU(const S3Samples& s3, RoughnessConvention convention, double rp_min) {
   double z = kInitialZ;
   ceres::Problem problem;
-  forEachFitSample(s3, rpMin, [&](const GtsoPoint& p, double s) {
+  forEachFitSample(s3, rp_min, [&](const GtsoPoint& p, double s) {
     problem.AddResidualBlock(new ceres::NumericDiffCostFunction<ConeResidual, ceres::CENTRAL, 1, 1>(
                                  new ConeResidual{p, s, convention}),
                              nullptr, &z);
@@ -94,7 +95,7 @@ ConeFit fitConeU(const S3Samples& s3, RoughnessConvention convention, double rpM
   }
   ConeFit fit;
   fit.u = uFromZ(z);
-  fit.errors = coneErrors(s3, fit.u, convention, rpMin);
+  fit.errors = coneErrors(s3, fit.u, convention, rp_min);
   const double residualVariance =
       fit.errors.rmse * fit.errors.rmse * fit.errors.count / std::max(fit.errors.count - 1, 1);
   fit.u_se = fit.u * (1.0 - fit.u) * std::sqrt(varZ * residualVariance);

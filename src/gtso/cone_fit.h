@@ -38,12 +38,12 @@ struct S3Samples {
   std::vector<double> values;
 };
 
-// Errors of S_cone(u) against the samples with r_p > 0 and r_p >= rpMin.
+// Errors of S_cone(u) against the samples with r_p > 0 and r_p >= rp_min.
 ConeErrors coneErrors(const S3Samples& s3, double u, RoughnessConvention convention,
-                      double rpMin = 0.0);
+                      double rp_min = 0.0);
 
-// Least-squares u over the samples with r_p > 0 and r_p >= rpMin. Throws gtbake::Error if Ceres
+// Least-squares u over the samples with r_p > 0 and r_p >= rp_min. Throws gtbake::Error if Ceres
 // does not converge.
-ConeFit fitConeU(const S3Samples& s3, RoughnessConvention convention, double rpMin = 0.0);
+ConeFit fitConeU(const S3Samples& s3, RoughnessConvention convention, double rp_min = 0.0);
 
 }  // namespace gtbake::gtso

@@ -158,7 +158,7 @@ Json texelCheckJson(const gtso::TexelCheck& c, int size, int cells) {
         {"A", c.worst.A},
         {"beta", c.worst.beta},
         {"r_p", c.worst.r_p},
-        {"theta_o", c.worst.thetaO},
+        {"theta_o", c.worst.theta_o},
         {"value", c.worst_value},
         {"reference", c.worst_reference}}},
       {"seconds", c.seconds}};

@@ -15,7 +15,7 @@ using Json = nlohmann::json;
 constexpr std::uint64_t kFirstReportSeed = 10;
 
 Json pointJson(const GtsoPoint& p) {
-  return {{"A", p.A}, {"beta", p.beta}, {"r_p", p.r_p}, {"theta_o", p.thetaO}};
+  return {{"A", p.A}, {"beta", p.beta}, {"r_p", p.r_p}, {"theta_o", p.theta_o}};
 }
 
 // gtso.json end_to_end/points: the point sets and their distributions.

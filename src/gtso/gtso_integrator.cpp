@@ -82,9 +82,9 @@ struct LobeGrid {
   std::size_t vertices() const { return weight.size(); }
 };
 
-LobeGrid buildLobeGrid(double alpha, double cosThetaO, int cells) {
+LobeGrid buildLobeGrid(double alpha, double cos_theta_o, int cells) {
   const GgxDistribution ggx(alpha);
-  const Vec3 wo = viewDirection(cosThetaO);
+  const Vec3 wo = viewDirection(cos_theta_o);
   const Vec3 vh = normalize({alpha * wo.x, alpha * wo.y, wo.z});
   LobeGrid g;
   g.nPsi = kPsiCellsPerPhiCell * cells;
@@ -97,7 +97,7 @@ LobeGrid buildLobeGrid(double alpha, double cosThetaO, int cells) {
   // psi = (pi/2)(1 - (1 - zeta)^p), p = 1 + sin^2(theta_o): uniform at normal view; toward
   // grazing the visible normals crowd at psi -> pi/2 (steep microfacets seen edge-on), where
   // tan(theta_m) = alpha tan(psi) varies fastest, so the grid is refined there.
-  const double power = 1.0 + (1.0 - cosThetaO * cosThetaO);
+  const double power = 1.0 + (1.0 - cos_theta_o * cos_theta_o);
   std::vector<double> cosPhi(n1), sinPhi(n1);
   for (int i = 0; i < n1; ++i) {
     cosPhi[i] = std::cos(kPi * i / g.nPhi);
@@ -250,11 +250,11 @@ class ConeAccumulator {
 
 // The quadrature of the header for a lobe of GGX width alpha. cs[k]: thresholds cos(alpha_v) of
 // bent normal k, sorted descending. Returns S[k][j] in the sorted order.
-std::vector<std::vector<double>> lobeIntegral(double alpha, double cosThetaO,
+std::vector<std::vector<double>> lobeIntegral(double alpha, double cos_theta_o,
                                               const std::vector<Vec3>& b,
                                               const std::vector<std::vector<double>>& cs,
                                               int cells) {
-  const LobeGrid grid = buildLobeGrid(alpha, cosThetaO, cells);
+  const LobeGrid grid = buildLobeGrid(alpha, cos_theta_o, cells);
   ConeAccumulator acc(grid, b, cs);
   acc.addGrid();
   return acc.finish();
@@ -268,32 +268,32 @@ std::uint64_t lobeGridBytes(int cells, int normals) {
   return vertices * (2 * sizeof(double) + sizeof(Vec3) + sizeof(double) * normals);
 }
 
-Vec3 viewDirection(double cosThetaO) {
-  const double c = std::clamp(cosThetaO, 0.0, 1.0);
+Vec3 viewDirection(double cos_theta_o) {
+  const double c = std::clamp(cos_theta_o, 0.0, 1.0);
   return {std::sqrt(std::max(0.0, 1.0 - c * c)), 0.0, c};
 }
 
-Vec3 bentNormal(double thetaO, double beta) {
-  return {-std::sin(thetaO - beta), 0.0, std::cos(thetaO - beta)};
+Vec3 bentNormal(double theta_o, double beta) {
+  return {-std::sin(theta_o - beta), 0.0, std::cos(theta_o - beta)};
 }
 
 std::vector<std::vector<double>> specularOcclusion(
-    double r_p, double cosThetaO, const std::vector<Vec3>& b,
-    const std::vector<std::vector<double>>& cosAlphaV, int cells) {
+    double r_p, double cos_theta_o, const std::vector<Vec3>& b,
+    const std::vector<std::vector<double>>& cos_alpha_v, int cells) {
   const std::size_t K = b.size();
   std::vector<std::vector<double>> out(K);
   if (r_p > 0.0) {
     std::vector<std::vector<std::size_t>> order(K);
     std::vector<std::vector<double>> cs(K);
     for (std::size_t k = 0; k < K; ++k) {
-      const std::vector<double>& c = cosAlphaV[k];
+      const std::vector<double>& c = cos_alpha_v[k];
       order[k].resize(c.size());
       std::iota(order[k].begin(), order[k].end(), std::size_t{0});
       std::stable_sort(order[k].begin(), order[k].end(),
                        [&](std::size_t x, std::size_t y) { return c[x] > c[y]; });
       for (std::size_t j : order[k]) cs[k].push_back(c[j]);
     }
-    const std::vector<std::vector<double>> s = lobeIntegral(r_p * r_p, cosThetaO, b, cs, cells);
+    const std::vector<std::vector<double>> s = lobeIntegral(r_p * r_p, cos_theta_o, b, cs, cells);
     // A cone of zero aperture (A = 0) holds no solid angle: exactly 0, whatever the curvature
     // correction does to t near 1.
     for (std::size_t k = 0; k < K; ++k) {
@@ -306,20 +306,20 @@ std::vector<std::vector<double>> specularOcclusion(
   // Mirror limit: the lobe is the delta at wr, so S = DeltaV(wr) = [angle(wr, b) <= alpha_v]
   // (docs/gtso.md §1; the boundary belongs to the cone, with a tie tolerance for rounding in wr.b).
   // A cone of zero aperture (A = 0) holds no solid angle: 0, as for every r_p > 0.
-  const Vec3 wo = viewDirection(cosThetaO);
+  const Vec3 wo = viewDirection(cos_theta_o);
   const Vec3 wr = {-wo.x, 0.0, wo.z};
   for (std::size_t k = 0; k < K; ++k) {
     const double tr = dot(wr, b[k]);
-    for (const double c : cosAlphaV[k])
+    for (const double c : cos_alpha_v[k])
       out[k].push_back((c < 1.0 && tr >= c - kMirrorTie) ? 1.0 : 0.0);
   }
   return out;
 }
 
-std::vector<double> specularOcclusion(double r_p, double cosThetaO, const std::vector<Vec3>& b,
-                                      const std::vector<double>& cosAlphaV, int cells) {
+std::vector<double> specularOcclusion(double r_p, double cos_theta_o, const std::vector<Vec3>& b,
+                                      const std::vector<double>& cos_alpha_v, int cells) {
   const std::vector<std::vector<double>> s = specularOcclusion(
-      r_p, cosThetaO, b, std::vector<std::vector<double>>(b.size(), cosAlphaV), cells);
+      r_p, cos_theta_o, b, std::vector<std::vector<double>>(b.size(), cos_alpha_v), cells);
   std::vector<double> out;
   for (const auto& row : s) out.insert(out.end(), row.begin(), row.end());
   return out;

@@ -45,15 +45,15 @@ constexpr int kDefaultLobeCells = 96;  // phi cells (psi gets 2x): 2*96*192 tria
                                        // the accuracy/time trade-off measured by bench_gtso
 
 // S for one lobe (r_p, theta_o) against every bent normal b[k] and every cone cos(alpha_v)[j];
-// returns S[k * cosAlphaV.size() + j]. r_p = 0 gives the mirror limit S = DeltaV(wr), the cone
+// returns S[k * cos_alpha_v.size() + j]. r_p = 0 gives the mirror limit S = DeltaV(wr), the cone
 // including its boundary; a cone of zero aperture (A = 0) gives 0 for every r_p.
-std::vector<double> specularOcclusion(double r_p, double cosThetaO, const std::vector<Vec3>& b,
-                                      const std::vector<double>& cosAlphaV,
+std::vector<double> specularOcclusion(double r_p, double cos_theta_o, const std::vector<Vec3>& b,
+                                      const std::vector<double>& cos_alpha_v,
                                       int cells = kDefaultLobeCells);
-// The same with cones of their own per bent normal: returns S[k][j] for cosAlphaV[k][j].
+// The same with cones of their own per bent normal: returns S[k][j] for cos_alpha_v[k][j].
 std::vector<std::vector<double>> specularOcclusion(
-    double r_p, double cosThetaO, const std::vector<Vec3>& b,
-    const std::vector<std::vector<double>>& cosAlphaV, int cells = kDefaultLobeCells);
+    double r_p, double cos_theta_o, const std::vector<Vec3>& b,
+    const std::vector<std::vector<double>>& cos_alpha_v, int cells = kDefaultLobeCells);
 
 // Bytes one integration of a lobe holds at `cells` for `normals` bent normals: the grid's weight,
 // height and direction per vertex and each normal's t per vertex. Each worker holds one at a time
@@ -61,7 +61,7 @@ std::vector<std::vector<double>> specularOcclusion(
 std::uint64_t lobeGridBytes(int cells, int normals);
 
 // The view direction of docs/gtso.md §1 and the 4D table's bent normal (beta from wr toward n).
-Vec3 viewDirection(double cosThetaO);
-Vec3 bentNormal(double thetaO, double beta);
+Vec3 viewDirection(double cos_theta_o);
+Vec3 bentNormal(double theta_o, double beta);
 
 }  // namespace gtbake::gtso

@@ -119,19 +119,19 @@ Table bakeTable(int dims, int size, int cells, Progress* progress,
     const int betas = dims == 3 ? 1 : size;
     std::vector<Vec3> b;
     std::vector<std::vector<double>> cones(betas);
-    double thetaO = 0.0, rp = 0.0;
+    double theta_o = 0.0, rp = 0.0;
     for (int k = 0; k < betas; ++k) {
       if (dims == 4) i[1] = k;
       i[0] = 0;
       const GtsoPhysical<double> p = texelPhysical(dims, size, i);
-      thetaO = p.thetaO;
+      theta_o = p.thetaO;
       rp = p.rp;
       b.push_back(dims == 3 ? Vec3{0.0, 0.0, 1.0} : bentNormal(p.thetaO, p.beta));
       for (int a = 0; a < size; ++a)
         cones[k].push_back(coneThreshold(gtsoTexelAlphaV(a, size, p.beta, p.rp)));
     }
     const std::vector<std::vector<double>> s =
-        specularOcclusion(rp, std::cos(thetaO), b, cones, cells);
+        specularOcclusion(rp, std::cos(theta_o), b, cones, cells);
     for (int k = 0; k < betas; ++k) {
       if (dims == 4) i[1] = k;
       for (int a = 0; a < size; ++a) {
@@ -149,7 +149,7 @@ double evaluateS(int dims, const GtsoPoint& p, int cells) {
   const std::vector<double> cone = {c};
   if (dims == 3)
     return specularOcclusion(p.r_p, std::cos(p.beta), {{0.0, 0.0, 1.0}}, cone, cells)[0];
-  return specularOcclusion(p.r_p, std::cos(p.thetaO), {bentNormal(p.thetaO, p.beta)}, cone,
+  return specularOcclusion(p.r_p, std::cos(p.theta_o), {bentNormal(p.theta_o, p.beta)}, cone,
                            cells)[0];
 }
 
@@ -195,7 +195,7 @@ float runtimeLookup(const Table& t, const EncodedTable& e, const GtsoPoint& p) {
   const float A = static_cast<float>(p.A), cb = static_cast<float>(std::cos(p.beta));
   const float rp = static_cast<float>(p.r_p);
   if (t.dims == 3) return gtso3DLookup(vol, n.data(), A, cb, rp);
-  return gtso4DLookup(vol, n.data(), A, cb, rp, static_cast<float>(std::cos(p.thetaO)));
+  return gtso4DLookup(vol, n.data(), A, cb, rp, static_cast<float>(std::cos(p.theta_o)));
 }
 
 const char* pointSetName(PointSet s) {
@@ -215,7 +215,7 @@ struct LobePoints {
 
 LobePoints drawLobePoints(int dims, PointSet set, const CounterRng& rng, int l, int perLobe,
                           double rp, double cosO) {
-  const double thetaO = std::acos(cosO);
+  const double theta_o = std::acos(cosO);
   // 3D: one bent normal (n) with perLobe cones; 4D: kBentNormalsPerLobe bent normals with
   // perLobe / kBentNormalsPerLobe cones each (the lobe grid and each normal's t are shared).
   const int normals = dims == 3 ? 1 : kBentNormalsPerLobe;
@@ -226,10 +226,10 @@ LobePoints drawLobePoints(int dims, PointSet set, const CounterRng& rng, int l, 
     const int group = k / out.conesPer;
     const auto v = rng.uniform4(static_cast<std::uint64_t>(l), 1 + k);
     const auto vb = rng.uniform4(static_cast<std::uint64_t>(l), 1 + perLobe + group);
-    GtsoPoint p{v[0], thetaO, rp, thetaO};
+    GtsoPoint p{v[0], theta_o, rp, theta_o};
     // 4D: cos beta uniform over the bent normals above the horizon (cos beta >= -sin theta_o);
     // the stress set keeps beta <= pi/2, where the mirror step lies inside the A range.
-    const double cosBetaMin = set == PointSet::kStress ? 0.0 : -std::sin(thetaO);
+    const double cosBetaMin = set == PointSet::kStress ? 0.0 : -std::sin(theta_o);
     if (dims == 4) p.beta = std::acos(1.0 - (1.0 - cosBetaMin) * vb[0]);
     if (set == PointSet::kStress) {
       // alpha_v uniform over [s - h, s + h] clipped to [0, pi/2] (stepWindowA).
@@ -237,7 +237,7 @@ LobePoints drawLobePoints(int dims, PointSet set, const CounterRng& rng, int l, 
     }
     out.points.push_back(p);
     if (k % out.conesPer == 0) {
-      out.b.push_back(dims == 3 ? Vec3{0.0, 0.0, 1.0} : bentNormal(thetaO, p.beta));
+      out.b.push_back(dims == 3 ? Vec3{0.0, 0.0, 1.0} : bentNormal(theta_o, p.beta));
     }
     out.cones[group].push_back(std::sqrt(std::clamp(1.0 - p.A, 0.0, 1.0)));
   }

@@ -22,7 +22,7 @@ namespace gtbake::gtso {
 
 // The physical parameters of one table entry (angles in radians).
 struct GtsoPoint {
-  double A, beta, r_p, thetaO;
+  double A, beta, r_p, theta_o;
 };
 
 // The quantity along a table axis (docs/gtso.md §1), named as gtso.json, encode.json and the
@@ -60,7 +60,7 @@ Table bakeTable(int dims, int size, int cells, Progress* progress,
                 const std::vector<std::size_t>* lines = nullptr);
 void validateTableSize(int size);  // throws gtbake::Error with a one-line reason
 
-// Direct evaluation of S at physical parameters (3D: thetaO is ignored and taken = beta).
+// Direct evaluation of S at physical parameters (3D: theta_o is ignored and taken = beta).
 double evaluateS(int dims, const GtsoPoint& p, int cells);
 
 // ---- texel formats ----

@@ -46,7 +46,7 @@ class LobeCost final : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     const double* k = parameters[0];
-    const double mu = std::cos(p_[0].thetaO), rp = p_[0].r_p;
+    const double mu = std::cos(p_[0].theta_o), rp = p_[0].r_p;
     std::array<Jet, kN> kj;
     for (int i = 0; i < kN; ++i) kj[i] = Jet(k[i], i);
     const GtsoS3ClosedFormLobe<Jet> lobe = gtsoS3ClosedFormLobe(kj.data(), mu, rp);
@@ -112,15 +112,15 @@ ErrorPoints makeClosedFormPoints(int lobes, int perLobe, std::uint64_t seed, int
     double cosO = u[1];
     if (l % 4 == 1) cosO = kGrazingCos * u[1];
     if (l % 4 == 2) cosO = kNormalCos + (1.0 - kNormalCos) * u[1];
-    const double thetaO = std::acos(cosO);
+    const double theta_o = std::acos(cosO);
     std::vector<double> cones(perLobe);
     for (int k = 0; k < perLobe; ++k) {
       const auto v = rng.uniform4(static_cast<std::uint64_t>(l), 1 + k);
       double A = v[0];
       if (k % 2 == 1) {
-        A = stepWindowA(thetaO, kStepLobeWidths * rp * rp + kStepFloor, v[1]);
+        A = stepWindowA(theta_o, kStepLobeWidths * rp * rp + kStepFloor, v[1]);
       }
-      out.points[static_cast<std::size_t>(l) * perLobe + k] = {A, thetaO, rp, thetaO};
+      out.points[static_cast<std::size_t>(l) * perLobe + k] = {A, theta_o, rp, theta_o};
       cones[k] = std::sqrt(std::clamp(1.0 - A, 0.0, 1.0));
     }
     const std::vector<double> s = specularOcclusion(rp, cosO, {Vec3{0.0, 0.0, 1.0}}, cones, cells);
@@ -213,7 +213,7 @@ S3ClosedFormFit fitS3ClosedForm(const ErrorPoints& train, int perLobe,
 float closedFormAt(const S3ClosedFormCoeffs& k, const GtsoPoint& p) {
   float kf[kN];
   for (int i = 0; i < kN; ++i) kf[i] = static_cast<float>(k[i]);
-  return gtsoS3ClosedForm(kf, static_cast<float>(p.A), static_cast<float>(std::cos(p.thetaO)),
+  return gtsoS3ClosedForm(kf, static_cast<float>(p.A), static_cast<float>(std::cos(p.theta_o)),
                           static_cast<float>(p.r_p));
 }
 
@@ -253,7 +253,7 @@ nlohmann::json bandJson(const ClosedFormBand& b) {
       {"rms", b.stats.rms},
       {"points", b.count},
       {"worst_point",
-       {{"A", w.A}, {"cos_theta_o", std::cos(w.thetaO)}, {"theta_o", w.thetaO}, {"r_p", w.r_p}}}};
+       {{"A", w.A}, {"cos_theta_o", std::cos(w.theta_o)}, {"theta_o", w.theta_o}, {"r_p", w.r_p}}}};
 }
 
 nlohmann::json errorsJson(const ClosedFormErrors& e) {
@@ -263,14 +263,14 @@ nlohmann::json errorsJson(const ClosedFormErrors& e) {
 }  // namespace
 
 ClosedFormStage runClosedFormStage(const std::vector<const ErrorPoints*>& tests,
-                                   const std::vector<std::uint64_t>& testSeeds, int cells,
-                                   int trainLobes) {
+                                   const std::vector<std::uint64_t>& test_seeds, int cells,
+                                   int train_lobes) {
   const auto t0 = std::chrono::steady_clock::now();
   const int trainCells = std::max(4, cells / kTrainCellsDivisor);
   const ErrorPoints train =
-      makeClosedFormPoints(trainLobes, kConesPerLobe, kClosedFormTrainSeed, trainCells);
+      makeClosedFormPoints(train_lobes, kConesPerLobe, kClosedFormTrainSeed, trainCells);
   const ErrorPoints validation =
-      makeClosedFormPoints(std::max(1, trainLobes / kValidationLobesDivisor), kConesPerLobe,
+      makeClosedFormPoints(std::max(1, train_lobes / kValidationLobesDivisor), kConesPerLobe,
                            kClosedFormValidationSeed, cells);
   const S3ClosedFormFit fit = fitS3ClosedForm(train, kConesPerLobe, closedFormWarmStart());
   const ClosedFormErrors val = closedFormErrors(fit.k, validation);
@@ -318,7 +318,7 @@ ClosedFormStage runClosedFormStage(const std::vector<const ErrorPoints*>& tests,
        "the objective "
        "by about 1/2 residual variance (0.5 * rms_residual^2); empty if rank deficient"}};
   j["training"] = {{"points", train.points.size()},
-                   {"lobes", trainLobes},
+                   {"lobes", train_lobes},
                    {"points_per_lobe", kConesPerLobe},
                    {"seed", kClosedFormTrainSeed},
                    {"integrator_cells", trainCells},
@@ -334,7 +334,7 @@ ClosedFormStage runClosedFormStage(const std::vector<const ErrorPoints*>& tests,
                      {"errors", errorsJson(val)}};
   j["test"] = {{"points", testPoints},
                {"sets", "gtso's end-to-end 3D point sets (end_to_end.points): uniform and stress"},
-               {"seeds", testSeeds},
+               {"seeds", test_seeds},
                {"integrator_cells", cells},
                {"errors", errorsJson(test)}};
   j["targets"] = {{"band", "r_p >= 0.1"}, {"max", kTargetMax}, {"rms", kTargetRms}};

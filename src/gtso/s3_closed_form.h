@@ -77,8 +77,8 @@ float closedFormAt(const S3ClosedFormCoeffs& k, const GtsoPoint& p);
 // The stage `gtbake gtso` runs: training and validation sets (kClosedFormTrainSeed,
 // kClosedFormValidationSeed), the fit from closedFormWarmStart(), and the errors of the shipped
 // float function on the validation set and on `tests` (gtso's end-to-end 3D point sets, seeds
-// testSeeds). Returns gtso.json's "closed_form" object and the coefficients.
-// trainLobes training lobes of kConesPerLobe points each (the shipped fit: 2,048) and a quarter as
+// test_seeds). Returns gtso.json's "closed_form" object and the coefficients.
+// train_lobes training lobes of kConesPerLobe points each (the shipped fit: 2,048) and a quarter as
 // many validation lobes. Fewer lobes fit faster and worse (tests of the stage's plumbing use 64).
 inline constexpr int kClosedFormTrainLobes = 2048;
 inline constexpr std::uint64_t kClosedFormTrainSeed = 1000;
@@ -88,7 +88,7 @@ struct ClosedFormStage {
   S3ClosedFormCoeffs k{};
 };
 ClosedFormStage runClosedFormStage(const std::vector<const ErrorPoints*>& tests,
-                                   const std::vector<std::uint64_t>& testSeeds, int cells,
-                                   int trainLobes = kClosedFormTrainLobes);
+                                   const std::vector<std::uint64_t>& test_seeds, int cells,
+                                   int train_lobes = kClosedFormTrainLobes);
 
 }  // namespace gtbake::gtso

@@ -42,26 +42,27 @@ TEST(GtsoIntegrator, MonotoneInA) {
 TEST(GtsoIntegrator, FourDAtBetaEqualThetaIsThreeD) {
   const auto cs = aAxis(16);
   for (double rp : {0.0, 0.2, 0.7})
-    for (double thetaO : {0.0, 0.6, 1.3, kPi / 2}) {
-      const auto s3 = specularOcclusion(rp, std::cos(thetaO), {{0.0, 0.0, 1.0}}, cs, kCells);
-      const auto s4 = specularOcclusion(
-          rp, std::cos(thetaO), {bentNormal(thetaO, 0.3), bentNormal(thetaO, thetaO)}, cs, kCells);
+    for (double theta_o : {0.0, 0.6, 1.3, kPi / 2}) {
+      const auto s3 = specularOcclusion(rp, std::cos(theta_o), {{0.0, 0.0, 1.0}}, cs, kCells);
+      const auto s4 =
+          specularOcclusion(rp, std::cos(theta_o),
+                            {bentNormal(theta_o, 0.3), bentNormal(theta_o, theta_o)}, cs, kCells);
       for (std::size_t j = 0; j < cs.size(); ++j) EXPECT_NEAR(s4[16 + j], s3[j], 1e-15);
     }
 }
 
 TEST(GtsoIntegrator, MirrorLimitIsDeltaVOfReflection) {
-  const double thetaO = 0.5;
+  const double theta_o = 0.5;
   const Vec3 n = {0.0, 0.0, 1.0};
   // wr makes 0.5 rad with n: inside cones wider than 0.5, outside narrower, and on the edge
   // inside (docs/gtso.md §1: DeltaV = 1 where angle <= alpha_v).
-  const auto s = specularOcclusion(0.0, std::cos(thetaO), {n},
-                                   {std::cos(0.6), std::cos(0.4), std::cos(thetaO)}, kCells);
+  const auto s = specularOcclusion(0.0, std::cos(theta_o), {n},
+                                   {std::cos(0.6), std::cos(0.4), std::cos(theta_o)}, kCells);
   EXPECT_EQ(s[0], 1.0);
   EXPECT_EQ(s[1], 0.0);
   EXPECT_EQ(s[2], 1.0);
   // ... and the smallest roughness approaches it.
-  const auto near = specularOcclusion(0.02, std::cos(thetaO), {n}, {std::cos(0.6), std::cos(0.4)});
+  const auto near = specularOcclusion(0.02, std::cos(theta_o), {n}, {std::cos(0.6), std::cos(0.4)});
   EXPECT_GT(near[0], 0.999);
   EXPECT_LT(near[1], 0.001);
 }
@@ -78,8 +79,8 @@ TEST(GtsoIntegrator, MatchesVisibleNormalBruteForceWithin2p5em4) {
   for (int texel = 0; texel < 8; ++texel) {
     const auto u = pick.uniform4(texel, 0);
     const double A = 0.05 + 0.9 * u[0], beta = kPi * u[1], rp = 0.03 + 0.97 * u[2];
-    const double thetaO = 1.5 * u[3], c = std::sqrt(1.0 - A);
-    const Vec3 b = bentNormal(thetaO, beta), wo = viewDirection(std::cos(thetaO));
+    const double theta_o = 1.5 * u[3], c = std::sqrt(1.0 - A);
+    const Vec3 b = bentNormal(theta_o, beta), wo = viewDirection(std::cos(theta_o));
     const GgxDistribution ggx(rp * rp);
     double sum[2] = {0.0, 0.0}, sumSq[2] = {0.0, 0.0};
     for (int r = 0; r < kReplicates; ++r) {
@@ -100,14 +101,14 @@ TEST(GtsoIntegrator, MatchesVisibleNormalBruteForceWithin2p5em4) {
       }
     }
     const std::vector<double> got =
-        specularOcclusion(rp, std::cos(thetaO), {b}, std::vector<double>{c, -c});
+        specularOcclusion(rp, std::cos(theta_o), {b}, std::vector<double>{c, -c});
     for (int k = 0; k < 2; ++k) {
       const double S = sum[k] / kReplicates;
       const double se =
           std::sqrt(std::max(0.0, sumSq[k] / kReplicates - S * S) / (kReplicates - 1));
       EXPECT_NEAR(got[k], S, 2.5e-4 + 4.0 * se)
-          << "A " << A << " beta " << beta << " r_p " << rp << " theta_o " << thetaO << " se " << se
-          << (k ? " (cap wider than a hemisphere)" : "");
+          << "A " << A << " beta " << beta << " r_p " << rp << " theta_o " << theta_o << " se "
+          << se << (k ? " (cap wider than a hemisphere)" : "");
     }
   }
 }

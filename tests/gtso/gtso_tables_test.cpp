@@ -65,7 +65,7 @@ double along(const GtsoPoint& p, TableAxis axis) {
     case TableAxis::kA:
       return p.A;
     case TableAxis::kThetaO:
-      return p.thetaO;
+      return p.theta_o;
     case TableAxis::kBeta:
       return p.beta;
     case TableAxis::kRoughness:
@@ -182,8 +182,8 @@ TEST(GtsoTables, FourDAtBetaEqualThetaIsThreeDThroughTheLookups) {
   const CounterRng rng(4, 0);
   for (int k = 0; k < 500; ++k) {
     const auto u = rng.uniform4(k, 0);
-    const double thetaO = std::acos(static_cast<double>(u[1]));
-    const GtsoPoint p{u[0], thetaO, u[2], thetaO};
+    const double theta_o = std::acos(static_cast<double>(u[1]));
+    const GtsoPoint p{u[0], theta_o, u[2], theta_o};
     EXPECT_NEAR(runtimeLookup(s4, f4, p), runtimeLookup(s3, f3, p), 1e-5) << k;
   }
 }
@@ -226,8 +226,8 @@ TEST(GtsoTables, PairedErrorPointsShareLobesAndStayExact) {
     for (std::size_t i = 0; i < pair.three.points.size(); ++i) {
       const GtsoPoint& p = pair.three.points[i];
       EXPECT_EQ(p.r_p, four.points[i].r_p);
-      EXPECT_EQ(p.thetaO, four.points[i].thetaO);
-      EXPECT_EQ(p.beta, p.thetaO);
+      EXPECT_EQ(p.theta_o, four.points[i].theta_o);
+      EXPECT_EQ(p.beta, p.theta_o);
       EXPECT_NEAR(pair.three.exact[i], evaluateS(3, p, kCells), 1e-12) << i;
       EXPECT_NEAR(pair.four.exact[i], evaluateS(4, pair.four.points[i], kCells), 1e-12) << i;
     }

@@ -27,17 +27,17 @@ ErrorPoints syntheticPoints(const S3ClosedFormCoeffs& k, int lobes, std::uint64_
   ErrorPoints out;
   for (int l = 0; l < lobes; ++l) {
     const auto u = rng.uniform4(l, 0);
-    const double rp = 0.05 + 0.95 * u[0], thetaO = std::acos(u[1]);
+    const double rp = 0.05 + 0.95 * u[0], theta_o = std::acos(u[1]);
     for (int j = 0; j < kPerLobe; ++j) {
       const auto v = rng.uniform4(l, 1 + j);
       double A = v[0];
       if (j % 2 == 1) {
-        const double s = std::sin(std::clamp(thetaO + (6.0 * rp * rp + 0.02) * (2.0 * v[1] - 1.0),
+        const double s = std::sin(std::clamp(theta_o + (6.0 * rp * rp + 0.02) * (2.0 * v[1] - 1.0),
                                              0.0, 1.5707963267948966));
         A = s * s;
       }
-      out.points.push_back({A, thetaO, rp, thetaO});
-      out.exact.push_back(gtsoS3ClosedForm(k.data(), A, std::cos(thetaO), rp));
+      out.points.push_back({A, theta_o, rp, theta_o});
+      out.exact.push_back(gtsoS3ClosedForm(k.data(), A, std::cos(theta_o), rp));
     }
   }
   return out;
@@ -60,7 +60,7 @@ TEST(S3ClosedForm, FitRecoversKnownCoefficients) {
   const ErrorPoints fresh = syntheticPoints(truth, 128, 99);
   for (std::size_t i = 0; i < fresh.points.size(); ++i) {
     const GtsoPoint& p = fresh.points[i];
-    ASSERT_NEAR(gtsoS3ClosedForm(fit.k.data(), p.A, std::cos(p.thetaO), p.r_p), fresh.exact[i],
+    ASSERT_NEAR(gtsoS3ClosedForm(fit.k.data(), p.A, std::cos(p.theta_o), p.r_p), fresh.exact[i],
                 1e-6);
   }
   // ... and so are the coefficients, within a small multiple of their standard errors' scale
@@ -115,7 +115,7 @@ void expectMeetsReported(const nlohmann::json& cf, std::uint64_t firstSeed) {
         const GtsoPoint& p = pts.points[i];
         if (p.r_p < 0.1) continue;
         const float s =
-            gtsoS3ClosedForm(k, static_cast<float>(p.A), static_cast<float>(std::cos(p.thetaO)),
+            gtsoS3ClosedForm(k, static_cast<float>(p.A), static_cast<float>(std::cos(p.theta_o)),
                              static_cast<float>(p.r_p));
         const double d = std::abs(s - pts.exact[i]);
         max = std::max(max, d);
