@@ -1,5 +1,5 @@
-// `gtbake all`: scenes → sweep → fit → screen-ao → profiles → gtso → encode → validate-gtso →
-// export with defaults (docs/index.md "Pipeline").
+// `gtbake all`: scenes → sweep → fit → screen-ao → profiles → tune → lighting → gtso → encode →
+// validate-gtso → export with defaults (docs/index.md "Pipeline").
 #pragma once
 
 #include <cstdint>
@@ -21,9 +21,10 @@ struct AllOptions {
 
 // Writes the layout of docs/reproducibility.md "Layout" into <out>: scenes/ (the built-in corpus,
 // 12 types × 6 variants, generated only without `scenes`), sweep/, fit/ (fit.json and report/),
-// screen_ao/, profiles/<estimator>/ (Equation 10 on each estimator's Â), tune/, gtso/, encode/,
-// validate_gtso/, ship/ (the exported header, includes and volumes) and index.html; refuses a
-// directory in the older flat layout. Prints a summary of every figure.
+// screen_ao/, profiles/<estimator>/ (Equation 10 on each estimator's Â), tune/, lighting/, gtso/,
+// encode/, validate_gtso/, ship/ (the exported header, includes and volumes), timings.json (each
+// stage's wall and CPU seconds, pipeline/stage_clock.h) and index.html; refuses a directory in
+// the older flat layout. Prints a summary of every figure.
 void runAll(const AllOptions& options);
 
 }  // namespace gtbake
