@@ -206,7 +206,7 @@ Subcommand addFitCommand(CLI::App& app) {
       parser->add_option("--shipped", *shipped,
                          "Constants to compare against, a1,a0,b1,b0,c1,c0 (default: the paper's)");
   auto weighting = std::make_shared<std::string>("pixel");
-  parser->add_option("--weighting", *weighting, "Point weights: pixel, scene or flat-a")
+  parser->add_option("--weighting", *weighting, "Point weights: pixel, view or flat-a")
       ->capture_default_str();
   parser->add_flag("--constrain-open", options->constrain_open,
                    "Constrain a - b + c = 1 (G(1, rho) = 1 for an open surface)");

@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
     a.shipped_errors = errorTable(a.data, kPaperCoeffs);
     a.shipped_difference = maxCurveDifference(a.fit.linear.coeffs, kPaperCoeffs);
     a.shipped_score = scoreAgainstBand(a.jackknife, a.fit.linear.coeffs, kPaperCoeffs);
-    a.scene_weights = sceneWeights(a.data, a.fit.weights);
+    a.view_weights = viewWeights(a.data, a.fit.weights);
     mark();
     a.weightings = weightingAlternatives(a.data, a.fit);
     mark();

@@ -12,8 +12,8 @@ namespace {
 std::vector<LevelStatistics> statisticsFor(const SweepData& data, const MultiBounceFit& fit,
                                            Weighting weighting) {
   if (weighting == fit.settings.weighting) return fit.scene_stats;
-  if (weighting == Weighting::kScene && fit.settings.weighting == Weighting::kPixel) {
-    const std::vector<double> w = pointWeights(data, Weighting::kScene);
+  if (weighting == Weighting::kView && fit.settings.weighting == Weighting::kPixel) {
+    const std::vector<double> w = pointWeights(data, Weighting::kView);
     std::vector<LevelStatistics> out(fit.scene_stats.size());
     for (std::size_t s = 0; s < out.size(); ++s) {
       for (int l = 0; l < kLevels; ++l) {
@@ -42,10 +42,10 @@ OpenSurface openSurface(const MultiBounceCoeffs& k) {
   return out;
 }
 
-std::vector<SceneWeight> sceneWeights(const SweepData& data, const std::vector<double>& weights) {
+std::vector<ViewWeight> viewWeights(const SweepData& data, const std::vector<double>& weights) {
   double sum = 0.0;
   for (double w : weights) sum += w;
-  std::vector<SceneWeight> out;
+  std::vector<ViewWeight> out;
   for (const SweepScene& s : data.scenes) {
     double part = 0.0;
     for (std::size_t i = s.begin; i < s.end; ++i) part += weights[i];
@@ -154,7 +154,7 @@ FitAnalysis analyzePoints(SweepData data, const FitSettings& settings,
   FitAnalysis a;
   a.data = std::move(data);
   a.fit = fitMultiBounce(a.data, settings);
-  a.scene_weights = sceneWeights(a.data, a.fit.weights);
+  a.view_weights = viewWeights(a.data, a.fit.weights);
   step();
   a.jackknife = sceneJackknife(a.data, a.fit, shipped, rule);
   a.type_jackknife = typeJackknife(a.data, a.fit, shipped, rule);

@@ -38,7 +38,7 @@ struct Alternative {
 };
 
 // A scene's share of the fit's total weight.
-struct SceneWeight {
+struct ViewWeight {
   std::string scene;
   std::size_t points = 0;
   double share = 0.0;  // Σ_{i ∈ scene} w_i / Σ w_i
@@ -76,10 +76,10 @@ struct FitAnalysis {
   CurveDifference shipped_difference;   // max |G_refit − G_shipped|
   BandScore shipped_score;              // the shipped constants against the band
   OpenSurface open_surface;             // of the refit
-  std::vector<Alternative> weightings;  // pixel, scene, flat-a (same constraint setting)
+  std::vector<Alternative> weightings;  // pixel, view, flat-a (same constraint setting)
   Alternative constraint;               // the other constrain-open setting, same weighting
   FitFloor floor;
-  std::vector<SceneWeight> scene_weights;
+  std::vector<ViewWeight> view_weights;
   std::optional<ProfileChecks> profile;          // shape-constrained fits (engine profiles) only
   std::optional<double> truth_radius;            // near-field truth radius of G (none: unbounded)
   std::optional<UnboundedComparison> unbounded;  // with truth_radius only
@@ -100,7 +100,7 @@ FitAnalysis analyzePoints(SweepData data, const FitSettings& settings,
                           Progress* progress = nullptr);
 
 // The steps, each testable alone.
-std::vector<SceneWeight> sceneWeights(const SweepData& data, const std::vector<double>& weights);
+std::vector<ViewWeight> viewWeights(const SweepData& data, const std::vector<double>& weights);
 std::vector<Alternative> weightingAlternatives(const SweepData& data, const MultiBounceFit& fit);
 Alternative constraintAlternative(const SweepData& data, const MultiBounceFit& fit);
 std::optional<ErrorTable> heldOutErrors(const SweepData& data, const SceneJackknife& by_scene);

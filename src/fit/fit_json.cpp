@@ -317,7 +317,7 @@ json fitJson(const fs::path& json_path, const FitAnalysis& a, const MultiBounceC
   addConstraintJson(a, out);
   out["weighting_alternatives"] = alternativesJson(a);
   json weights = json::array();
-  for (const SceneWeight& w : a.scene_weights) {
+  for (const ViewWeight& w : a.view_weights) {
     weights.push_back({{"view", w.scene}, {"points", w.points}, {"weight_share", w.share}});
   }
   out["view_weights"] = weights;

@@ -334,8 +334,8 @@ std::string errorTables(const FitAnalysis& a) {
         {escapeHtml(r.per_scene[k].label), formatNumber(r.per_scene[k].rmse, "%.5f"),
          formatNumber(a.floor.per_scene[k].floor, "%.5f"),
          formatNumber(r.per_scene[k].max_abs, "%.5f"), formatNumber(s.per_scene[k].rmse, "%.5f"),
-         formatNumber(s.per_scene[k].max_abs, "%.5f"), std::to_string(a.scene_weights[k].points),
-         formatNumber(100 * a.scene_weights[k].share, "%.1f") + "%"});
+         formatNumber(s.per_scene[k].max_abs, "%.5f"), std::to_string(a.view_weights[k].points),
+         formatNumber(100 * a.view_weights[k].share, "%.1f") + "%"});
   }
   rows.push_back({"all", formatNumber(r.rmse, "%.5f"), formatNumber(a.floor.rmse, "%.5f"),
                   formatNumber(r.max_abs, "%.5f"), formatNumber(s.rmse, "%.5f"),

@@ -158,7 +158,7 @@ void printErrorTables(const FitAnalysis& a, const ErrorTable& left, const ErrorT
     std::printf("%-12s  %10.5f %10.5f   %10.5f %10.5f   %10.5f %8zu %6.1f%%\n",
                 left.per_scene[s].label.c_str(), left.per_scene[s].rmse, left.per_scene[s].max_abs,
                 right.per_scene[s].rmse, right.per_scene[s].max_abs, a.floor.per_scene[s].floor,
-                a.scene_weights[s].points, 100.0 * a.scene_weights[s].share);
+                a.view_weights[s].points, 100.0 * a.view_weights[s].share);
   }
   std::printf("%-12s  %10.5f %10.5f   %10.5f %10.5f   %10.5f\n", "all", left.rmse, left.max_abs,
               right.rmse, right.max_abs, a.floor.rmse);

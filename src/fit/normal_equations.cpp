@@ -78,8 +78,8 @@ std::string weightingName(Weighting w) {
   switch (w) {
     case Weighting::kPixel:
       return "pixel";
-    case Weighting::kScene:
-      return "scene";
+    case Weighting::kView:
+      return "view";
     case Weighting::kFlatA:
       return "flat-a";
   }
@@ -90,16 +90,16 @@ Weighting parseWeighting(const std::string& name) {
   for (Weighting w : kWeightings) {
     if (weightingName(w) == name) return w;
   }
-  throw Error("--weighting must be pixel, scene or flat-a, not '" + name + "'");
+  throw Error("--weighting must be pixel, view or flat-a, not '" + name + "'");
 }
 
 std::vector<double> pointWeights(const SweepData& data, Weighting weighting) {
   const std::size_t n = data.points();
   std::vector<double> w(n, 1.0);
-  if (weighting == Weighting::kScene) {
-    const double per_scene = static_cast<double>(n) / static_cast<double>(data.scenes.size());
+  if (weighting == Weighting::kView) {
+    const double per_view = static_cast<double>(n) / static_cast<double>(data.scenes.size());
     for (const SweepScene& s : data.scenes) {
-      const double value = per_scene / static_cast<double>(s.end - s.begin);
+      const double value = per_view / static_cast<double>(s.end - s.begin);
       std::fill(w.begin() + static_cast<std::ptrdiff_t>(s.begin),
                 w.begin() + static_cast<std::ptrdiff_t>(s.end), value);
     }

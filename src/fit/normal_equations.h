@@ -56,14 +56,14 @@ void accumulate(NormalEquations& sums, const double* w, const double* A,
 using LevelStatistics = std::array<NormalEquations, kLevels>;
 
 // Point weighting of the fit (docs/fit.md §1): every pixel equal (the paper's "combination of all
-// points"), every scene equal whatever its pixel count, or flat in A (each of kFlatABins equal
-// bins of the full estimate's A carries the same total weight).
-enum class Weighting { kPixel, kScene, kFlatA };
-inline constexpr std::array<Weighting, 3> kWeightings = {Weighting::kPixel, Weighting::kScene,
+// points"), every view (one image) equal whatever its pixel count, or flat in A (each of kFlatABins
+// equal bins of the full estimate's A carries the same total weight).
+enum class Weighting { kPixel, kView, kFlatA };
+inline constexpr std::array<Weighting, 3> kWeightings = {Weighting::kPixel, Weighting::kView,
                                                          Weighting::kFlatA};
 inline constexpr int kFlatABins = 20;  // bins of width 0.05 in A
 std::string weightingName(Weighting w);
-// Throws a one-line gtbake::Error for anything but pixel, scene, flat-a.
+// Throws a one-line gtbake::Error for anything but pixel, view, flat-a.
 Weighting parseWeighting(const std::string& name);
 
 // Per-point weights, mean 1 over the sweep (so Σ w = n and weighted RMSEs read like plain ones).

@@ -133,7 +133,7 @@ ValidateData validateDataOf(const FitAnalysis& a) {
   out.views.resize(a.data.scenes.size());
   tbb::parallel_for(std::size_t{0}, out.views.size(), [&](std::size_t v) {
     out.views[v] = viewSums(a.data, a.data.scenes[v]);
-    out.views[v].weight_share = a.scene_weights[v].share;
+    out.views[v].weight_share = a.view_weights[v].share;
     out.views[v].floor_rmse = a.floor.per_scene[v].floor;
   });
   return out;

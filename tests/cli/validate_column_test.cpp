@@ -138,7 +138,7 @@ TEST_F(Validate, BadOptionsAreOneLineErrors) {
        "either --sweep DIR"},
       {"validate --quiet", "either --sweep DIR"},
       {"validate --quiet --luts " + fitDir().string() + " --fail-above 0", "--fail-above"},
-      {"validate --quiet --luts " + fitDir().string() + " --weighting scene", "needs --sweep"},
+      {"validate --quiet --luts " + fitDir().string() + " --weighting view", "needs --sweep"},
       {"validate --quiet --luts " + fitDir().string() + " --json " +
            (fitDir() / "validate_data.json").string(),
        "--json"},

@@ -37,7 +37,7 @@ TEST(Weighting, SceneWeightingRemovesTheDominanceOfALargeScene) {
   const MultiBounceCoeffs equal = fitMultiBounce(base).linear.coeffs;
   const MultiBounceCoeffs pixel = fitMultiBounce(dominated).linear.coeffs;
   const MultiBounceCoeffs scene =
-      fitMultiBounce(dominated, weighted(Weighting::kScene)).linear.coeffs;
+      fitMultiBounce(dominated, weighted(Weighting::kView)).linear.coeffs;
   for (int i = 0; i < 6; ++i) EXPECT_NEAR(scene[i], equal[i], 1e-9 * std::abs(equal[i])) << i;
   // Pixel weighting: the big scene's law weighs 10/12 and the curve lies near it.
   const double pixel_to_big = maxCurveDifference(pixel, kOther).value;
