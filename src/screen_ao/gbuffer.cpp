@@ -63,8 +63,9 @@ SweepImage readImage(const SweepSet& set, const SweepView& view) {
     const std::vector<float>& v = exr.channels.at(std::string("BN") + "XYZ"[c]);
     for (std::size_t p = 0; p < pixels; ++p) image.truth.bent[3 * p + c] = v[p];
   }
-  for (const auto& [name, values] : exr.channels) {
-    if (name.rfind("A_R", 0) == 0) image.truth.a_at_radius[name] = values;
+  for (double radius : set.settings.gbuffer_radii) {  // the A_R channels sweep.json lists
+    const auto at = exr.channels.find(gbufferRadiusChannelName(radius));
+    if (at != exr.channels.end()) image.truth.a_at_radius[at->first] = at->second;
   }
   checkTruth(image, file);
   return image;
