@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -24,42 +23,41 @@ namespace {
 // |Σ ±d_s| ≥ |Σ d_s| counts with this relative slack (the observed pattern itself must count).
 constexpr double kTieSlack = 1e-12;
 
-// Patterns summed side by side: independent sums the CPU overlaps instead of one chain of
-// dependent additions per pattern.
-constexpr std::uint64_t kLanes = 8;
+// Scenes per partial-sum table: a pattern's byte of sign bits picks one of 256 precomputed sums.
+constexpr std::size_t kTableScenes = 8;
 
-// How many sign patterns in `patterns` give |Σ ±d| ≥ target; pattern k's sign of scene s is bit
-// s % 64 of `bits(k, s / 64)`. Each pattern's sum is summed in scene order, and the count is an
-// integer, so the result does not depend on how the patterns are split across threads or lanes.
+// signFlipCountAtLeast with pattern k's word w given by `bits(k, w)`. Each pattern's sum adds its
+// ⌈S/8⌉ table entries in byte order (a different rounding from adding scene by scene, far below
+// kTieSlack), and the count is an integer, so the result does not depend on how the patterns are
+// split across threads.
 template <typename Bits>
 std::uint64_t countAtLeast(const std::vector<double>& d, double target, std::uint64_t patterns,
                            Bits&& bits) {
-  std::vector<std::uint64_t> magnitude(d.size());
-  std::memcpy(magnitude.data(), d.data(), d.size() * sizeof(double));
-  const std::size_t words = (d.size() + 63) / 64;
+  const std::size_t S = d.size(), bytes = (S + kTableScenes - 1) / kTableScenes;
+  // table[b][i]: Σ ±d over the scenes of byte b, scene b·8 + j negated when bit j of i is set;
+  // bits past the last scene select nothing, so the last byte needs no mask.
+  std::vector<double> table(bytes * 256);
+  for (std::size_t b = 0; b < bytes; ++b) {
+    const std::size_t n = std::min(kTableScenes, S - b * kTableScenes);
+    for (std::size_t i = 0; i < 256; ++i) {
+      double sum = 0.0;
+      for (std::size_t j = 0; j < n; ++j) {
+        const double v = d[b * kTableScenes + j];
+        sum += (i >> j) & 1u ? -v : v;
+      }
+      table[b * 256 + i] = sum;
+    }
+  }
   return tbb::parallel_reduce(
-      tbb::blocked_range<std::uint64_t>(0, (patterns + kLanes - 1) / kLanes), std::uint64_t{0},
+      tbb::blocked_range<std::uint64_t>(0, patterns), std::uint64_t{0},
       [&](const tbb::blocked_range<std::uint64_t>& r, std::uint64_t hits) {
-        std::vector<std::uint64_t> b(kLanes * words);  // [lane][word]
-        for (std::uint64_t g = r.begin(); g != r.end(); ++g) {
-          const std::uint64_t first = g * kLanes, n = std::min(kLanes, patterns - first);
-          double sum[kLanes];
-          for (std::uint64_t p = 0; p < kLanes; ++p) {
-            for (std::size_t w = 0; w < words; ++w)
-              b[p * words + w] = p < n ? bits(first + p, w) : 0;
-            sum[p] = 0.0;
+        for (std::uint64_t k = r.begin(); k != r.end(); ++k) {
+          double sum = 0.0;
+          for (std::size_t b = 0; b < bytes; ++b) {
+            const std::uint64_t word = bits(k, b / 8);
+            sum += table[b * 256 + ((word >> (8 * (b % 8))) & 0xffu)];
           }
-          for (std::size_t s = 0; s < d.size(); ++s) {
-            const std::size_t w = s / 64, bit = s % 64;
-            for (std::uint64_t p = 0; p < kLanes; ++p) {
-              // −d_s by its sign bit (exact, like the negation), without a branch on random bits.
-              const std::uint64_t v = magnitude[s] ^ (((b[p * words + w] >> bit) & 1u) << 63);
-              double x;
-              std::memcpy(&x, &v, sizeof x);
-              sum[p] += x;
-            }
-          }
-          for (std::uint64_t p = 0; p < n; ++p) hits += std::abs(sum[p]) >= target ? 1 : 0;
+          hits += std::abs(sum) >= target ? 1 : 0;
         }
         return hits;
       },
@@ -94,6 +92,16 @@ std::string pText(double p) {
 
 }  // namespace
 
+std::uint64_t signFlipCountAtLeast(const std::vector<double>& d, double target,
+                                   const std::uint64_t* drawn, std::uint64_t patterns) {
+  if (drawn == nullptr) {
+    return countAtLeast(d, target, patterns, [](std::uint64_t k, std::size_t) { return k; });
+  }
+  const std::size_t words = (d.size() + 63) / 64;
+  return countAtLeast(d, target, patterns,
+                      [&](std::uint64_t k, std::size_t w) { return drawn[k * words + w]; });
+}
+
 PairedTest pairedSignFlip(const std::vector<double>& x, const std::vector<double>& y) {
   if (x.size() != y.size()) throw Error("paired test: the two methods have different scenes");
   if (x.size() < 2) throw Error("paired test: needs at least 2 scenes");
@@ -117,15 +125,11 @@ PairedTest pairedSignFlip(const std::vector<double>& x, const std::vector<double
   const double target = std::abs(sum) - kTieSlack * scale;
   if (S <= kExactSignFlipScenes) {
     const std::uint64_t patterns = std::uint64_t{1} << S;
-    out.p_value = static_cast<double>(countAtLeast(
-                      d, target, patterns, [](std::uint64_t k, std::size_t) { return k; })) /
+    out.p_value = static_cast<double>(signFlipCountAtLeast(d, target, nullptr, patterns)) /
                   static_cast<double>(patterns);
   } else {
-    const std::vector<std::uint64_t>& drawn = drawnPatterns(S);
-    const std::size_t words = (S + 63) / 64;
     const std::uint64_t hits =
-        countAtLeast(d, target, kSignFlipDraws,
-                     [&](std::uint64_t k, std::size_t w) { return drawn[k * words + w]; });
+        signFlipCountAtLeast(d, target, drawnPatterns(S).data(), kSignFlipDraws);
     out.p_value = (static_cast<double>(hits) + 1.0) / (static_cast<double>(kSignFlipDraws) + 1.0);
   }
   out.significant = out.p_value < kSignificance;

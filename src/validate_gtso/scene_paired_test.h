@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,14 @@ struct PairedTest {
   double p_value = 1.0;
   bool significant = false;  // p < kSignificance
 };
+
+// How many of `patterns` sign patterns give |Σ_s ±d_s| ≥ target, scene s negated when bit s % 64
+// of the pattern's word s / 64 is set (bits at or past S = d.size() are ignored). Pattern k is the
+// bits of k itself when `drawn` is null (the exact enumeration, S ≤ 64), else the (S + 63) / 64
+// words at drawn[k · words]. The sum may differ from a scene-by-scene sum in its last bits, which
+// the caller's target slack covers.
+std::uint64_t signFlipCountAtLeast(const std::vector<double>& d, double target,
+                                   const std::uint64_t* drawn, std::uint64_t patterns);
 
 // Throws gtbake::Error when x and y differ in length or have fewer than 2 or more than
 // kMaxPairedScenes scenes.
