@@ -43,31 +43,6 @@ std::vector<Bins> binsOf(const std::vector<SpecularSample>& samples,
   return out;
 }
 
-// Sums and counts of the truth per (cluster, cell), and their totals over clusters.
-struct CellMeans {
-  std::vector<std::vector<double>> sum;  // [cluster][cell]
-  std::vector<std::vector<double>> n;
-  std::vector<double> total_sum, total_n;
-  CellMeans(std::size_t clusters, std::size_t cells)
-      : sum(clusters, std::vector<double>(cells, 0.0)),
-        n(clusters, std::vector<double>(cells, 0.0)),
-        total_sum(cells, 0.0),
-        total_n(cells, 0.0) {}
-  void add(std::size_t c, std::size_t cell, double truth) {
-    sum[c][cell] += truth;
-    n[c][cell] += 1.0;
-    total_sum[cell] += truth;
-    total_n[cell] += 1.0;
-  }
-  // The mean over clusters other than c; false when they have no sample in the cell.
-  bool heldOut(std::size_t c, std::size_t cell, double* mean) const {
-    const double count = total_n[cell] - n[c][cell];
-    if (count <= 0.0) return false;
-    *mean = (total_sum[cell] - sum[c][cell]) / count;
-    return true;
-  }
-};
-
 std::size_t cellOf(const std::array<std::vector<int>, kInputs>& b, std::size_t k, int bins,
                    int divisor) {
   std::size_t cell = 0;
@@ -75,6 +50,32 @@ std::size_t cellOf(const std::array<std::vector<int>, kInputs>& b, std::size_t k
   for (int f = 0; f < kInputs; ++f) cell = cell * per + static_cast<std::size_t>(b[f][k] / divisor);
   return cell;
 }
+
+// Sums and counts of the truth per cell over every cluster, and over the one cluster being held
+// out; `heldOut` is the mean over the other clusters. The held-out cluster's sums are gathered
+// one cluster at a time in sample order (the order of one array per cluster, so the same sums)
+// and cleared after, so memory is a few arrays of cells rather than clusters × cells.
+struct CellMeans {
+  std::vector<double> total_sum, total_n, own_sum, own_n;
+  explicit CellMeans(std::size_t cells)
+      : total_sum(cells, 0.0), total_n(cells, 0.0), own_sum(cells, 0.0), own_n(cells, 0.0) {}
+  void addTotal(std::size_t cell, double truth) {
+    total_sum[cell] += truth;
+    total_n[cell] += 1.0;
+  }
+  void addOwn(std::size_t cell, double truth) {
+    own_sum[cell] += truth;
+    own_n[cell] += 1.0;
+  }
+  void clearOwn(std::size_t cell) { own_sum[cell] = own_n[cell] = 0.0; }
+  // The mean over the other clusters; false when they have no sample in the cell.
+  bool heldOut(std::size_t cell, double* mean) const {
+    const double count = total_n[cell] - own_n[cell];
+    if (count <= 0.0) return false;
+    *mean = (total_sum[cell] - own_sum[cell]) / count;
+    return true;
+  }
+};
 
 // heldOutSquaredErrors with the samples' bins given.
 std::vector<double> heldOutSquaredErrors(const std::vector<SpecularSample>& samples,
@@ -86,29 +87,45 @@ std::vector<double> heldOutSquaredErrors(const std::vector<SpecularSample>& samp
     fine *= static_cast<std::size_t>(bins);
     coarse *= static_cast<std::size_t>((bins + 1) / 2);
   }
-  CellMeans fine_means(clusters, fine), coarse_means(clusters, coarse), all(clusters, 1);
-  const auto clusterOf = [&](std::size_t k) {
-    return static_cast<std::size_t>(cluster_of[static_cast<std::size_t>(samples[index[k]].scene)]);
-  };
+  CellMeans fine_means(fine), coarse_means(coarse), all(1);
   const auto baseAt = [&](std::size_t k) {
     return base.empty() ? 0.0 : static_cast<double>(base[index[k]]);
   };
+  // Each sample's truth less the base, its cells, and the samples of each cluster in order.
+  std::vector<double> truth(index.size());
+  std::vector<std::size_t> fine_cell(index.size()), coarse_cell(index.size());
+  std::vector<std::vector<std::size_t>> members(clusters);
   for (std::size_t k = 0; k < index.size(); ++k) {
-    const double truth = samples[index[k]].truth - baseAt(k);
-    fine_means.add(clusterOf(k), cellOf(b, k, bins, 1), truth);
-    coarse_means.add(clusterOf(k), cellOf(b, k, bins, 2), truth);
-    all.add(clusterOf(k), 0, truth);
+    truth[k] = samples[index[k]].truth - baseAt(k);
+    fine_cell[k] = cellOf(b, k, bins, 1);
+    coarse_cell[k] = cellOf(b, k, bins, 2);
+    members[static_cast<std::size_t>(cluster_of[static_cast<std::size_t>(samples[index[k]].scene)])]
+        .push_back(k);
+    fine_means.addTotal(fine_cell[k], truth[k]);
+    coarse_means.addTotal(coarse_cell[k], truth[k]);
+    all.addTotal(0, truth[k]);
   }
   std::vector<double> out(index.size());
-  for (std::size_t k = 0; k < index.size(); ++k) {
-    const std::size_t c = clusterOf(k);
-    double prediction = 0.0;
-    if (!fine_means.heldOut(c, cellOf(b, k, bins, 1), &prediction) &&
-        !coarse_means.heldOut(c, cellOf(b, k, bins, 2), &prediction)) {
-      all.heldOut(c, 0, &prediction);
+  for (const std::vector<std::size_t>& own : members) {
+    for (std::size_t k : own) {
+      fine_means.addOwn(fine_cell[k], truth[k]);
+      coarse_means.addOwn(coarse_cell[k], truth[k]);
+      all.addOwn(0, truth[k]);
     }
-    const double e = prediction + baseAt(k) - samples[index[k]].truth;
-    out[k] = e * e;
+    for (std::size_t k : own) {
+      double prediction = 0.0;
+      if (!fine_means.heldOut(fine_cell[k], &prediction) &&
+          !coarse_means.heldOut(coarse_cell[k], &prediction)) {
+        all.heldOut(0, &prediction);
+      }
+      const double e = prediction + baseAt(k) - samples[index[k]].truth;
+      out[k] = e * e;
+    }
+    for (std::size_t k : own) {
+      fine_means.clearOwn(fine_cell[k]);
+      coarse_means.clearOwn(coarse_cell[k]);
+    }
+    all.clearOwn(0);
   }
   return out;
 }
