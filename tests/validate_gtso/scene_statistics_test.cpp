@@ -4,7 +4,10 @@
 // that is pure noise), and the out-of-plane table leaving open pixels out.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <random>
 
 #include "common/error.h"
@@ -97,6 +100,55 @@ TEST(PairedSignFlip, ManyScenesUseEveryScenesSign) {
                Error);
 }
 
+// The count from byte tables of partial sums equals a direct scene-by-scene count of |Σ ±d| ≥
+// target, pattern by pattern: exact enumeration (S ≤ 20) and drawn words whose bits past S are
+// random (S not a multiple of 8, and S > 64 on two or three words). Targets are the test's own
+// (|Σ d| less the slack) and a drawn pattern's |sum| less the slack, and the d include values on
+// a 0.1 grid, where many patterns tie with the target in exact arithmetic but not in rounding.
+TEST(PairedSignFlip, TableCountEqualsSceneBySceneCount) {
+  std::mt19937_64 gen(31);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::uniform_int_distribution<int> small(-4, 4);
+  const auto direct = [](const std::vector<double>& d, double target,
+                         const std::vector<std::uint64_t>& words, std::uint64_t k) {
+    const std::size_t n = (d.size() + 63) / 64;
+    double sum = 0.0;
+    for (std::size_t s = 0; s < d.size(); ++s) {
+      const std::uint64_t w = words.empty() ? k : words[k * n + s / 64];
+      sum += (w >> (s % 64)) & 1u ? -d[s] : d[s];
+    }
+    return std::abs(sum) >= target;
+  };
+  for (const std::size_t S : {2, 7, 13, 16, 20, 21, 24, 37, 64, 65, 72, 150}) {
+    const bool exact = S <= kExactSignFlipScenes;
+    const std::uint64_t patterns = exact ? std::uint64_t{1} << S : 4096;
+    std::vector<std::uint64_t> words(exact ? 0 : patterns * ((S + 63) / 64));
+    for (std::uint64_t& w : words) w = gen();
+    for (int trial = 0; trial < (S >= 16 && exact ? 2 : 12); ++trial) {
+      std::vector<double> d(S);
+      for (double& v : d) {
+        v = trial % 3 == 0 ? 0.1 * small(gen) : 1e-3 * (normal(gen) + 0.3 * (trial % 2));
+      }
+      double sum = 0.0, scale = 0.0;
+      for (double v : d) sum += v, scale += std::abs(v);
+      const std::uint64_t probe = gen() % patterns;
+      double probe_sum = 0.0;
+      for (std::size_t s = 0; s < S; ++s) {
+        const std::uint64_t w = exact ? probe : words[probe * ((S + 63) / 64) + s / 64];
+        probe_sum += (w >> (s % 64)) & 1u ? -d[s] : d[s];
+      }
+      for (const double target :
+           {std::abs(sum) - 1e-12 * scale, std::abs(probe_sum) - 1e-12 * scale}) {
+        std::uint64_t expected = 0;
+        for (std::uint64_t k = 0; k < patterns; ++k) expected += direct(d, target, words, k);
+        EXPECT_EQ(signFlipCountAtLeast(d, target, exact ? nullptr : words.data(), patterns),
+                  expected)
+            << "S = " << S << ", trial " << trial;
+      }
+    }
+  }
+}
+
 TEST(PairedSignFlip, RankingStatementFollowsTheTests) {
   // A beats C on every scene (p = 2/128); B is best pooled and ties A (mixed signs).
   const std::vector<std::vector<double>> per_scene = {
@@ -185,6 +237,80 @@ TEST(SoFloor, KnownFunctionOfTheInputsAndPureNoise) {
     const SoFloor floor = soFloor(samples, {0, 1, 2, 3}, 4, 1);
     EXPECT_NEAR(floor.rmse[0], 0.05, 0.005) << structured << " bins " << floor.bins;
     EXPECT_GE(floor.rmse[0], 0.049) << structured;
+  }
+}
+
+// heldOutSquaredErrors against a direct leave-one-cluster-out: each sample's equal-count bins
+// computed from the sorted inputs, and its prediction the mean truth less base of the other
+// clusters' samples in its cell (else its half-bins cell, else every other cluster's sample),
+// averaged sample by sample. Clusters map several scenes, out of scene order; the index skips
+// samples; few samples per cell leave some fine and coarse cells empty for a cluster.
+TEST(SoFloor, HeldOutErrorsMatchADirectLeaveOneClusterOut) {
+  std::mt19937 gen(21);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<SpecularSample> samples;
+  std::vector<float> base;
+  for (int k = 0; k < 900; ++k) {
+    SpecularSample s = sample(k % 7, 0, unit(gen), kPi * unit(gen), unit(gen), unit(gen));
+    s.truth = static_cast<float>(unit(gen));
+    samples.push_back(s);
+    base.push_back(static_cast<float>(0.5 * unit(gen)));
+  }
+  const std::vector<int> cluster_of = {2, 0, 1, 2, 0, 1, 2};
+  std::vector<std::size_t> index;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (i % 5 != 3) index.push_back(i);
+  }
+  const auto input = [&](std::size_t i, int f) {
+    const SpecularSample& s = samples[i];
+    const double v[4] = {s.A, s.n_dot_b, s.cos_beta, s.n_dot_v};
+    return v[f];
+  };
+  for (const int bins : {3, 4, 6}) {
+    for (const bool with_base : {false, true}) {
+      // bin[k][f] of index[k]: how many of the bins − 1 equal-count edges are at or below it.
+      std::vector<std::array<int, 4>> bin(index.size());
+      for (int f = 0; f < 4; ++f) {
+        std::vector<double> sorted;
+        for (std::size_t i : index) sorted.push_back(input(i, f));
+        std::sort(sorted.begin(), sorted.end());
+        for (std::size_t k = 0; k < index.size(); ++k) {
+          bin[k][f] = 0;
+          for (int e = 1; e < bins; ++e)
+            bin[k][f] += sorted[sorted.size() * e / bins] <= input(index[k], f);
+        }
+      }
+      const auto same = [&](std::size_t a, std::size_t k, int divisor) {
+        for (int f = 0; f < 4; ++f) {
+          if (bin[a][f] / divisor != bin[k][f] / divisor) return false;
+        }
+        return true;
+      };
+      const std::vector<double> e2 = heldOutSquaredErrors(samples, index, cluster_of, 3, bins,
+                                                          with_base ? base : std::vector<float>{});
+      ASSERT_EQ(e2.size(), index.size());
+      for (std::size_t k = 0; k < index.size(); ++k) {
+        const int own = cluster_of[samples[index[k]].scene];
+        const double b = with_base ? base[index[k]] : 0.0;
+        double prediction = 0.0;
+        for (const int divisor : {1, 2, 0}) {
+          double sum = 0.0, n = 0.0;
+          for (std::size_t a = 0; a < index.size(); ++a) {
+            if (cluster_of[samples[index[a]].scene] == own) continue;
+            if (divisor > 0 && !same(a, k, divisor)) continue;
+            sum += static_cast<double>(samples[index[a]].truth) -
+                   (with_base ? static_cast<double>(base[index[a]]) : 0.0);
+            n += 1.0;
+          }
+          if (n > 0.0) {
+            prediction = sum / n;
+            break;
+          }
+        }
+        const double e = prediction + b - samples[index[k]].truth;
+        EXPECT_NEAR(e2[k], e * e, 1e-12) << "bins " << bins << ", base " << with_base << ", " << k;
+      }
+    }
   }
 }
 
