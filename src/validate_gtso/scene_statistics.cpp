@@ -18,40 +18,35 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-// Per cluster RMSE of each method at roughness j: [method index in `methods`][cluster].
-std::vector<std::vector<double>> clusterRmse(const std::vector<SpecularSample>& samples,
-                                             const std::vector<std::vector<float>>& values,
-                                             const std::vector<Method>& methods,
-                                             const std::vector<int>& cluster_of,
-                                             std::size_t clusters, int j) {
+// Per cluster and pooled RMSE of each method over one roughness's samples `index` (in sample
+// order): cluster[method index in `methods`][cluster] and pooled[method index]. One pass over
+// just those samples for both.
+struct RoughnessRmse {
+  std::vector<std::vector<double>> cluster;
+  std::vector<double> pooled;
+};
+
+RoughnessRmse roughnessRmse(const std::vector<SpecularSample>& samples,
+                            const std::vector<std::vector<float>>& values,
+                            const std::vector<Method>& methods, const std::vector<int>& cluster_of,
+                            std::size_t clusters, const std::vector<std::size_t>& index) {
   std::vector<std::vector<ErrorStats>> e(methods.size(), std::vector<ErrorStats>(clusters));
-  for (std::size_t i = 0; i < samples.size(); ++i) {
+  std::vector<ErrorStats> pooled(methods.size());
+  for (std::size_t i : index) {
     const SpecularSample& s = samples[i];
-    if (s.roughness != j) continue;
     const auto c = static_cast<std::size_t>(cluster_of[static_cast<std::size_t>(s.scene)]);
     for (std::size_t m = 0; m < methods.size(); ++m) {
-      e[m][c].add(values[static_cast<int>(methods[m])][i] - s.truth, s.noise_var);
+      const float v = values[static_cast<int>(methods[m])][i];
+      e[m][c].add(v - s.truth, s.noise_var);
+      pooled[m].add(v - s.truth, 0.0);
     }
   }
-  std::vector<std::vector<double>> out(methods.size());
+  RoughnessRmse out;
+  out.cluster.resize(methods.size());
   for (std::size_t m = 0; m < methods.size(); ++m) {
-    for (const ErrorStats& x : e[m]) out[m].push_back(x.rmse());
+    for (const ErrorStats& x : e[m]) out.cluster[m].push_back(x.rmse());
+    out.pooled.push_back(pooled[m].rmse());
   }
-  return out;
-}
-
-std::vector<double> pooledRmse(const std::vector<SpecularSample>& samples,
-                               const std::vector<std::vector<float>>& values,
-                               const std::vector<Method>& methods, int j) {
-  std::vector<ErrorStats> e(methods.size());
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    if (samples[i].roughness != j) continue;
-    for (std::size_t m = 0; m < methods.size(); ++m) {
-      e[m].add(values[static_cast<int>(methods[m])][i] - samples[i].truth, 0.0);
-    }
-  }
-  std::vector<double> out;
-  for (const ErrorStats& x : e) out.push_back(x.rmse());
   return out;
 }
 
@@ -159,11 +154,14 @@ std::vector<RankingTest> rankingTests(const SpecularSweep& sweep,
   std::vector<std::string> names;
   for (Method m : methods) names.push_back(methodName(m));
   return parts.run("scene-level ranking tests", R, [&](Progress& bar) {
+    std::vector<std::vector<std::size_t>> index(R);
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      index[static_cast<std::size_t>(samples[i].roughness)].push_back(i);
+    }
     std::vector<RankingTest> ranking(R);
     tbb::parallel_for(std::size_t{0}, R, [&](std::size_t j) {
-      const int jj = static_cast<int>(j);
-      ranking[j] = rankingTest(names, clusterRmse(samples, values, methods, cluster_of, S, jj),
-                               pooledRmse(samples, values, methods, jj));
+      const RoughnessRmse rmse = roughnessRmse(samples, values, methods, cluster_of, S, index[j]);
+      ranking[j] = rankingTest(names, rmse.cluster, rmse.pooled);
       bar.add(1);
     });
     return ranking;
