@@ -31,10 +31,24 @@ struct DirectionTerms {
   Eigen::Vector3d bent = Eigen::Vector3d::Zero();
 };
 
+// The slice angle ψ (with its sine and cosine) of each base direction φ_k = step·(k + ½), the
+// same for every pixel of a run: ψ = φ on side 1 (φ < π), φ − π on side 0.
+std::vector<Angle> baseSliceAngles(const GtaoReferenceSettings& s) {
+  const int count = 2 * s.slices;
+  const double step = 2.0 * kPi / count;
+  std::vector<Angle> out(count);
+  for (int k = 0; k < count; ++k) {
+    const double phi = step * (k + 0.5);
+    out[k] = angleOf(phi < kPi ? phi : phi - kPi);
+  }
+  return out;
+}
+
 class ReferencePixel {
  public:
-  ReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSettings& s)
-      : g_(g), i_(i), j_(j), s_(s) {
+  ReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSettings& s,
+                 const std::vector<Angle>& base_psi)
+      : g_(g), i_(i), j_(j), s_(s), base_psi_(base_psi) {
     const PixelFrame f = pixelFrame(g, static_cast<std::size_t>(j) * g.width + i);
     x_ = f.x;
     v_ = f.v;
@@ -47,7 +61,7 @@ class ReferencePixel {
     const int count = 2 * s_.slices;
     const double step = 2.0 * kPi / count;
     std::vector<DirectionTerms> base(count);
-    for (int k = 0; k < count; ++k) base[k] = at(step * (k + 0.5));
+    for (int k = 0; k < count; ++k) base[k] = at(step * (k + 0.5), base_psi_[k]);
     DirectionTerms sum;
     for (int k = 0; k < count; ++k) {
       refine(step * (k + 0.5), step, base[k], base[(k + 1) % count], s_.refine_levels, &sum);
@@ -57,9 +71,11 @@ class ReferencePixel {
 
  private:
   // Direction φ: side 1 of the slice at ψ = φ for φ < π, side 0 of the slice at ψ = φ − π.
-  DirectionTerms at(double phi) const {
+  DirectionTerms at(double phi) const { return at(phi, angleOf(phi < kPi ? phi : phi - kPi)); }
+  // The same with ψ and its sine and cosine given.
+  DirectionTerms at(double phi, const Angle& psi) const {
     const int side = phi < kPi ? 1 : 0;
-    const Slice slice = makeViewSlice(g_, x_, v_, normal_, side == 1 ? phi : phi - kPi);
+    const Slice slice = makeViewSlice(g_, x_, v_, normal_, psi);
     // The hemisphere's end, cos(n ∓ π/2): horizonOf clamps any lower horizon to it.
     const double floor_cos = side == 0 ? slice.sin_n : -slice.sin_n;
     const Angle h = horizonOf(
@@ -87,22 +103,34 @@ class ReferencePixel {
   const GBuffer& g_;
   int i_, j_;
   const GtaoReferenceSettings& s_;
+  const std::vector<Angle>& base_psi_;
   Eigen::Vector3d x_, v_, normal_;
 };
 
 }  // namespace
 
-void gtaoReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSettings& s, double* a,
-                        Eigen::Vector3d* bent) {
-  const DirectionTerms sum = ReferencePixel(g, i, j, s).integrate();
+namespace {
+
+// One pixel with the run's base slice angles (baseSliceAngles(s)).
+void referencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSettings& s,
+                    const std::vector<Angle>& base_psi, double* a, Eigen::Vector3d* bent) {
+  const DirectionTerms sum = ReferencePixel(g, i, j, s, base_psi).integrate();
   *a = sum.visibility / kPi;  // A = (1/π) ∫_0^π |N'| â dψ = (1/π) ∫_0^2π (one side's term) dφ
   *bent = sum.bent;
 }
 
+}  // namespace
+
+void gtaoReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSettings& s, double* a,
+                        Eigen::Vector3d* bent) {
+  referencePixel(g, i, j, s, baseSliceAngles(s), a, bent);
+}
+
 AoEstimate gtaoReference(const GBuffer& g, const GtaoReferenceSettings& s) {
   validate(s);
+  const std::vector<Angle> base_psi = baseSliceAngles(s);
   return estimatePerPixel(g, [&](int i, int j, std::size_t, double* a, Eigen::Vector3d* bent) {
-    gtaoReferencePixel(g, i, j, s, a, bent);
+    referencePixel(g, i, j, s, base_psi, a, bent);
   });
 }
 
@@ -118,6 +146,8 @@ ReferenceConvergence referenceConvergence(const std::vector<const GBuffer*>& ima
   c.doubled.slices *= 2;
   c.doubled.refine_tolerance *= 0.5;
   c.doubled.refine_levels += 1;
+  const std::vector<Angle> base_psi = baseSliceAngles(c.settings);
+  const std::vector<Angle> doubled_psi = baseSliceAngles(c.doubled);
   double sum = 0.0;
   for (const GBuffer* g : images) {
     const int rows = (g->height + kConvergenceStride - 1) / kConvergenceStride;
@@ -131,8 +161,8 @@ ReferenceConvergence referenceConvergence(const std::vector<const GBuffer*>& ima
         double a = 0.0;
         double b = 0.0;
         Eigen::Vector3d bent;
-        gtaoReferencePixel(*g, i, j, c.settings, &a, &bent);
-        gtaoReferencePixel(*g, i, j, c.doubled, &b, &bent);
+        referencePixel(*g, i, j, c.settings, base_psi, &a, &bent);
+        referencePixel(*g, i, j, c.doubled, doubled_psi, &b, &bent);
         change[static_cast<std::size_t>(r) * columns + q] = std::abs(b - a);
       }
     });

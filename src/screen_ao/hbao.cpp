@@ -60,7 +60,7 @@ void hbaoPixel(const GBuffer& g, int i, int j, std::size_t p, const HbaoSettings
     occlusion += (sin_h - sin_t) * std::max(0.0, 1.0 - r / s.radius);
     // Bent normal: the half slice towards ω, from V (θ = 0) to its horizon, whose angle from V has
     // cos θ = sin h (h is an elevation above the plane ⊥ V).
-    const Slice slice = makeSlice(v, normal, theta);
+    const Slice slice = makeSlice(v, normal, omega);
     double t0 = 0.0;
     double t1 = 0.0;
     addBentSide(horizonOf(sin_h, 1, slice), slice.sin_n, slice.cos_n, &t0, &t1);

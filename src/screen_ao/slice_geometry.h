@@ -55,9 +55,9 @@ inline Slice sliceThrough(const Eigen::Vector3d& v, const Eigen::Vector3d& o,
 }
 
 // The slice of image-plane angle φ (HBAO's parametrisation: uniform in the image, so not uniform
-// about V away from the image centre).
-inline Slice makeSlice(const Eigen::Vector3d& v, const Eigen::Vector3d& normal, double phi) {
-  const Eigen::Vector2d omega(std::cos(phi), std::sin(phi));
+// about V away from the image centre), given by omega = (cos φ, sin φ).
+inline Slice makeSlice(const Eigen::Vector3d& v, const Eigen::Vector3d& normal,
+                       const Eigen::Vector2d& omega) {
   const Eigen::Vector3d d(omega.x(), omega.y(), 0.0);
   return sliceThrough(v, (d - d.dot(v) * v).normalized(), normal, omega);
 }
@@ -73,11 +73,17 @@ inline Slice sliceAlong(const GBuffer& g, const Eigen::Vector3d& x, const Eigen:
   return sliceThrough(v, o, normal, omega);
 }
 
+// The same for ψ given with its sine and cosine (angleOf(ψ)): a loop over pixels whose angles ψ
+// are the same for every pixel takes them from a table made once.
 inline Slice makeViewSlice(const GBuffer& g, const Eigen::Vector3d& x, const Eigen::Vector3d& v,
-                           const Eigen::Vector3d& normal, double psi) {
+                           const Eigen::Vector3d& normal, const Angle& psi) {
   const Eigen::Vector3d e1 = (Eigen::Vector3d::UnitX() - v.x() * v).normalized();
   const Eigen::Vector3d e2 = v.cross(e1);
-  return sliceAlong(g, x, v, normal, std::cos(psi) * e1 + std::sin(psi) * e2);
+  return sliceAlong(g, x, v, normal, psi.c * e1 + psi.s * e2);
+}
+inline Slice makeViewSlice(const GBuffer& g, const Eigen::Vector3d& x, const Eigen::Vector3d& v,
+                           const Eigen::Vector3d& normal, double psi) {
+  return makeViewSlice(g, x, v, normal, angleOf(psi));
 }
 
 // The tangent vector of image angle φ rotated to be orthogonal to V: the least rotation taking

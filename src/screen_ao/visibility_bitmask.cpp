@@ -26,16 +26,31 @@ constexpr double kEndMargin = 1e-6;
 // Sector weightings one pass can serve: uniform and cosine.
 constexpr std::size_t kMaxSectorMaps = 2;
 
+// What every sector map of one slice shares: n with its sine and cosine and, for cosine sectors,
+// the cosine-weighted mass below V (θ ∈ [n − π/2, 0]) and of the whole open hemisphere. One
+// slice's maps compute these once (uniform sectors read neither mass, so without a cosine map
+// they are left 0 and their trigonometry skipped).
+struct SliceHemisphere {
+  SliceHemisphere(double n, bool with_mass) : n(n), sin_n(std::sin(n)), cos_n(std::cos(n)) {
+    if (!with_mass) return;
+    below = arcIntegral(angleOf(n - 0.5 * kPi), sin_n, cos_n);  // = arcIntegral(n − π/2, n)
+    open = below + arcIntegral(angleOf(n + 0.5 * kPi), sin_n, cos_n);
+  }
+  double n, sin_n, cos_n;
+  double below = 0.0;
+  double open = 0.0;
+};
+
 // The map between slice angles and sector coordinates of one slice (n fixed).
 class SectorMap {
  public:
-  SectorMap(double n, SectorWeights weights)
-      : n_(n),
-        sin_n_(std::sin(n)),
-        cos_n_(std::cos(n)),
+  SectorMap(const SliceHemisphere& h, SectorWeights weights)
+      : n_(h.n),
+        sin_n_(h.sin_n),
+        cos_n_(h.cos_n),
         weights_(weights),
-        below_(arcIntegral(n - 0.5 * kPi, n)),
-        open_(below_ + arcIntegral(n + 0.5 * kPi, n)) {}
+        below_(h.below),
+        open_(h.open) {}
   double coordinate(double theta) const { return coordinate(angleOf(theta)); }
   // The same for an angle with its sine and cosine (clamped to the hemisphere, where
   // sin(n ∓ π/2) = ∓cos n and cos(n ∓ π/2) = ±sin n).
@@ -109,7 +124,7 @@ Angle sliceAngle(double c, double sign) {
 // side's hemisphere end (farPastEnd, which does not depend on the map: further than any rounding
 // of it), every thicker slab's back angle is past it too and clamps to the same end coordinate,
 // which is reused; the same bits as computing each.
-void sampleBits(const std::vector<SectorMap>& maps, const Eigen::Vector3d& front,
+void sampleBits(const SectorMap* maps, std::size_t map_count, const Eigen::Vector3d& front,
                 const Eigen::Vector3d& v, const double* u_front, double sign,
                 const std::vector<double>& thicknesses, std::uint32_t* bits) {
   const std::size_t T = thicknesses.size();
@@ -125,7 +140,7 @@ void sampleBits(const std::vector<SectorMap>& maps, const Eigen::Vector3d& front
       past = maps[0].farPastEnd(theta.a, sign);
       if (past) clamped_from = thicknesses[k];
     }
-    for (std::size_t m = 0; m < maps.size(); ++m) {
+    for (std::size_t m = 0; m < map_count; ++m) {
       const double u_back = clamped ? u_end[m] : maps[m].coordinate(theta);
       if (past) u_end[m] = u_back;
       bits[m * T + k] |= sectorBits(u_front[m], u_back);
@@ -137,10 +152,10 @@ void sampleBits(const std::vector<SectorMap>& maps, const Eigen::Vector3d& front
 // k] for maps[m] at thicknesses[k]): the samples and their front angles are shared, each
 // thickness adds its own back angles and each map its own coordinates of them.
 void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const Eigen::Vector3d& v,
-               const Slice& slice, const std::vector<SectorMap>& maps, double radius_px,
+               const Slice& slice, const SectorMap* maps, std::size_t map_count, double radius_px,
                double reach, const BitmaskSettings& s, const std::vector<double>& thicknesses,
                std::uint32_t* bits) {
-  std::fill(bits, bits + maps.size() * thicknesses.size(), 0u);
+  std::fill(bits, bits + map_count * thicknesses.size(), 0u);
   std::array<double, kMaxSectorMaps> u_front{};
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
@@ -155,8 +170,8 @@ void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const E
       const double length = front.norm();
       if (length > s.radius || !(length > 0.0)) continue;
       const Angle theta = sliceAngle(front.dot(v) / length, sign);
-      for (std::size_t m = 0; m < maps.size(); ++m) u_front[m] = maps[m].coordinate(theta);
-      sampleBits(maps, front, v, u_front.data(), sign, thicknesses, bits);
+      for (std::size_t m = 0; m < map_count; ++m) u_front[m] = maps[m].coordinate(theta);
+      sampleBits(maps, map_count, front, v, u_front.data(), sign, thicknesses, bits);
     }
   }
 }
@@ -185,25 +200,35 @@ void addSlice(std::uint32_t bits, const Slice& slice, const SectorMap& map,
   }
 }
 
+// The slice angles ψ_k = π(k + ½)/slices with their sines and cosines, the same for every pixel.
+std::vector<Angle> sliceAngles(const BitmaskSettings& s) {
+  std::vector<Angle> out(s.slices);
+  for (int k = 0; k < s.slices; ++k) out[k] = angleOf(kPi * (k + 0.5) / s.slices);
+  return out;
+}
+
 // Pixel p for each sector weighting and thickness: Â and the view-space bent normal into
-// a[w·T + k], bent[w·T + k] for weights[w] at thicknesses[k] (Â alone when bent is null).
+// a[w·T + k], bent[w·T + k] for weights[w] at thicknesses[k] (Â alone when bent is null). psi is
+// sliceAngles(s); bits holds weights.size()·T words of scratch.
 void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSettings& s,
-                  const std::vector<SectorWeights>& weights, const std::vector<double>& thicknesses,
-                  double* a, Eigen::Vector3d* bent) {
+                  const std::vector<Angle>& psi, const std::vector<SectorWeights>& weights,
+                  const std::vector<double>& thicknesses, std::uint32_t* bits, double* a,
+                  Eigen::Vector3d* bent) {
   const auto [x, v, normal] = pixelFrame(g, p);
   const double radius_px = s.radius * g.pixelsPerMetre(g.depth[p]);
   const std::size_t T = thicknesses.size();
   const std::size_t n = weights.size() * T;
-  std::vector<std::uint32_t> bits(n);
-  std::vector<SectorMap> maps;
-  maps.reserve(weights.size());
+  const bool with_mass =
+      std::find(weights.begin(), weights.end(), SectorWeights::kCosine) != weights.end();
   std::fill(a, a + n, 0.0);
   if (bent != nullptr) std::fill(bent, bent + n, Eigen::Vector3d::Zero());
   for (int k = 0; k < s.slices; ++k) {
-    const Slice slice = makeViewSlice(g, x, v, normal, kPi * (k + 0.5) / s.slices);
-    maps.clear();
-    for (SectorWeights w : weights) maps.emplace_back(slice.n, w);
-    sliceBits(g, i, j, x, v, slice, maps, radius_px, slabReach(g), s, thicknesses, bits.data());
+    const Slice slice = makeViewSlice(g, x, v, normal, psi[k]);
+    const SliceHemisphere hemisphere(slice.n, with_mass);
+    const std::array<SectorMap, kMaxSectorMaps> maps = {SectorMap(hemisphere, weights.front()),
+                                                        SectorMap(hemisphere, weights.back())};
+    sliceBits(g, i, j, x, v, slice, maps.data(), weights.size(), radius_px, slabReach(g), s,
+              thicknesses, bits);
     for (std::size_t t = 0; t < n; ++t) {
       addSlice(bits[t], slice, maps[t / T], v, weights[t / T], &a[t],
                bent == nullptr ? nullptr : &bent[t]);
@@ -215,7 +240,8 @@ void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSe
 }  // namespace
 
 double sectorCoordinate(double theta, double n, SectorWeights weights) {
-  return SectorMap(n, weights).coordinate(theta);
+  return SectorMap(SliceHemisphere(n, weights == SectorWeights::kCosine), weights)
+      .coordinate(theta);
 }
 
 std::uint32_t sectorBits(double ua, double ub) {
@@ -247,8 +273,10 @@ AoEstimate visibilityBitmask(const GBuffer& g, const BitmaskSettings& s) {
   validate(s);
   const std::vector<SectorWeights> weights = {s.weights};
   const std::vector<double> thickness = {s.thickness};
+  const std::vector<Angle> psi = sliceAngles(s);
   return estimatePerPixel(g, [&](int i, int j, std::size_t p, double* a, Eigen::Vector3d* bent) {
-    bitmaskPixel(g, i, j, p, s, weights, thickness, a, bent);
+    std::uint32_t bits = 0;
+    bitmaskPixel(g, i, j, p, s, psi, weights, thickness, &bits, a, bent);
   });
 }
 
@@ -277,10 +305,17 @@ std::vector<std::vector<AoEstimate>> visibilityBitmasks(const GBuffer& g, const 
   }
   const bool with_bent = parts == EstimateParts::kAoAndBent;
   const std::size_t T = thicknesses.size();
+  const std::vector<Angle> psi = sliceAngles(s);
   forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
-    std::vector<double> a(weights.size() * T);
-    std::vector<Eigen::Vector3d> bent(with_bent ? a.size() : 0);
-    bitmaskPixel(g, i, j, p, s, weights, thicknesses, a.data(), with_bent ? bent.data() : nullptr);
+    // Per-thread scratch, sized once per thread rather than allocated per pixel.
+    thread_local std::vector<std::uint32_t> bits;
+    thread_local std::vector<double> a;
+    thread_local std::vector<Eigen::Vector3d> bent;
+    bits.resize(weights.size() * T);
+    a.resize(weights.size() * T);
+    bent.resize(with_bent ? a.size() : 0);
+    bitmaskPixel(g, i, j, p, s, psi, weights, thicknesses, bits.data(), a.data(),
+                 with_bent ? bent.data() : nullptr);
     for (std::size_t k = 0; k < a.size(); ++k) {
       if (with_bent) {
         storePixel(g, p, a[k], bent[k], &out[k / T][k % T]);
