@@ -132,15 +132,16 @@ TEST(TuneCommand, ScreenAoDefaultsGiveTheSameResults) {
 }
 
 // Computing the first widening step's values in each grid's pass (docs/tune.md §7) changes no
-// result: two-value grids (whose pooled minimum lies at an end, so each widens) of both bitmasks,
-// sharing a pass, and of gtao-runtime's intensity give tune.json's bytes without it, apart from
-// the seconds; a value computed ahead that widening does not add is not reported.
+// result: both bitmasks' thickness grids (0.25 to 4 m, sharing a pass) and the runtime pass's
+// two-value grids (whose pooled minimum lies at an end, so each widens; computed without) give
+// tune.json's bytes without it, apart from the seconds; a value computed ahead that widening does
+// not add is not reported.
 TEST(TuneCommand, ComputingWideningValuesAheadGivesTheSameResults) {
   const fs::path out = test::freshDir("tune_ahead");
   const std::vector<std::string> grids = {"gtao-runtime.radius=0.5,1", "gtao-runtime.intensity=1,2",
                                           "gtao-runtime.thin_compensation=0,1",
-                                          "bitmask-uniform.thickness=0.5,1",
-                                          "bitmask-cosine.thickness=0.5,1"};
+                                          "bitmask-uniform.thickness=0.25,0.5,1,2,4",
+                                          "bitmask-cosine.thickness=0.25,0.5,1,2,4"};
   std::vector<json> docs;
   std::vector<std::vector<std::string>> parts;
   for (const bool ahead : {false, true}) {
@@ -170,15 +171,17 @@ TEST(TuneCommand, ComputingWideningValuesAheadGivesTheSameResults) {
     const int lower = r["widened"]["lower"], upper = r["widened"]["upper"];
     EXPECT_GE(lower + upper, 1) << estimator;  // the test covers a widening step
     const std::vector<double> values = r["values"];
-    ASSERT_EQ(values.size(), 2u + static_cast<std::size_t>(lower + upper)) << estimator;
+    const bool ahead = key == "thickness";  // the runtime pass computes none ahead
+    ASSERT_EQ(values.size(), (ahead ? 5u : 2u) + static_cast<std::size_t>(lower + upper))
+        << estimator;
     // An end that did not widen keeps its value: the value beyond it is not reported.
     if (lower == 0) {
-      EXPECT_EQ(values.front(), 0.5 * (key == "intensity" ? 2.0 : 1.0)) << estimator;
-      ++ends_not_added;
+      EXPECT_EQ(values.front(), ahead ? 0.25 : 1.0) << estimator;
+      ends_not_added += ahead ? 1 : 0;
     }
     if (upper == 0) {
-      EXPECT_EQ(values.back(), key == "intensity" ? 2.0 : 1.0) << estimator;
-      ++ends_not_added;
+      EXPECT_EQ(values.back(), ahead ? 4.0 : 2.0) << estimator;
+      ends_not_added += ahead ? 1 : 0;
     }
   }
   EXPECT_GE(ends_not_added, 1);  // and a value computed ahead went unused
