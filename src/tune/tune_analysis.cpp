@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
+#include <tuple>
 
 #include "common/error.h"
 #include "common/output_set.h"
@@ -177,25 +178,86 @@ std::string partName(const std::vector<SettingGrid>& group) {
   return estimators + " " + keys;
 }
 
+// Â computed ahead of the first widening step (docs/tune.md §7), [image] Â by grid (estimator,
+// key) and value: taken when widening adds its value, dropped with the pass group otherwise.
+using AheadKey = std::tuple<Estimator, std::string, double>;
+using Ahead = std::map<AheadKey, std::vector<std::vector<float>>>;
+
+AheadKey aheadKey(const SettingGrid& grid, double value) {
+  return {grid.estimator, grid.key, value};
+}
+
 // One timed part: to_run[g]'s values of each of the group's grids in one pass per image, each
-// grid's `values[g]` scored ([grid][value]).
+// grid's `values[g]` scored ([grid][value]) from that pass or, for a value the pass did not run,
+// from `ahead` (taken out of it). A value run but not scored is put in `ahead`.
 std::vector<std::vector<GridValueScore>> runPart(StageParts& parts, const Scoring& sc,
                                                  const std::vector<SettingGrid>& group,
                                                  const std::vector<std::vector<double>>& values,
                                                  const std::vector<std::vector<double>>& to_run,
-                                                 const std::string& suffix,
-                                                 DefaultScores* defaults) {
+                                                 const std::string& suffix, DefaultScores* defaults,
+                                                 Ahead* ahead) {
   std::size_t runs = 0;
   for (const std::vector<double>& v : to_run) runs += v.size();
   const std::size_t units = runs * sc.images->images.size();
   return parts.run(partName(group) + suffix, units, [&](Progress& bar) {
-    const auto est = groupEstimates(*sc.images, group, to_run, bar);
+    std::vector<std::vector<std::vector<std::vector<float>>>> est(group.size());
+    if (runs != 0) est = groupEstimates(*sc.images, group, to_run, bar);  // else all ahead
     std::vector<std::vector<GridValueScore>> scores;
     for (std::size_t g = 0; g < group.size(); ++g) {
-      scores.push_back(scoreValues(sc, group[g], values[g], to_run[g], est[g], defaults));
+      std::vector<double> have = to_run[g];
+      for (double value : values[g]) {
+        const auto found = ahead->find(aheadKey(group[g], value));
+        if (found == ahead->end() || std::count(have.begin(), have.end(), value) != 0) continue;
+        have.push_back(value);
+        est[g].push_back(std::move(found->second));
+        ahead->erase(found);
+      }
+      scores.push_back(scoreValues(sc, group[g], values[g], have, est[g], defaults));
+      for (std::size_t k = 0; k < to_run[g].size(); ++k) {
+        if (std::count(values[g].begin(), values[g].end(), to_run[g][k]) == 0) {
+          (*ahead)[aheadKey(group[g], to_run[g][k])] = std::move(est[g][k]);
+        }
+      }
     }
     return scores;
   });
+}
+
+// Whether the pass computes a grid's values one widening step beyond its ends (docs/tune.md §7):
+// a bitmask's thicknesses share its samples, slices and front angles, so they cost little. The
+// runtime pass's two intensities beyond cost 6% of its CPU (measured), more than a widening pass
+// is likely to save, and a radius would need its own horizon samples.
+bool computesAhead(const SettingGrid& grid) {
+  return isBitmaskThickness(grid);
+}
+
+// The values the first widening step could add to the grid (widenedEnd at each end that is not
+// its limit), when computesAhead.
+std::vector<double> aheadValues(const SettingGrid& grid) {
+  std::vector<double> out;
+  if (!computesAhead(grid)) return out;
+  for (const bool upper : {false, true}) {
+    if (const std::optional<double> v = widenedEnd(grid, upper)) out.push_back(*v);
+  }
+  return out;
+}
+
+// to_run with the values the first widening step could add computed too (aheadValues), ascending:
+// for a bitmask pass, every grid's (the pass runs one list of thicknesses for all its grids).
+std::vector<std::vector<double>> withAheadValues(const std::vector<SettingGrid>& group,
+                                                 std::vector<std::vector<double>> to_run) {
+  const bool one_list = isBitmaskThickness(group[0]);
+  std::vector<double> shared;
+  for (const SettingGrid& grid : group) {
+    for (double v : aheadValues(grid)) shared.push_back(v);
+  }
+  for (std::size_t g = 0; g < group.size(); ++g) {
+    for (double v : one_list ? shared : aheadValues(group[g])) {
+      if (std::count(to_run[g].begin(), to_run[g].end(), v) == 0) to_run[g].push_back(v);
+    }
+    std::sort(to_run[g].begin(), to_run[g].end());
+  }
+  return to_run;
 }
 
 // Whether grids[k] and grids[k + 1] are the two bitmasks' thickness grids with the same values to
@@ -225,9 +287,11 @@ std::size_t passGroupSize(const std::vector<SettingGrid>& grids, std::size_t k,
 }
 
 // Runs, scores and widens every grid in order, the grids that share a pass under one part
-// (passGroupSize, docs/tune.md §7); a default not yet scored runs once per estimator.
+// (passGroupSize, docs/tune.md §7); a default not yet scored runs once per estimator. With
+// `ahead`, the group's pass also computes the values its first widening step could add
+// (withAheadValues), and a widening step runs a pass only for the values not computed yet.
 void runGrids(StageParts& parts, const Scoring& sc, const std::vector<SettingGrid>& grids,
-              DefaultScores* defaults, TuneAnalysis* a) {
+              bool ahead, DefaultScores* defaults, TuneAnalysis* a) {
   for (std::size_t k = 0; k < grids.size();) {
     const std::size_t n = passGroupSize(grids, k, *defaults);
     const std::vector<SettingGrid> group(grids.begin() + k, grids.begin() + k + n);
@@ -240,7 +304,10 @@ void runGrids(StageParts& parts, const Scoring& sc, const std::vector<SettingGri
       to_run.push_back(valuesToRun(g, known));
       a->estimator_runs += to_run.back().size();
     }
-    const auto scores = runPart(parts, sc, group, values, to_run, "", defaults);
+    Ahead computed;
+    const auto scores =
+        runPart(parts, sc, group, values, ahead ? withAheadValues(group, to_run) : to_run, "",
+                defaults, &computed);
     std::vector<SettingResult> results(group.size());
     for (std::size_t g = 0; g < group.size(); ++g) {
       results[g].grid = group[g];
@@ -249,8 +316,19 @@ void runGrids(StageParts& parts, const Scoring& sc, const std::vector<SettingGri
     widenGroup(&results, *a, [&](std::size_t first, std::size_t count, const auto& add) {
       const std::vector<SettingGrid> grids(group.begin() + first, group.begin() + first + count);
       a->estimator_runs += count * add.size();
-      return runPart(parts, sc, grids, std::vector(count, add), std::vector(count, add),
-                     " widened to " + formatNumberList(add), defaults);
+      // A value not computed ahead for every grid of the step runs for all of them (a shared
+      // bitmask pass runs one list of thicknesses).
+      std::vector<double> missing;
+      for (double value : add) {
+        for (const SettingGrid& grid : grids) {
+          if (computed.count(aheadKey(grid, value)) == 0) {
+            missing.push_back(value);
+            break;
+          }
+        }
+      }
+      return runPart(parts, sc, grids, std::vector(count, add), std::vector(count, missing),
+                     " widened to " + formatNumberList(add), defaults, &computed);
     });
     for (SettingResult& r : results) a->settings.push_back(std::move(r));
   }
@@ -466,7 +544,7 @@ void useEstimates(SweepData* data, const std::vector<SweepImage>& images,
 
 TuneAnalysis analyzeTune(const std::filesystem::path& sweep, const std::vector<SettingGrid>& grids,
                          bool progress, const std::filesystem::path& screen_ao,
-                         std::optional<double> truth_radius) {
+                         std::optional<double> truth_radius, bool compute_ahead) {
   StageParts parts("tune", progress);
   SweepData data;
   SweepImages images;
@@ -504,7 +582,7 @@ TuneAnalysis analyzeTune(const std::filesystem::path& sweep, const std::vector<S
       return 0;
     });
   }
-  runGrids(parts, sc, grids, &defaults, &a);
+  runGrids(parts, sc, grids, compute_ahead, &defaults, &a);
   a.part_seconds = parts.seconds();
   return a;
 }

@@ -106,12 +106,15 @@ class TuneNotApplicable : public Error {
 // Reads the sweep (loadSweep for G, readSweepImages for the G-buffer), scores every grid and
 // widens it (docs/tune.md §3). With `screen_ao` (a screen-ao set of this sweep; empty = none),
 // each estimator it ran at tune's defaults has its default run read from it, not run again.
-// Scores against the truth at truth_radius (none: the unbounded G). Throws a one-line
+// Scores against the truth at truth_radius (none: the unbounded G). With compute_ahead, each pass
+// also computes the values its first widening step could add where that costs little, so the step
+// runs no pass of its own (docs/tune.md §7); the results are the same without. Throws a one-line
 // gtbake::Error on a sweep without G-buffer channels or without that radius's truth,
 // TuneNotApplicable with fewer than kMinJackknifeScenes clusters (before any estimator runs).
 TuneAnalysis analyzeTune(const std::filesystem::path& sweep, const std::vector<SettingGrid>& grids,
                          bool progress, const std::filesystem::path& screen_ao = {},
-                         std::optional<double> truth_radius = std::nullopt);
+                         std::optional<double> truth_radius = std::nullopt,
+                         bool compute_ahead = true);
 
 // Puts the estimate of every image in place of A in data.full (unmasked pixels in point order,
 // clamped within kEstimateRounding of [0, 1]; farther is a one-line error).

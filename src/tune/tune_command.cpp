@@ -28,7 +28,8 @@ TuneResult runTune(const TuneOptions& o) {
   const ThreadLimit threads(o.threads);
   const std::optional<double> truth =
       o.unbounded_truth ? std::nullopt : std::optional<double>(o.truth_radius);
-  const TuneAnalysis analysis = analyzeTune(o.sweep, grids, o.progress, o.screen_ao, truth);
+  const TuneAnalysis analysis =
+      analyzeTune(o.sweep, grids, o.progress, o.screen_ao, truth, o.compute_ahead);
   OutputSet output(o.out, "tune");
   TuneResult result;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

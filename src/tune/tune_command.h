@@ -30,6 +30,9 @@ struct TuneOptions {
   // unbounded_truth the unbounded G (for comparison, or sweeps without near-field channels).
   double truth_radius = kTuneTruthRadius;
   bool unbounded_truth = false;
+  // Compute the first widening step's values in each grid's pass where that costs little
+  // (docs/tune.md §7); the results are the same without (which the tests compare).
+  bool compute_ahead = true;
   int threads = 0;
   bool progress = true;
 };

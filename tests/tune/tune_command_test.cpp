@@ -131,6 +131,62 @@ TEST(TuneCommand, ScreenAoDefaultsGiveTheSameResults) {
   EXPECT_EQ(runs[1] + kEstimators.size(), runs[0]);  // one default run fewer per estimator
 }
 
+// Computing the first widening step's values in each grid's pass (docs/tune.md §7) changes no
+// result: both bitmasks' thickness grids (0.25 to 4 m, sharing a pass) and the runtime pass's
+// two-value grids (whose pooled minimum lies at an end, so each widens; computed without) give
+// tune.json's bytes without it, apart from the seconds; a value computed ahead that widening does
+// not add is not reported.
+TEST(TuneCommand, ComputingWideningValuesAheadGivesTheSameResults) {
+  const fs::path out = test::freshDir("tune_ahead");
+  const std::vector<std::string> grids = {"gtao-runtime.radius=0.5,1", "gtao-runtime.intensity=1,2",
+                                          "gtao-runtime.thin_compensation=0,1",
+                                          "bitmask-uniform.thickness=0.25,0.5,1,2,4",
+                                          "bitmask-cosine.thickness=0.25,0.5,1,2,4"};
+  std::vector<json> docs;
+  std::vector<std::vector<std::string>> parts;
+  for (const bool ahead : {false, true}) {
+    TuneOptions o = tuneOptions(out / (ahead ? "ahead" : "plain"));
+    o.estimators = {Estimator::kGtaoRuntime, Estimator::kBitmaskUniform, Estimator::kBitmaskCosine};
+    o.grids = grids;
+    o.compute_ahead = ahead;
+    runTune(o);
+    json doc = readJson(o.out / "tune.json");
+    parts.emplace_back();
+    for (const auto& [part, seconds] : doc["provenance"]["seconds"].items()) {
+      parts.back().push_back(part);
+    }
+    doc["provenance"].erase("seconds");
+    doc["provenance"].erase("total_seconds");
+    docs.push_back(doc);
+  }
+  EXPECT_EQ(docs[0].dump(), docs[1].dump());
+  EXPECT_EQ(parts[0], parts[1]);
+  const json& results = docs[1]["results"];
+  int ends_not_added = 0;  // ends not at their limit whose value was computed ahead, not added
+  for (const auto& [estimator, key] :
+       std::vector<std::pair<std::string, std::string>>{{"gtao-runtime", "intensity"},
+                                                        {"bitmask-uniform", "thickness"},
+                                                        {"bitmask-cosine", "thickness"}}) {
+    const json& r = results[estimator][key];
+    const int lower = r["widened"]["lower"], upper = r["widened"]["upper"];
+    EXPECT_GE(lower + upper, 1) << estimator;  // the test covers a widening step
+    const std::vector<double> values = r["values"];
+    const bool ahead = key == "thickness";  // the runtime pass computes none ahead
+    ASSERT_EQ(values.size(), (ahead ? 5u : 2u) + static_cast<std::size_t>(lower + upper))
+        << estimator;
+    // An end that did not widen keeps its value: the value beyond it is not reported.
+    if (lower == 0) {
+      EXPECT_EQ(values.front(), ahead ? 0.25 : 1.0) << estimator;
+      ends_not_added += ahead ? 1 : 0;
+    }
+    if (upper == 0) {
+      EXPECT_EQ(values.back(), ahead ? 4.0 : 2.0) << estimator;
+      ends_not_added += ahead ? 1 : 0;
+    }
+  }
+  EXPECT_GE(ends_not_added, 1);  // and a value computed ahead went unused
+}
+
 // Every failure is one line and leaves nothing in the output directory.
 void expectOneLineError(const TuneOptions& o, const std::string& needle) {
   try {
