@@ -5,6 +5,7 @@
 // and returns the step that runs it once the command line has parsed. To add a subcommand, write
 // its function and list it in registerSubcommands.
 #include <glog/logging.h>
+#include <malloc.h>
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -37,6 +38,9 @@
 #include "validate_gtso/validate_gtso_command.h"
 
 namespace {
+
+// Buffers up to this size come from the heap, and freed heap space up to it is kept (main).
+constexpr int kMallocKeepBytes = 1 << 30;
 
 using namespace gtbake;
 
@@ -582,6 +586,13 @@ int runSelectedSubcommand(const std::vector<Subcommand>& subcommands, const RunC
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Stage after stage allocates and frees buffers of megabytes (file bytes, decoded images,
+  // tables). By default glibc maps each one above its mmap threshold afresh, so the kernel faults
+  // in and zeroes its pages again, and it hands freed heap tops back to the kernel. Up to 1 GiB,
+  // a buffer comes from the heap and a freed one is kept for the next (docs/performance.md
+  // "Allocation"); the bytes gtbake computes are the same either way.
+  mallopt(M_MMAP_THRESHOLD, kMallocKeepBytes);
+  mallopt(M_TRIM_THRESHOLD, kMallocKeepBytes);
   CLI::App app{"gtbake " GTBAKE_VERSION
                ": regenerate GTAO/GTSO constants and "
                "tables from path-traced ground truth"};

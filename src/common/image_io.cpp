@@ -1,8 +1,10 @@
 #include "common/image_io.h"
 
+#include <IexBaseExc.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
+#include <ImfIO.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfStdIO.h>
@@ -16,12 +18,15 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <sstream>
+#include <string_view>
 #include <unordered_map>
 
 #include "common/atomic_file.h"
 #include "common/checked_math.h"
 #include "common/error.h"
 #include "common/input_limits.h"
+#include "common/output_set.h"
 #include "common/sha256.h"
 
 namespace gtbake {
@@ -133,6 +138,45 @@ void checkExrHeader(const std::string& bytes, const std::string& name) {
   }
 }
 
+// OpenEXR's input stream over bytes already in memory, read in place (Imf::StdISStream would
+// first copy them into a std::istringstream). It behaves as StdISStream over the same bytes:
+// a read past the end throws "Early end of file" and leaves the stream failed, a seek past the
+// end fails it, and clear() clears that.
+class MemoryIStream : public Imf::IStream {
+ public:
+  explicit MemoryIStream(std::string_view bytes) : Imf::IStream(""), bytes_(bytes) {}
+
+  bool read(char c[], int n) override {
+    if (failed_) throw IEX_NAMESPACE::InputExc("Unexpected end of file.");
+    const std::size_t want = static_cast<std::size_t>(n);
+    const std::size_t got = std::min(want, bytes_.size() - at_);
+    std::memcpy(c, bytes_.data() + at_, got);
+    at_ += got;
+    if (got < want) {
+      failed_ = true;
+      std::ostringstream what;
+      what << "Early end of file: read " << got << " out of " << want << " requested bytes.";
+      throw IEX_NAMESPACE::InputExc(what.str());
+    }
+    return true;
+  }
+  uint64_t tellg() override { return failed_ ? UINT64_MAX : at_; }
+  void seekg(uint64_t pos) override {
+    if (failed_) return;
+    if (pos > bytes_.size()) {
+      failed_ = true;
+      return;
+    }
+    at_ = static_cast<std::size_t>(pos);
+  }
+  void clear() override { failed_ = false; }
+
+ private:
+  std::string_view bytes_;
+  std::size_t at_ = 0;
+  bool failed_ = false;
+};
+
 }  // namespace
 
 std::string encodeExr(int width, int height, const std::vector<ExrChannel>& channels,
@@ -237,8 +281,7 @@ ExrImage decodeExrBytes(const std::string& bytes, const std::string& name,
   ExrImage image;
   checkExrHeader(bytes, name);
   try {
-    Imf::StdISStream stream;
-    stream.str(bytes);
+    MemoryIStream stream(bytes);
     Imf::InputFile file(stream);
     const Imath::Box2i window = file.header().dataWindow();
     if (window.min.x != 0 || window.min.y != 0 || window.max.x < 0 || window.max.y < 0) {
@@ -287,17 +330,30 @@ ExrImage decodeExrBytes(const std::string& bytes, const std::string& name,
   return image;
 }
 
-}  // namespace
-
-ExrImage decodeExr(const std::string& bytes, const std::string& name, const ExrExpect& expect) {
-  const std::string key = sha256Hex(bytes);
-  if (const std::shared_ptr<const ExrImage> known = decodedExrCache().find(key)) {
+// The image of `bytes`, whose SHA-256 is `key`: the cached one, or decoded and kept.
+std::shared_ptr<const ExrImage> decodeExrByKey(const std::string& bytes, const std::string& key,
+                                               const std::string& name, const ExrExpect& expect) {
+  if (std::shared_ptr<const ExrImage> known = decodedExrCache().find(key)) {
     checkExpectedSize(known->width, known->height, name, expect);
-    return *known;
+    return known;
   }
   auto image = std::make_shared<const ExrImage>(decodeExrBytes(bytes, name, expect));
   decodedExrCache().add(key, image);
-  return *image;
+  return image;
+}
+
+}  // namespace
+
+ExrImage decodeExr(const std::string& bytes, const std::string& name, const ExrExpect& expect) {
+  return *decodeExrByKey(bytes, sha256Hex(bytes), name, expect);
+}
+
+std::shared_ptr<const ExrImage> readVerifiedExr(const OutputManifest& manifest,
+                                                const std::string& file, const std::string& name,
+                                                const ExrExpect& expect) {
+  const std::string bytes = manifest.readVerified(file);
+  // readVerified returned, so the bytes' SHA-256 is exactly the manifest's.
+  return decodeExrByKey(bytes, manifest.find(file)->sha256, name, expect);
 }
 
 ExrImage readExr(const fs::path& path, const ExrExpect& expect) {

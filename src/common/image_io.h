@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,17 @@ std::string encodeExr(int width, int height, const std::vector<ExrChannel>& chan
 // sweep.
 ExrImage decodeExr(const std::string& bytes, const std::string& name, const ExrExpect& expect = {});
 ExrImage readExr(const std::filesystem::path& path, const ExrExpect& expect = {});
+
+struct OutputManifest;
+
+// decodeExr of the file `file` of an output set, read and checked against its manifest
+// (OutputManifest::readVerified). The verified bytes have the manifest's SHA-256, so that is the
+// decoded-image key: the bytes are hashed once per read, not again for the key. The image is
+// shared with the cache, not copied (docs/performance.md "Decoded images"). `name` names the
+// file in errors.
+std::shared_ptr<const ExrImage> readVerifiedExr(const OutputManifest& manifest,
+                                                const std::string& file, const std::string& name,
+                                                const ExrExpect& expect = {});
 
 // 8-bit PNGs (1 = gray, 3 = RGB), row-major, row 0 at the top, encoded in memory and written
 // through the checked atomic writer (stb's own file writer does not report a failed write).

@@ -161,7 +161,9 @@ ScenePoints loadScene(const SweepSet& set, const SweepView& view, const std::str
   }
   const std::string file = exr_path.string();
   const ExrExpect expect{view.width, view.height, "sweep.json"};
-  const ExrImage image = decodeExr(set.manifest.readVerified(view.file), file, expect);
+  const std::shared_ptr<const ExrImage> shared =
+      readVerifiedExr(set.manifest, view.file, file, expect);
+  const ExrImage& image = *shared;
   const SweepSettings& sj = set.settings;
   std::map<std::string, std::string> provenance = {{"gtbake.spp", std::to_string(sj.spp)},
                                                    {"gtbake.bounces", std::to_string(sj.bounces)}};

@@ -258,8 +258,9 @@ void analyzeEnvironments(const SweepSet& set, const std::vector<Environment>& en
     const bool picture = !pictured[type];
     pictured[type] = true;
     const std::string file = (set.dir / view.file).string();
-    const ExrImage image = decodeExr(set.manifest.readVerified(view.file), file,
-                                     ExrExpect{view.width, view.height, "sweep.json"});
+    const std::shared_ptr<const ExrImage> shared = readVerifiedExr(
+        set.manifest, view.file, file, ExrExpect{view.width, view.height, "sweep.json"});
+    const ExrImage& image = *shared;
     const ViewChannels c = viewChannels(image, file, set);
     tbb::parallel_for(std::size_t{0}, environments.size(), [&](std::size_t e) {
       const std::string name =

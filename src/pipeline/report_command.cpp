@@ -74,7 +74,7 @@ void takePictures(const fs::path& scratch, const std::string& folder, const std:
 void sweepPreviews(const fs::path& luts, Files* files) {
   const OutputManifest set = readOutputSet(luts / kSweepDir, "sweep");
   std::string decoded;  // the EXR last decoded: a view's previews are listed side by side
-  ExrImage image;
+  std::shared_ptr<const ExrImage> image;
   for (const OutputFile& f : set.files) {
     if (fs::path(f.name).extension() != ".png") continue;
     const std::string stem = fs::path(f.name).stem().string();
@@ -84,12 +84,12 @@ void sweepPreviews(const fs::path& luts, Files* files) {
     }
     const std::string exr = stem.substr(0, cut) + ".exr";
     if (exr != decoded) {
-      image = decodeExr(set.readVerified(exr), (luts / kSweepDir / exr).string());
+      image = readVerifiedExr(set, exr, (luts / kSweepDir / exr).string());
       decoded = exr;
     }
-    const std::vector<float>& channel = image.channel(stem.substr(cut + 1), exr);
+    const std::vector<float>& channel = image->channel(stem.substr(cut + 1), exr);
     (*files)[std::string(kSweepDir) + "/" + f.name] =
-        encodePng(image.width, image.height, 1, toGray8(channel, 0.0f, 1.0f));
+        encodePng(image->width, image->height, 1, toGray8(channel, 0.0f, 1.0f));
   }
 }
 

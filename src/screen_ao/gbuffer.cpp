@@ -52,8 +52,9 @@ SweepImage readImage(const SweepSet& set, const SweepView& view) {
   }
   const PerspectiveCamera camera = cameraFromJson(view.camera, set.where + " entry " + image.name);
   const std::string& file = view.file;
-  const ExrImage exr =
-      decodeExr(set.manifest.readVerified(file), file, {view.width, view.height, set.where});
+  const std::shared_ptr<const ExrImage> shared =
+      readVerifiedExr(set.manifest, file, file, {view.width, view.height, set.where});
+  const ExrImage& exr = *shared;
   image.gbuffer = gbufferFromChannels(view.width, view.height, camera, exr.channels, file);
   const std::size_t pixels = image.gbuffer.pixels();
   image.truth.a = need(exr.channels, "A", pixels, file);

@@ -76,7 +76,8 @@ ImageEstimate ScreenEstimateSet::read(const std::string& name, const std::filesy
   }
   ImageEstimate e;
   e.file = (input_.screen_ao / found->second).string();
-  const ExrImage image = decodeExr(manifest_.readVerified(found->second), e.file);
+  const std::shared_ptr<const ExrImage> shared = readVerifiedExr(manifest_, found->second, e.file);
+  const ExrImage& image = *shared;
   e.width = image.width;
   e.height = image.height;
   const std::string& est = input_.estimator;

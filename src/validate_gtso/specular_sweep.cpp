@@ -60,7 +60,8 @@ SpecularScene readScene(const SweepSet& set, const SweepView& view, const Specul
   const std::string& file = view.file;
   const ExrExpect expect{view.width, view.height, set.where};
   const std::string where = (sweep.dir / file).string();
-  const ExrImage image = decodeExr(set.manifest.readVerified(file), where, expect);
+  const std::shared_ptr<const ExrImage> shared = readVerifiedExr(set.manifest, file, where, expect);
+  const ExrImage& image = *shared;
   // The roughness list must be the one these channels were traced at, not a nudged copy.
   checkAttributes(image.attributes,
                   {{"gtbake.spp", std::to_string(sweep.spp)},

@@ -243,6 +243,70 @@ TEST(ExrHostile, ForgedDataWindowIsRefusedBeforeAllocating) {
   EXPECT_ERROR(decodeExr("", "e.exr"), "cannot read EXR");
 }
 
+// The in-memory reader against a closed form: every pixel and attribute comes back exactly, and
+// a file cut anywhere is refused with one error line (the reader reads past the end of the bytes
+// it was given, or seeks there, only to fail).
+TEST(ExrRead, DecodesEveryPixelAndRefusesEveryTruncation) {
+  std::vector<ExrChannel> channels = {{"A", {}}, {"B", {}}};
+  for (int p = 0; p < 24 * 10; ++p) {
+    channels[0].pixels.push_back(static_cast<float>(p) / 7.0f);
+    channels[1].pixels.push_back(-static_cast<float>(p * p));
+  }
+  const std::string good = encodeExr(24, 10, channels, {{"gtbake.spp", "16"}});
+  const ExrImage image = decodeExr(good, "good.exr");
+  EXPECT_EQ(image.width, 24);
+  EXPECT_EQ(image.height, 10);
+  EXPECT_EQ(image.channel("A", "good.exr"), channels[0].pixels);
+  EXPECT_EQ(image.channel("B", "good.exr"), channels[1].pixels);
+  EXPECT_EQ(image.attributes.at("gtbake.spp"), "16");
+  for (std::size_t cut = 0; cut < good.size(); cut += 1 + good.size() / 61) {
+    const std::string what = errorOf([&] { decodeExr(good.substr(0, cut), "cut.exr"); });
+    EXPECT_EQ(what.rfind("cannot read EXR cut.exr: ", 0), 0u) << cut << ": " << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+}
+
+// readVerifiedExr keys its decoded image by the manifest's SHA-256 instead of hashing the bytes
+// again, and still verifies every read: an image decoded before is shared (not copied) only
+// while the file still matches its manifest; an edited file is refused even though its old image
+// is kept (docs/limits.md §Output sets).
+TEST(ExrRead, AVerifiedReadRefusesAnEditedFileWhoseImageIsKept) {
+  TempDir dir("exr_verified");
+  std::vector<ExrChannel> channels = {{"A", std::vector<float>(16 * 16)}};
+  for (std::size_t p = 0; p < channels[0].pixels.size(); ++p) {
+    channels[0].pixels[p] = 0.25f + static_cast<float>(p % 13);
+  }
+  const std::string bytes = encodeExr(16, 16, channels);
+  for (const char* set_dir : {"one", "two"}) {
+    OutputSet set(dir.path() / set_dir, "demo");
+    set.add("a.exr", bytes);
+    set.commit();
+  }
+  const OutputManifest one = readOutputSet(dir.path() / "one", "demo");
+  const OutputManifest two = readOutputSet(dir.path() / "two", "demo");
+  const std::shared_ptr<const ExrImage> first = readVerifiedExr(one, "a.exr", "one/a.exr");
+  EXPECT_EQ(first->channel("A", "a.exr"), channels[0].pixels);
+  // The same bytes, read again or from another set, give the image already decoded; decodeExr,
+  // which hashes the bytes itself, finds the same key and the same pixels.
+  EXPECT_EQ(readVerifiedExr(one, "a.exr", "one/a.exr").get(), first.get());
+  EXPECT_EQ(readVerifiedExr(two, "a.exr", "two/a.exr").get(), first.get());
+  EXPECT_EQ(decodeExr(bytes, "a.exr").channels, first->channels);
+  EXPECT_ERROR(readVerifiedExr(one, "a.exr", "one/a.exr", {16, 32, "sweep.json"}),
+               "does not match sweep.json");
+  // One byte of the pixel data changed, same size: refused, though its old image is kept.
+  std::string edited = bytes;
+  edited[edited.size() - 5] ^= 0x20;
+  spit(dir.path() / "one" / "a.exr", edited);
+  EXPECT_ERROR(readVerifiedExr(one, "a.exr", "one/a.exr"), "does not match demo.manifest.json");
+  // Another valid EXR in its place: refused too.
+  channels[0].pixels[0] = 9.0f;
+  spit(dir.path() / "one" / "a.exr", encodeExr(16, 16, channels));
+  EXPECT_ERROR(readVerifiedExr(one, "a.exr", "one/a.exr"), "does not match demo.manifest.json");
+  EXPECT_ERROR(readVerifiedExr(one, "b.exr", "one/b.exr"), "is not part of the output set");
+  // The untouched copy still reads.
+  EXPECT_EQ(readVerifiedExr(two, "a.exr", "two/a.exr").get(), first.get());
+}
+
 TEST(FitSet, OutputNeverReplacesAnInputAndIsNeverADirectory) {
   TempDir dir("fit_out");
   // 16 walks per pixel: enough distinct A values for the cubic to be determined.
