@@ -55,7 +55,13 @@ void printTable(const json& run, const json& baseline) {
   };
   for (const json& s : run.at("stages")) {
     const std::string name = s.at("stage");
-    row(name, s, before.count(name) != 0 ? before[name] : 0.0);
+    const bool background = s.value("background", false);  // beside the others: wall overlaps
+    row(background ? name + " (background)" : name, s,
+        before.count(name) != 0 ? before[name] : 0.0);
+  }
+  if (run.contains("waited_for_background_seconds")) {
+    std::printf("%-28s %9.1f\n", "waiting for the background",
+                run.at("waited_for_background_seconds").get<double>());
   }
   row("total", run.at("total"), baseline.at("total").at("wall_seconds").get<double>());
   std::printf("machine: %s, %d threads; bar %.0f s: %s\n",

@@ -75,31 +75,35 @@ std::string packingText(const nlohmann::json& choice) {
 
 void printSummary(const EncodeOptions& options, const GtsoInput& gtso, const GtsoLayouts& l,
                   const nlohmann::json& end_to_end, int threads, double seconds) {
-  std::printf("gtbake encode: %s (threads: %d)\n", options.out.string().c_str(), threads);
-  std::printf("  table  volume         layout  BC4 RMSE    BC4 max     encode\n");
+  std::FILE* out = options.summary;
+  if (out == nullptr) return;
+  std::fprintf(out, "gtbake encode: %s (threads: %d)\n", options.out.string().c_str(), threads);
+  std::fprintf(out, "  table  volume         layout  BC4 RMSE    BC4 max     encode\n");
   const std::pair<const GtsoTable*, const LayoutChoice*> rows[] = {{&gtso.table3d, &l.t3},
                                                                    {&gtso.table4d, &l.t4}};
   for (const auto& [table, c] : rows) {
     const std::string extent = std::to_string(c->volume[0]) + "x" + std::to_string(c->volume[1]) +
                                "x" + std::to_string(c->volume[2]);
-    std::printf("  %-5s  %-13s  %-6s  %.4e  %.4e  %.2f s%s\n", table == &gtso.table3d ? "3D" : "4D",
-                extent.c_str(), layoutSwizzle(c->layout).c_str(), c->bc4.rmse, c->bc4.max_abs,
-                c->bc4.seconds, table == &gtso.table3d ? "" : packingText(c->json).c_str());
+    std::fprintf(out, "  %-5s  %-13s  %-6s  %.4e  %.4e  %.2f s%s\n",
+                 table == &gtso.table3d ? "3D" : "4D", extent.c_str(),
+                 layoutSwizzle(c->layout).c_str(), c->bc4.rmse, c->bc4.max_abs, c->bc4.seconds,
+                 table == &gtso.table3d ? "" : packingText(c->json).c_str());
     for (const LayoutCandidate& k : c->candidates) {
-      std::printf("         candidate %s: end-to-end uniform RMS %.5f max %.4f, stress max %.4f\n",
-                  layoutSwizzle(k.layout).c_str(), k.uniform_rms, k.uniform_max, k.stress_max);
+      std::fprintf(out,
+                   "         candidate %s: end-to-end uniform RMS %.5f max %.4f, stress max %.4f\n",
+                   layoutSwizzle(k.layout).c_str(), k.uniform_rms, k.uniform_max, k.stress_max);
     }
   }
   for (const char* key : {"3d", "4d"}) {
     const nlohmann::json& t = end_to_end[key];
-    std::printf("  %s as shipped, end to end (max over 2 seeds / mean RMS):", key);
+    std::fprintf(out, "  %s as shipped, end to end (max over 2 seeds / mean RMS):", key);
     for (const auto& [format, e] : t["formats"].items()) {
-      std::printf(" %s %.4f/%.5f", format.c_str(), e["uniform"]["max"].get<double>(),
-                  e["uniform"]["rms"].get<double>());
+      std::fprintf(out, " %s %.4f/%.5f", format.c_str(), e["uniform"]["max"].get<double>(),
+                   e["uniform"]["rms"].get<double>());
     }
-    std::printf("; recommended %s\n", t["recommended"].get<std::string>().c_str());
+    std::fprintf(out, "; recommended %s\n", t["recommended"].get<std::string>().c_str());
   }
-  std::printf("  wrote gtso{3d,4d}{,_r16,_r8}.{dds,ktx2}, encode.json in %.2f s\n", seconds);
+  std::fprintf(out, "  wrote gtso{3d,4d}{,_r16,_r8}.{dds,ktx2}, encode.json in %.2f s\n", seconds);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 // errors). validate-gtso and export read these files.
 #pragma once
 
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@ struct EncodeOptions {
   std::filesystem::path out;   // gtso3d*.dds/.ktx2, gtso4d*.dds/.ktx2, encode.json
   int threads = 0;
   bool progress = true;
+  std::FILE* summary = stdout;  // where the closing summary lines go (nullptr: nowhere)
   // BC4 layout choice (bc4_layout.h): uniform lobes of its point set (16 points each), and, for
   // tests, layouts forced instead of chosen ({x, y, z} table axes; empty: choose).
   int layout_lobes = 512;

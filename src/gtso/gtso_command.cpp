@@ -398,31 +398,34 @@ Json gtsoJson(const GtsoRun& r, const GtsoOptions& options, double total_s) {
 }
 
 void printGtsoSummary(const GtsoRun& r, const GtsoOptions& options) {
-  std::printf("gtso: S3 and S4 (%d^3, %d^4) baked in %.1f s (%d threads, %d x %d cells per lobe)\n",
-              r.size, r.size, r.bake_s, r.threads, 2 * r.cells, r.cells);
+  std::FILE* out = options.summary;
+  if (out == nullptr) return;
+  std::fprintf(
+      out, "gtso: S3 and S4 (%d^3, %d^4) baked in %.1f s (%d threads, %d x %d cells per lobe)\n",
+      r.size, r.size, r.bake_s, r.threads, 2 * r.cells, r.cells);
   for (const char* key : {"3d", "4d"}) {
     const Json& u = r.e2e.json[key]["formats"]["float32"]["uniform"];
-    std::printf(
-        "gtso: %s float32 end to end (max over %d seeds / mean RMS): %.4f/%.5f (encoded "
-        "formats: gtbake encode)\n",
-        key, options.error_seeds, u["max"].get<double>(), u["rms"].get<double>());
+    std::fprintf(out,
+                 "gtso: %s float32 end to end (max over %d seeds / mean RMS): %.4f/%.5f (encoded "
+                 "formats: gtbake encode)\n",
+                 key, options.error_seeds, u["max"].get<double>(), u["rms"].get<double>());
   }
   for (const gtso::TexelCheck* c : {&r.texel_check.first, &r.texel_check.second}) {
-    std::printf(
-        "gtso: %s texel check vs %dx reference, %zu random lines (%zu texels): max %.3g "
-        "rms %.3g (%.1f s)\n",
-        c == &r.texel_check.first ? "3d" : "4d", c->factor * c->factor, c->lines.size(), c->texels,
-        c->max, c->rms, c->seconds);
+    std::fprintf(out,
+                 "gtso: %s texel check vs %dx reference, %zu random lines (%zu texels): max %.3g "
+                 "rms %.3g (%.1f s)\n",
+                 c == &r.texel_check.first ? "3d" : "4d", c->factor * c->factor, c->lines.size(),
+                 c->texels, c->max, c->rms, c->seconds);
   }
-  std::printf("gtso: u = %.5g +- %.2g (alpha = r_p^2): rmse %.4f max %.4f\n", r.fit.u, r.fit.u_se,
-              r.fit.errors.rmse, r.fit.errors.max_abs);
+  std::fprintf(out, "gtso: u = %.5g +- %.2g (alpha = r_p^2): rmse %.4f max %.4f\n", r.fit.u,
+               r.fit.u_se, r.fit.errors.rmse, r.fit.errors.max_abs);
   const Json& cf = r.closed_form.json["test"]["errors"];
-  std::printf(
-      "gtso: closed-form S3 (test points): r_p >= 0.1 max %.4f rms %.5f; r_p < 0.1 max "
-      "%.4f rms %.5f (%.1f s)\n",
-      cf["r_p_ge_0.1"]["max"].get<double>(), cf["r_p_ge_0.1"]["rms"].get<double>(),
-      cf["r_p_lt_0.1"]["max"].get<double>(), cf["r_p_lt_0.1"]["rms"].get<double>(),
-      r.closed_form.json["fit_s"].get<double>());
+  std::fprintf(out,
+               "gtso: closed-form S3 (test points): r_p >= 0.1 max %.4f rms %.5f; r_p < 0.1 max "
+               "%.4f rms %.5f (%.1f s)\n",
+               cf["r_p_ge_0.1"]["max"].get<double>(), cf["r_p_ge_0.1"]["rms"].get<double>(),
+               cf["r_p_lt_0.1"]["max"].get<double>(), cf["r_p_lt_0.1"]["rms"].get<double>(),
+               r.closed_form.json["fit_s"].get<double>());
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // cone-aperture constant u (docs/gtso.md §1).
 #pragma once
 
+#include <cstdio>
 #include <filesystem>
 #include <vector>
 
@@ -15,6 +16,7 @@ struct GtsoOptions {
   int lobe_cells = 0;         // phi cells of the lobe grid (psi gets 2x); 0 = the default 96
   int threads = 0;            // 0 = all cores
   bool progress = true;
+  std::FILE* summary = stdout;  // where the closing summary lines go (nullptr: nowhere)
   // End-to-end error measurement: lobes per seed of the uniform set (16 points each; the stress
   // set has a quarter as many) and the number of seeds; the cone fit uses the first seed's
   // uniform 3D points.

@@ -3,10 +3,12 @@
 #include <tbb/parallel_for.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <optional>
 
 #include "common/atomic_file.h"
+#include "common/error.h"
 #include "common/output_layout.h"
 #include "common/output_lock.h"
 #include "common/progress.h"
@@ -16,6 +18,7 @@
 #include "fit/fit_command.h"
 #include "gtso/gtso_command.h"
 #include "lighting/lighting_command.h"
+#include "pipeline/background_chain.h"
 #include "pipeline/index_page.h"
 #include "pipeline/stage_clock.h"
 #include "scene/scenes_command.h"
@@ -240,26 +243,76 @@ FitResult fitStage(const AllOptions& options) {
   return runFit(fit);
 }
 
-// The GTSO tables into <out>/gtso and their BC4 volumes into <out>/encode.
-GtsoResult gtsoStage(const AllOptions& options, int threads) {
-  banner("gtso", options.progress);
+// The GTSO tables into <out>/gtso and their BC4 volumes into <out>/encode, their summary lines
+// to `summary`; progress and banners only when that is stdout (the stages in the foreground).
+GtsoResult gtsoStage(const AllOptions& options, int threads, std::FILE* summary) {
+  const bool progress = options.progress && summary == stdout;
+  banner("gtso", progress);
   GtsoOptions gtso;
   gtso.out = options.out / kGtsoDir;
   gtso.threads = threads;
-  gtso.progress = options.progress;
+  gtso.progress = progress;
+  gtso.summary = summary;
   return runGtso(gtso);
 }
 
-EncodeResult encodeStage(const AllOptions& options, int threads) {
-  banner("encode", options.progress);
+EncodeResult encodeStage(const AllOptions& options, int threads, std::FILE* summary) {
+  const bool progress = options.progress && summary == stdout;
+  banner("encode", progress);
   EncodeOptions encode;
   encode.gtso = options.out / kGtsoDir;
   encode.out = options.out / kEncodeDir;  // gtso{3d,4d}*.dds/.ktx2, encode.json
   encode.threads = threads;
-  encode.progress = options.progress;
+  encode.progress = progress;
+  encode.summary = summary;
   encode.layout_4d = parseLayout4D(options.layout_4d);
   return runEncode(encode);
 }
+
+// gtso and encode read nothing another stage writes, and no stage before validate-gtso reads
+// what they write, so with more than one thread they run as a chain beside the stages from
+// scenes to lighting, on the cores those leave idle (docs/performance.md "Stages in the
+// background"). Their summary lines wait in memory until the foreground reaches them.
+class TablesInBackground {
+ public:
+  TablesInBackground(const AllOptions& options, int threads, StageClock* clock)
+      : clock_(clock), summary_(open_memstream(&text_, &size_)) {
+    if (summary_ == nullptr) throw Error("gtbake all: no memory for the background summary");
+    chain_.emplace(threads, [this, &options, threads](BackgroundChain& chain) {
+      chain.run("gtso", [&] { baked_ = gtsoStage(options, threads, summary_); });
+      chain.run("encode", [&] { encoded_ = encodeStage(options, threads, summary_); });
+    });
+    clock_->setBackgroundCpu([this] { return chain_->cpuSeconds(); });
+  }
+  ~TablesInBackground() {
+    chain_.reset();  // cancels and waits before the stream it writes to closes
+    std::fclose(summary_);
+    std::free(text_);
+  }
+  TablesInBackground(const TablesInBackground&) = delete;
+  TablesInBackground& operator=(const TablesInBackground&) = delete;
+
+  // Waits for the chain, adds its stages to the clock and prints their summary lines.
+  void join(GtsoResult* baked, EncodeResult* encoded) {
+    banner("gtso and encode (ran in the background)", true);
+    const BackgroundChain::Joined joined = chain_->join();
+    clock_->setBackgroundCpu(nullptr);
+    clock_->addBackground(joined.stages, joined.waited_seconds);
+    std::fflush(summary_);
+    std::fwrite(text_, 1, size_, stdout);
+    *baked = baked_;
+    *encoded = encoded_;
+  }
+
+ private:
+  StageClock* clock_;
+  char* text_ = nullptr;
+  std::size_t size_ = 0;
+  std::FILE* summary_;
+  GtsoResult baked_;
+  EncodeResult encoded_;
+  std::optional<BackgroundChain> chain_;
+};
 
 ValidateGtsoResult validateGtsoStage(const AllOptions& options) {
   banner("validate-gtso", options.progress);
@@ -294,6 +347,8 @@ void runAll(const AllOptions& options) {
   const ThreadLimit limit(options.threads);
   const int threads = limit.threads();
   StageClock clock;
+  std::optional<TablesInBackground> tables;
+  if (threads > 1) tables.emplace(options, threads, &clock);
 
   std::vector<std::filesystem::path> gltf = options.scenes;
   if (gltf.empty()) clock.run("scenes", [&] { gltf = corpusScenes(options); });
@@ -309,9 +364,13 @@ void runAll(const AllOptions& options) {
   clock.run("tune", [&] { tuned = tuneSettings(options, threads); });
   clock.run("lighting", [&] { lightingStage(options, options.out / kFitDir / "fit.json"); });
   GtsoResult baked;
-  clock.run("gtso", [&] { baked = gtsoStage(options, threads); });
   EncodeResult encoded;
-  clock.run("encode", [&] { encoded = encodeStage(options, threads); });
+  if (tables) {
+    tables->join(&baked, &encoded);
+  } else {
+    clock.run("gtso", [&] { baked = gtsoStage(options, threads, stdout); });
+    clock.run("encode", [&] { encoded = encodeStage(options, threads, stdout); });
+  }
   ValidateGtsoResult validated;
   clock.run("validate-gtso", [&] { validated = validateGtsoStage(options); });
   clock.run("validate-gtso per estimator", [&] { specularProfiles(options, &profiles); });

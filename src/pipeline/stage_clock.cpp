@@ -51,8 +51,15 @@ StageClock::StageClock() : wall_start_(wallNow()), cpu_start_(cpuNow()) {}
 void StageClock::run(const std::string& stage, const std::function<void()>& work) {
   const double wall = wallNow();
   const double cpu = cpuNow();
+  const double background = background_cpu_ ? background_cpu_() : 0.0;
   work();
-  stages_.push_back({stage, wallNow() - wall, cpuNow() - cpu});
+  const double background_used = background_cpu_ ? background_cpu_() - background : 0.0;
+  stages_.push_back({stage, wallNow() - wall, cpuNow() - cpu - background_used});
+}
+
+void StageClock::addBackground(const std::vector<StageTime>& stages, double waited_seconds) {
+  stages_.insert(stages_.end(), stages.begin(), stages.end());
+  waited_seconds_ += waited_seconds;
 }
 
 StageTime StageClock::total() const {
@@ -69,11 +76,15 @@ double StageClock::wallSeconds(const std::string& stage) const {
 std::string stageTimeLine(const StageClock& clock) {
   std::string line;
   for (const StageTime& t : clock.stages()) {
-    line += t.stage + " " + formatNumber(t.wall_seconds, "%.1f") + " s, ";
+    line += t.stage + " " + formatNumber(t.wall_seconds, "%.1f") + " s";
+    line += t.background ? " in the background, " : ", ";
   }
   const StageTime total = clock.total();
   const double sweep = clock.wallSeconds("sweep");
   line.resize(line.size() - 2);
+  if (clock.waitedSeconds() > 0.0) {
+    line += "; waiting for the background " + formatNumber(clock.waitedSeconds(), "%.1f") + " s";
+  }
   line += "; total " + formatNumber(total.wall_seconds, "%.1f") + " s";
   if (sweep > 0.0) line += " (" + formatNumber(total.wall_seconds / sweep, "%.1f") + "× the sweep)";
   return line + ", CPU " + formatNumber(cores(total), "%.2f") + " cores";
@@ -89,6 +100,7 @@ nlohmann::ordered_json timingsJson(const StageClock& clock, int threads) {
          {"wall_seconds", t.wall_seconds},
          {"cpu_seconds", t.cpu_seconds},
          {"cores_busy", cores(t)},
+         {"background", t.background},
          {"share_of_total", total.wall_seconds > 0.0 ? t.wall_seconds / total.wall_seconds : 0.0}});
   }
   nlohmann::ordered_json timings;
@@ -99,6 +111,7 @@ nlohmann::ordered_json timingsJson(const StageClock& clock, int threads) {
   timings["total"] = {{"wall_seconds", total.wall_seconds},
                       {"cpu_seconds", total.cpu_seconds},
                       {"cores_busy", cores(total)}};
+  timings["waited_for_background_seconds"] = clock.waitedSeconds();
   timings["sweep_multiple"] = sweep > 0.0 ? total.wall_seconds / sweep : 0.0;
   timings["bar_seconds"] = kAllBarSeconds;
   timings["within_bar"] = total.wall_seconds <= kAllBarSeconds;

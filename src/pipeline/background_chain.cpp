@@ -1,0 +1,140 @@
+#include "pipeline/background_chain.h"
+
+#include <pthread.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <tbb/parallel_for.h>
+#include <unistd.h>
+
+#include <thread>
+#include <utility>
+
+namespace gtbake {
+
+namespace {
+
+double clockSeconds(clockid_t id) {
+  timespec t{};
+  clock_gettime(id, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// Has TBB start its workers from the calling thread, if it has not already: a thread inherits
+// its creator's nice value, and a worker started from the chain's thread would serve the
+// foreground's loops at nice 19 for the rest of the run. Each of `threads` iterations waits
+// (at most a second) until every one has begun, so each runs on a thread of its own.
+void startWorkers(int threads) {
+  std::atomic<int> arrived{0};
+  tbb::parallel_for(0, threads, 1, [&](int) {
+    ++arrived;
+    const double give_up = clockSeconds(CLOCK_MONOTONIC) + 1.0;
+    while (arrived < threads && clockSeconds(CLOCK_MONOTONIC) < give_up) std::this_thread::yield();
+  });
+}
+
+}  // namespace
+
+BackgroundChain::WorkerClock::WorkerClock(tbb::task_arena& arena)
+    : tbb::task_scheduler_observer(arena) {
+  observe(true);
+}
+
+BackgroundChain::WorkerClock::~WorkerClock() {
+  observe(false);  // waits for callbacks in progress
+}
+
+void BackgroundChain::WorkerClock::on_scheduler_entry(bool is_worker) {
+  if (!is_worker) return;
+  Visit v{pthread_self(), {}, 0.0};
+  pthread_getcpuclockid(v.thread, &v.clock);
+  v.entry_seconds = clockSeconds(v.clock);
+  const std::lock_guard<std::mutex> lock(mutex_);
+  open_.push_back(v);
+}
+
+void BackgroundChain::WorkerClock::on_scheduler_exit(bool is_worker) {
+  if (!is_worker) return;
+  const pthread_t self = pthread_self();
+  const std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = std::find_if(open_.begin(), open_.end(),
+                               [&](const Visit& v) { return pthread_equal(v.thread, self); });
+  if (it == open_.end()) return;
+  closed_seconds_ += clockSeconds(it->clock) - it->entry_seconds;
+  open_.erase(it);
+}
+
+double BackgroundChain::WorkerClock::seconds() const {
+  // Under the lock a visit is open only while its worker is inside the arena, so its clock
+  // names a live thread.
+  const std::lock_guard<std::mutex> lock(mutex_);
+  double total = closed_seconds_;
+  for (const Visit& v : open_) total += clockSeconds(v.clock) - v.entry_seconds;
+  return total;
+}
+
+BackgroundChain::BackgroundChain(int threads, std::function<void(BackgroundChain&)> work, int nice)
+    : arena_(threads, 1, tbb::task_arena::priority::low), workers_(arena_) {
+  startWorkers(threads);
+  thread_ = std::thread([this, work = std::move(work), nice] { main(work, nice); });
+}
+
+BackgroundChain::~BackgroundChain() {
+  cancel();
+  if (thread_.joinable()) thread_.join();
+}
+
+void BackgroundChain::main(const std::function<void(BackgroundChain&)>& work, int nice) {
+  // The nice value of this thread alone (Linux gives each thread its own): at 19, when the
+  // foreground wants both cores it gets nearly all of them.
+  setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), nice);
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    pthread_getcpuclockid(pthread_self(), &thread_clock_);
+    started_ = true;
+  }
+  try {
+    arena_.execute([&] { work(*this); });
+  } catch (...) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    error_ = std::current_exception();
+  }
+  const std::lock_guard<std::mutex> lock(mutex_);
+  finished_cpu_ = clockSeconds(CLOCK_THREAD_CPUTIME_ID);
+  finished_ = true;  // from here on thread_clock_ may name a thread that has ended
+}
+
+void BackgroundChain::run(const std::string& stage, const std::function<void()>& fn) {
+  if (cancelled_) return;
+  const double wall = clockSeconds(CLOCK_MONOTONIC);
+  const double cpu = cpuSeconds();
+  fn();
+  const StageTime t{stage, clockSeconds(CLOCK_MONOTONIC) - wall, cpuSeconds() - cpu, true};
+  const std::lock_guard<std::mutex> lock(mutex_);
+  stages_.push_back(t);
+}
+
+double BackgroundChain::cpuSeconds() const {
+  double own = 0.0;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (finished_) {
+      own = finished_cpu_;
+    } else if (started_) {
+      own = clockSeconds(thread_clock_);
+    }
+  }
+  return own + workers_.seconds();
+}
+
+BackgroundChain::Joined BackgroundChain::join() {
+  const double wall = clockSeconds(CLOCK_MONOTONIC);
+  if (thread_.joinable()) thread_.join();
+  Joined joined;
+  joined.waited_seconds = clockSeconds(CLOCK_MONOTONIC) - wall;
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+  joined.stages = stages_;
+  return joined;
+}
+
+}  // namespace gtbake
