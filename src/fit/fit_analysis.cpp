@@ -118,12 +118,12 @@ std::optional<ErrorTable> heldOutErrors(const SweepData& data, const SceneJackkn
 }
 
 FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& settings,
-                         const MultiBounceCoeffs& shipped, Progress* progress,
-                         const AoInput& input) {
+                         const MultiBounceCoeffs& shipped, Progress* progress, const AoInput& input,
+                         const LoadedSweeps* loaded) {
   // A screen-space estimator is scored against the truth within its own radius (docs/sweep.md,
   // "Near-field truth") unless --truth unbounded; ray-traced A keeps the unbounded G.
   const std::optional<double> radius = truthRadius(input);
-  SweepData data = loadSweep(sweep, radius);
+  SweepData data = loadSweep(sweep, radius, loaded);
   useScreenEstimate(&data, input);
   if (progress != nullptr) progress->add(1);
   // Â is a deterministic function of the G-buffer: no noise in the regressor, nothing for the
@@ -137,7 +137,7 @@ FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& 
   a.truth_radius = radius;
   if (radius) {
     // The same views and pixels with the unbounded G; the Â already read serves both.
-    SweepData unbounded = loadSweep(sweep);
+    SweepData unbounded = loadSweep(sweep, std::nullopt, loaded);
     unbounded.full.A = a.data.full.A;
     a.unbounded = UnboundedComparison{errorTable(unbounded, shipped).rmse,
                                       errorTable(unbounded, a.fit.linear.coeffs).rmse};

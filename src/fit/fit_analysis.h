@@ -89,9 +89,10 @@ struct FitAnalysis {
 inline constexpr int kAnalysisStages = 7;
 
 // `input` chooses the regressor: the sweep's A, or a screen-space estimator's Â (profiles).
+// `loaded`: the sweep's images already read (sweep_data.h), used where they hold the truth needed.
 FitAnalysis analyzeSweep(const std::filesystem::path& sweep, const FitSettings& settings,
                          const MultiBounceCoeffs& shipped, Progress* progress,
-                         const AoInput& input = {});
+                         const AoInput& input = {}, const LoadedSweeps* loaded = nullptr);
 
 // Everything after the load, on points already in memory (analyzeSweep's steps 2..7, with the
 // band's grid and simultaneous rule `rule`); the tests and fuzz targets build their analyses here.

@@ -50,8 +50,8 @@ FitResult runFit(const FitOptions& options) {
   const OutputLock lock(out_dir);  // for the whole run (output_lock.h)
   // Stages: the analysis, the report, fit.json.
   Progress bar("fit", kAnalysisStages + 2, options.progress);
-  const FitAnalysis a =
-      analyzeSweep(options.sweep, settingsOf(options), options.shipped, &bar, options.input);
+  const FitAnalysis a = analyzeSweep(options.sweep, settingsOf(options), options.shipped, &bar,
+                                     options.input, options.loaded_sweeps);
   const ValidateData validate_data = validateDataOf(a);
   const ValidateReport shipped_report = validateReport(validate_data, options.shipped);
   ensureDirectory(out_dir);

@@ -10,6 +10,7 @@
 #include "fit/multibounce_coeffs.h"
 #include "fit/normal_equations.h"
 #include "fit/screen_estimate.h"
+#include "fit/sweep_data.h"
 
 namespace gtbake {
 
@@ -26,6 +27,7 @@ struct FitOptions {
   AoInput input;                // ray-traced A, or a screen-space estimator's (a profile)
   bool progress = true;
   bool print_summary = true;  // false: stdout stays silent (fits run side by side in gtbake all)
+  const LoadedSweeps* loaded_sweeps = nullptr;  // `sweep` already read (sweep_data.h), or none
 };
 
 struct FitResult {

@@ -193,6 +193,14 @@ void appendPoints(const PointSet& from, PointSet& to) {
 
 }  // namespace
 
+SweepData loadSweep(const fs::path& dir, std::optional<double> radius, const LoadedSweeps* loaded) {
+  if (loaded != nullptr) {
+    const auto it = loaded->find(radius);
+    if (it != loaded->end()) return it->second;
+  }
+  return loadSweep(dir, radius);
+}
+
 SweepData loadSweep(const fs::path& dir, std::optional<double> radius) {
   const SweepSet sj = readSweepSet(dir);
   requireFitSettings(sj);

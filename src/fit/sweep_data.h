@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -56,5 +57,15 @@ std::string albedoChannel(double rho);
 // and their halves; a radius the sweep did not trace (sweep.json settings "gbuffer_radii") is a
 // one-line gtbake::Error naming the radii it holds.
 SweepData loadSweep(const std::filesystem::path& dir, std::optional<double> radius = std::nullopt);
+
+// Sweeps of one directory already in memory, by the truth radius each was read at (none: the
+// unbounded truth). Fits that run side by side on the same sweep (gtbake all's profiles) share
+// them instead of each decoding every image again.
+using LoadedSweeps = std::map<std::optional<double>, SweepData>;
+
+// A copy of `loaded`'s sweep at `radius` when it holds one (it must have been read from `dir`),
+// else loadSweep(dir, radius).
+SweepData loadSweep(const std::filesystem::path& dir, std::optional<double> radius,
+                    const LoadedSweeps* loaded);
 
 }  // namespace gtbake

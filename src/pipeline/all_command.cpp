@@ -110,21 +110,31 @@ std::vector<Profile> profilesOf(const AllOptions& options) {
   banner("profiles", options.progress);
   // The fits are independent (each its own output set) and mostly serial inside, so they run side
   // by side; the summary table below prints their results in the estimators' order.
+  // The truth each fit reads (G at its estimator's radius, and the unbounded G it is also scored
+  // against) is read once per radius first and copied into each fit.
   const std::vector<Estimator>& estimators = ScreenAoOptions{}.estimators;
-  std::vector<Profile> profiles(estimators.size());
-  Progress bar("profiles", estimators.size(), options.progress);
-  tbb::parallel_for(std::size_t{0}, estimators.size(), [&](std::size_t k) {
-    FitOptions fit;
+  std::vector<FitOptions> fits(estimators.size());
+  LoadedSweeps truth;
+  for (std::size_t k = 0; k < fits.size(); ++k) {
+    FitOptions& fit = fits[k];
     fit.sweep = options.out / kSweepDir;
     fit.out = options.out / kProfilesDir / describe(estimators[k]).name / "fit.json";
     fit.input.estimator = describe(estimators[k]).name;
     fit.input.screen_ao = options.out / kScreenAoDir;
+    for (const std::optional<double>& r : {truthRadius(fit.input), std::optional<double>()}) {
+      if (truth.count(r) == 0) truth.emplace(r, loadSweep(fit.sweep, r));
+    }
+    fit.loaded_sweeps = &truth;
     fit.write_report = false;  // 72 scatter plots per profile; `gtbake fit --estimator` draws them
     // validate --estimator reads the sweep (the shipped sums are the ray-traced fit's only).
     fit.write_validate_data = false;
     fit.progress = false;
     fit.print_summary = false;
-    profiles[k] = {describe(estimators[k]).name, runFit(fit), {}};
+  }
+  std::vector<Profile> profiles(estimators.size());
+  Progress bar("profiles", estimators.size(), options.progress);
+  tbb::parallel_for(std::size_t{0}, estimators.size(), [&](std::size_t k) {
+    profiles[k] = {describe(estimators[k]).name, runFit(fits[k]), {}};
     bar.add(1);
   });
   bar.finish();

@@ -1,12 +1,7 @@
 #include "pipeline/background_chain.h"
 
 #include <pthread.h>
-#include <sys/resource.h>
-#include <sys/syscall.h>
-#include <tbb/parallel_for.h>
-#include <unistd.h>
 
-#include <thread>
 #include <utility>
 
 namespace gtbake {
@@ -17,19 +12,6 @@ double clockSeconds(clockid_t id) {
   timespec t{};
   clock_gettime(id, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-// Has TBB start its workers from the calling thread, if it has not already: a thread inherits
-// its creator's nice value, and a worker started from the chain's thread would serve the
-// foreground's loops at nice 19 for the rest of the run. Each of `threads` iterations waits
-// (at most a second) until every one has begun, so each runs on a thread of its own.
-void startWorkers(int threads) {
-  std::atomic<int> arrived{0};
-  tbb::parallel_for(0, threads, 1, [&](int) {
-    ++arrived;
-    const double give_up = clockSeconds(CLOCK_MONOTONIC) + 1.0;
-    while (arrived < threads && clockSeconds(CLOCK_MONOTONIC) < give_up) std::this_thread::yield();
-  });
 }
 
 }  // namespace
@@ -72,21 +54,17 @@ double BackgroundChain::WorkerClock::seconds() const {
   return total;
 }
 
-BackgroundChain::BackgroundChain(int threads, std::function<void(BackgroundChain&)> work, int nice)
-    : arena_(threads, 1, tbb::task_arena::priority::low), workers_(arena_) {
-  startWorkers(threads);
-  thread_ = std::thread([this, work = std::move(work), nice] { main(work, nice); });
-}
+BackgroundChain::BackgroundChain(int threads, std::function<void(BackgroundChain&)> work)
+    : arena_(threads, 1, tbb::task_arena::priority::low),
+      workers_(arena_),
+      thread_([this, work = std::move(work)] { main(work); }) {}
 
 BackgroundChain::~BackgroundChain() {
   cancel();
   if (thread_.joinable()) thread_.join();
 }
 
-void BackgroundChain::main(const std::function<void(BackgroundChain&)>& work, int nice) {
-  // The nice value of this thread alone (Linux gives each thread its own): at 19, when the
-  // foreground wants both cores it gets nearly all of them.
-  setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), nice);
+void BackgroundChain::main(const std::function<void(BackgroundChain&)>& work) {
   {
     const std::lock_guard<std::mutex> lock(mutex_);
     pthread_getcpuclockid(pthread_self(), &thread_clock_);

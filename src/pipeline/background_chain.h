@@ -1,6 +1,6 @@
 // A chain of stages of `gtbake all` run on a thread of its own beside the stages in the
-// foreground, at the lowest CPU priority, so that it uses the cores the foreground leaves idle
-// (docs/performance.md "Stages in the background"). Its outputs are the same bytes as when the
+// foreground, so that it uses the cores the foreground leaves idle (docs/performance.md "Stages
+// in the background"). Its outputs are the same bytes as when the
 // stages run in turn: nothing it runs reads what the foreground writes, or the reverse, until
 // join() returns.
 #pragma once
@@ -25,9 +25,10 @@ namespace gtbake {
 
 class BackgroundChain {
  public:
-  // Starts `work` at once on a new thread at `nice` (19: the lowest priority), its TBB loops in a
-  // low-priority arena of `threads` slots; `work` runs its stages through run().
-  BackgroundChain(int threads, std::function<void(BackgroundChain&)> work, int nice = 19);
+  // Starts `work` at once on a new thread, its TBB loops in a low-priority arena of `threads`
+  // slots (TBB's workers serve the foreground's loops first); `work` runs its stages through
+  // run().
+  BackgroundChain(int threads, std::function<void(BackgroundChain&)> work);
   ~BackgroundChain();  // cancel() and waits: no stage outlives the chain
   BackgroundChain(const BackgroundChain&) = delete;
   BackgroundChain& operator=(const BackgroundChain&) = delete;
@@ -70,7 +71,7 @@ class BackgroundChain {
     std::vector<Visit> open_;
   };
 
-  void main(const std::function<void(BackgroundChain&)>& work, int nice);
+  void main(const std::function<void(BackgroundChain&)>& work);
 
   tbb::task_arena arena_;
   WorkerClock workers_;
@@ -82,7 +83,7 @@ class BackgroundChain {
   double finished_cpu_ = 0.0;  // ... which is this
   std::vector<StageTime> stages_;
   std::exception_ptr error_;
-  std::thread thread_;
+  std::thread thread_;  // last: starts once every field above exists
 };
 
 }  // namespace gtbake
