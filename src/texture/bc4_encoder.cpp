@@ -42,8 +42,8 @@ struct HiMask {
     for (int w = a >> 6; a <= b && w <= (b >> 6); ++w) {
       const int first = std::max(a, w * 64) - w * 64;
       const int last = std::min(b, w * 64 + 63) - w * 64;
-      const std::uint64_t high = last == 63 ? ~0ull : ((1ull << (last + 1)) - 1);
-      words[w] |= high & ~((1ull << first) - 1);
+      // Bits first..last; 2 << 63 wraps to 0, so last = 63 gives the all-ones high part.
+      words[w] |= ((2ull << last) - 1) & (~0ull << first);
     }
   }
   void intersect(const HiMask& other) {
