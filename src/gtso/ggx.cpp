@@ -77,9 +77,9 @@ double GgxDistribution::pdfWi(Vec3 wo, Vec3 wi) const {
   return cosOm > 0.0 ? D(wo, wm) / (4.0 * cosOm) : 0.0;
 }
 
-double GgxDistribution::weight(Vec3 wo, Vec3 wi) const {
+double GgxDistribution::weight(double onePlusLambdaO, Vec3 wi) const {
   if (wi.z <= 0.0) return 0.0;
-  return 1.0 / (1.0 + Lambda(wi) / (1.0 + Lambda(wo)));
+  return 1.0 / (1.0 + Lambda(wi) / onePlusLambdaO);
 }
 
 // The hemisphere configuration of wo (stretched to alpha = 1) and an orthonormal frame (T1, T2)

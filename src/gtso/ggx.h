@@ -83,7 +83,9 @@ class GgxDistribution {
   // The estimator weight fr(wo,wi) cos(theta_i) / pdfWi(wo,wi) = G2(wo,wi) / G1(wo), written as
   // 1 / (1 + Lambda(wi) / (1 + Lambda(wo))) so that the grazing limit cos(theta_o) -> 0 gives 1;
   // 0 for wi below the horizon.
-  double weight(Vec3 wo, Vec3 wi) const;
+  double weight(Vec3 wo, Vec3 wi) const { return weight(1.0 + Lambda(wo), wi); }
+  // The same with 1 + Lambda(wo) passed in, for callers that hoist it out of a loop over wi.
+  double weight(double onePlusLambdaO, Vec3 wi) const;
 
  private:
   std::array<Vec3, 3> stretchedFrame(Vec3 wo) const;  // (Vh, T1, T2) of Heitz 2018

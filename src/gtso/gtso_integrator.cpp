@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <numeric>
 
 #include "common/math_constants.h"
@@ -23,6 +24,14 @@ constexpr int kPsiCellsPerPhiCell = 2;
 std::size_t firstBelow(const std::vector<double>& cs, double t) {
   return static_cast<std::size_t>(
       std::lower_bound(cs.begin(), cs.end(), t, std::greater<double>()) - cs.begin());
+}
+
+// firstBelow(cs, t), trying `hint` first: neighbouring triangles mostly fall in the same bin.
+// The hint is the answer exactly when it is the first index where cs[j] > t fails (the
+// thresholds are sorted, so that index is unique).
+std::size_t firstBelowFrom(const std::vector<double>& cs, double t, std::size_t hint) {
+  if ((hint == cs.size() || !(cs[hint] > t)) && (hint == 0 || cs[hint - 1] > t)) return hint;
+  return firstBelow(cs, t);
 }
 
 // A convex polygon inside one triangle, in barycentric coordinates (l1, l2): the triangle's
@@ -91,12 +100,14 @@ LobeGrid buildLobeGrid(double alpha, double cos_theta_o, int cells) {
   g.nPhi = cells;
   const int n1 = g.nPhi + 1;
   const std::size_t nv = static_cast<std::size_t>(n1) * (g.nPsi + 1);
-  g.weight.resize(nv);
-  g.height.resize(nv);
-  g.dir.resize(nv);
+  // Filled in vertex order below (push_back, not a zero-filled resize).
+  g.weight.reserve(nv);
+  g.height.reserve(nv);
+  g.dir.reserve(nv);
   // psi = (pi/2)(1 - (1 - zeta)^p), p = 1 + sin^2(theta_o): uniform at normal view; toward
   // grazing the visible normals crowd at psi -> pi/2 (steep microfacets seen edge-on), where
   // tan(theta_m) = alpha tan(psi) varies fastest, so the grid is refined there.
+  const double onePlusLambdaO = 1.0 + ggx.Lambda(wo);  // the same for every vertex
   const double power = 1.0 + (1.0 - cos_theta_o * cos_theta_o);
   std::vector<double> cosPhi(n1), sinPhi(n1);
   for (int i = 0; i < n1; ++i) {
@@ -109,12 +120,12 @@ LobeGrid buildLobeGrid(double alpha, double cos_theta_o, int cells) {
     const double dpsi = power * std::pow(1.0 - zeta, power - 1.0);
     const double sinPsi = std::sin(psi), cosPsi = std::cos(psi);
     for (int i = 0; i < n1; ++i) {
-      const std::size_t v = static_cast<std::size_t>(j) * n1 + i;
       const Vec3 nh = {sinPsi * cosPhi[i], sinPsi * sinPhi[i], cosPsi};
       const Vec3 wi = reflect(wo, normalize({alpha * nh.x, alpha * nh.y, nh.z}));
-      g.weight[v] = ggx.weight(wo, wi) * std::max(0.0, dot(vh, nh)) * sinPsi * dpsi;
-      g.height[v] = wi.z;
-      g.dir[v] = wi;
+      g.weight.push_back(ggx.weight(onePlusLambdaO, wi) * std::max(0.0, dot(vh, nh)) * sinPsi *
+                         dpsi);
+      g.height.push_back(wi.z);
+      g.dir.push_back(wi);
     }
   }
   return g;
@@ -126,11 +137,12 @@ class ConeAccumulator {
  public:
   ConeAccumulator(const LobeGrid& grid, const std::vector<Vec3>& b,
                   const std::vector<std::vector<double>>& cs)
-      : g_(grid), cs_(cs), K_(b.size()), t_(K_ * grid.vertices()) {
+      : g_(grid), cs_(cs), K_(b.size()), t_(new double[K_ * grid.vertices()]) {
     for (std::size_t v = 0; v < grid.vertices(); ++v)
       for (std::size_t k = 0; k < K_; ++k) t_[v * K_ + k] = dot(grid.dir[v], b[k]);
     cumulative_.resize(K_);
     partial_.resize(K_);
+    lastFull_.assign(K_, 0);
     for (std::size_t k = 0; k < K_; ++k) {
       cumulative_[k].assign(cs[k].size() + 1, 0.0);
       partial_[k].assign(cs[k].size(), 0.0);
@@ -189,6 +201,16 @@ class ConeAccumulator {
     const double scale = 1.0 / (1.0 - (dot(dab, dab) + dot(dbc, dbc) + dot(dca, dca)) / 24.0);
     const double *ta = &t_[va * K_], *tb = &t_[vb * K_], *tc = &t_[vc * K_];
     for (std::size_t k = 0; k < K_; ++k) {
+      const std::vector<double>& cs = cs_[k];
+      // t0 and t2 of the sort below are the smallest and largest t (finite: unit vectors and a
+      // scale in [1, 1.6]); when no threshold lies in (t0, t2) the partial loop does nothing and
+      // the sort by t is not needed.
+      const double sa = scale * ta[k], sb = scale * tb[k], sc = scale * tc[k];
+      const double s0 = std::min(std::min(sa, sb), sc), s2 = std::max(std::max(sa, sb), sc);
+      const std::size_t jFull = firstBelowFrom(cs, s0, lastFull_[k]);
+      lastFull_[k] = jFull;
+      cumulative_[k][jFull] += full;
+      if (jFull == 0 || !(cs[jFull - 1] < s2)) continue;
       std::array<std::pair<double, double>, 3> v = {
           {{scale * ta[k], wa}, {scale * tb[k], wb}, {scale * tc[k], wc}}};
       if (v[1].first < v[0].first) std::swap(v[0], v[1]);
@@ -197,9 +219,6 @@ class ConeAccumulator {
       const auto [t0, w0] = v[0];
       const auto [t1, w1] = v[1];
       const auto [t2, w2] = v[2];
-      const std::vector<double>& cs = cs_[k];
-      const std::size_t jFull = firstBelow(cs, t0);
-      cumulative_[k][jFull] += full;
       for (std::size_t j = jFull; j-- > 0 && cs[j] < t2;) {
         const double c = cs[j];
         if (c <= t1) {
@@ -243,8 +262,11 @@ class ConeAccumulator {
   const LobeGrid& g_;
   const std::vector<std::vector<double>>& cs_;
   std::size_t K_;
-  std::vector<double> t_;  // vertex-major: t_[v * K + k] = wi(v).b[k]
+  // Vertex-major: t_[v * K + k] = wi(v).b[k]; every entry is written before it is read, so
+  // the array is not zero-filled first (it is megabytes at the texel check's cells).
+  std::unique_ptr<double[]> t_;
   std::vector<std::vector<double>> cumulative_, partial_;
+  std::vector<std::size_t> lastFull_;  // per bent normal: the previous triangle's jFull
   double denominator_ = 0.0;
 };
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <tuple>
@@ -29,16 +30,20 @@ struct HiMask {
 
   void setRange(double lower, double upper) {
     if (upper < 0.0 || lower > 255.0 || lower > upper) return;
-    const int a = static_cast<int>(std::ceil(std::max(lower, -1.0)));
-    const int b = static_cast<int>(std::floor(std::min(upper, 256.0)));
+    // ceil and floor of values clamped to [-1, 256]: the truncation toward zero, corrected by
+    // one where it landed on the wrong side (exact for every double in that range).
+    const double x = std::max(lower, -1.0), y = std::min(upper, 256.0);
+    int a = static_cast<int>(x), b = static_cast<int>(y);
+    a += a < x ? 1 : 0;
+    b -= b > y ? 1 : 0;
     setRange(std::max(a, 0), std::min(b, 255));
   }
   void setRange(int a, int b) {
     for (int w = a >> 6; a <= b && w <= (b >> 6); ++w) {
       const int first = std::max(a, w * 64) - w * 64;
       const int last = std::min(b, w * 64 + 63) - w * 64;
-      const std::uint64_t high = last == 63 ? ~0ull : ((1ull << (last + 1)) - 1);
-      words[w] |= high & ~((1ull << first) - 1);
+      // Bits first..last; 2 << 63 wraps to 0, so last = 63 gives the all-ones high part.
+      words[w] |= ((2ull << last) - 1) & (~0ull << first);
     }
   }
   void intersect(const HiMask& other) {
@@ -123,9 +128,10 @@ constexpr int kDirectScoreCandidates = 32;  // callgrind: 32 beat 0, 2, 4, 8, 16
 void pruneByCount(HiMask& mask, const double* u, int lo, int n, bool has01, double best, int j) {
   const double radius = deltaOf(best / j);
   HiMask counter[kMaxCountLevel];
+  const int hmin = mask.first(), hmax = mask.last();
   for (int t = 0; t < kBc4BlockTexels; ++t) {
     if (has01 && std::min(u[t], 255.0 - u[t]) <= radius) continue;  // 0 or 1 is near enough
-    const HiMask near = anchorMask(u[t], lo, n, radius, mask.first(), mask.last());
+    const HiMask near = anchorMask(u[t], lo, n, radius, hmin, hmax);
     for (int k = j - 1; k >= 0; --k) {
       for (int w = 0; w < 4; ++w) {
         const std::uint64_t outside = ~near.words[w];
@@ -145,27 +151,44 @@ Bc4Encoder::Bc4Encoder() : palettes_(static_cast<std::size_t>(kPairs) * 8) {
   }
 }
 
+namespace {
+
+// Two palette entries (or two squared distances) per lane pair.
+using Lanes2 = double __attribute__((vector_size(16)));
+
+// The palette of one key as four lane pairs.
+struct PaletteLanes {
+  Lanes2 p[4];
+  explicit PaletteLanes(const double* palette) { std::memcpy(p, palette, sizeof(p)); }
+};
+
+// min_k (p_k − x)² over the 8 entries. Each square is the same IEEE product as in the scalar
+// loop; the minimum of non-NaN squares (never −0) is one value whatever order it is taken in, so
+// the lane-wise min tree returns exactly the scalar loop's result.
+inline double nearestSquare(const PaletteLanes& pal, double x) {
+  const Lanes2 xx = {x, x};
+  Lanes2 d[4];
+  for (int i = 0; i < 4; ++i) d[i] = (pal.p[i] - xx) * (pal.p[i] - xx);
+  const Lanes2 m01 = d[1] < d[0] ? d[1] : d[0];
+  const Lanes2 m23 = d[3] < d[2] ? d[3] : d[2];
+  const Lanes2 m = m23 < m01 ? m23 : m01;
+  return std::min(m[0], m[1]);
+}
+
+}  // namespace
+
 double Bc4Encoder::pairError(int key, const double* v) const {
-  const double* p = &palettes_[static_cast<std::size_t>(key) * 8];
+  const PaletteLanes pal(&palettes_[static_cast<std::size_t>(key) * 8]);
   double sum = 0.0;
-  for (int t = 0; t < kBc4BlockTexels; ++t) {
-    double nearest = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 8; ++k) nearest = std::min(nearest, (p[k] - v[t]) * (p[k] - v[t]));
-    sum += nearest;
-  }
+  for (int t = 0; t < kBc4BlockTexels; ++t) sum += nearestSquare(pal, v[t]);
   return sum;
 }
 
 // The same terms as pairError, in `order`, stopping once the sum exceeds `bound`.
 double Bc4Encoder::boundedError(int key, const double* v, const int* order, double bound) const {
-  const double* p = &palettes_[static_cast<std::size_t>(key) * 8];
+  const PaletteLanes pal(&palettes_[static_cast<std::size_t>(key) * 8]);
   double sum = 0.0;
-  for (int i = 0; i < kBc4BlockTexels && sum <= bound; ++i) {
-    const double x = v[order[i]];
-    double nearest = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 8; ++k) nearest = std::min(nearest, (p[k] - x) * (p[k] - x));
-    sum += nearest;
-  }
+  for (int i = 0; i < kBc4BlockTexels && sum <= bound; ++i) sum += nearestSquare(pal, v[order[i]]);
   return sum;
 }
 
