@@ -117,33 +117,66 @@ Angle sliceAngle(double c, double sign) {
   return {sign * std::acos(cc), sign * std::sqrt(1.0 - cc * cc), cc};
 }
 
+// sectorBits's run: lo*32 ∈ [0, 32] so its floor is its truncation, and the count is a ceiling
+// only where positive (a NaN bound gives no sectors, as before).
+std::uint32_t sectorRun(double ua, double ub) {
+  const double lo = std::clamp(std::min(ua, ub), 0.0, 1.0);
+  const double hi = std::clamp(std::max(ua, ub), 0.0, 1.0);
+  const double span = (hi - lo) * kSectors - kSectorSlack;
+  if (!(span > 0.0)) return 0u;
+  const int start = std::min(kSectors - 1, static_cast<int>(lo * kSectors));
+  int count = static_cast<int>(span);
+  if (count < span) ++count;
+  const std::uint32_t run = count >= kSectors ? 0xffffffffu : (1u << count) - 1u;
+  return run << start;
+}
+
+// Every sector a slab behind a sample on side `sign` with front coordinate u can set. The back
+// angle lies past the front one, away from V (cos θ_b = (f·V − t)/|f − tV| falls as t grows), so
+// on side + its coordinate is ≥ u and sectorRun starts at ⌊32u⌋; on side − it is ≤ u and the run
+// ends at or before ⌊32u⌋ (its count, ⌈32(u − u_b) − slack⌉ up to rounding of ~1e-14, is at most
+// ⌈32u⌉ − ⌊32u_b⌋). Rounding can put the back angle past the front one the wrong way only by far
+// less than the slack (1e-7 rad against 1e-3 of a sector), which sets no sector at all.
+std::uint32_t reachableSectors(double u, double sign) {
+  const int k = std::min(kSectors - 1, static_cast<int>(std::clamp(u, 0.0, 1.0) * kSectors));
+  if (sign > 0.0) return 0xffffffffu << k;
+  return k == kSectors - 1 ? 0xffffffffu : (1u << (k + 1)) - 1u;
+}
+
 // The sectors of one sample (`front`, the offset from P, on side `sign`) for each sector map and
 // thickness, OR-ed into bits[m·T + k] (u_front[m]: the front angle's coordinate under maps[m]).
-// Each back angle is computed once and read by every map. The slab's back point front − tV moves
-// away from V as t grows (cos θ_b = (f·V − t)/|f − tV| falls), so once its angle is far past the
-// side's hemisphere end (farPastEnd, which does not depend on the map: further than any rounding
-// of it), every thicker slab's back angle is past it too and clamps to the same end coordinate,
-// which is reused; the same bits as computing each.
+// Each back angle is computed once and read by every map, and not at all where every map's bits
+// already hold all the sectors the sample can set (reachableSectors). The slab's back point
+// front − tV moves away from V as t grows (cos θ_b = (f·V − t)/|f − tV| falls), so once its angle
+// is far past the side's hemisphere end (farPastEnd, which does not depend on the map: further
+// than any rounding of it), every thicker slab's back angle is past it too and clamps to the same
+// end coordinate, whose sectors are reused; the same bits as computing each.
 void sampleBits(const SectorMap* maps, std::size_t map_count, const Eigen::Vector3d& front,
                 const Eigen::Vector3d& v, const double* u_front, double sign,
                 const std::vector<double>& thicknesses, std::uint32_t* bits) {
   const std::size_t T = thicknesses.size();
+  std::array<std::uint32_t, kMaxSectorMaps> reachable{};
+  for (std::size_t m = 0; m < map_count; ++m) reachable[m] = reachableSectors(u_front[m], sign);
   double clamped_from = std::numeric_limits<double>::infinity();  // the thinnest slab past the end
-  std::array<double, kMaxSectorMaps> u_end{};
+  std::array<std::uint32_t, kMaxSectorMaps> end_bits{};
   for (std::size_t k = 0; k < T; ++k) {
-    const bool clamped = !(thicknesses[k] < clamped_from);
-    Angle theta{};
-    bool past = false;
-    if (!clamped) {
-      const Eigen::Vector3d back = front - thicknesses[k] * v;
-      theta = sliceAngle(back.normalized().dot(v), sign);
-      past = maps[0].farPastEnd(theta.a, sign);
-      if (past) clamped_from = thicknesses[k];
-    }
+    bool covered = true;
     for (std::size_t m = 0; m < map_count; ++m) {
-      const double u_back = clamped ? u_end[m] : maps[m].coordinate(theta);
-      if (past) u_end[m] = u_back;
-      bits[m * T + k] |= sectorBits(u_front[m], u_back);
+      covered = covered && (bits[m * T + k] & reachable[m]) == reachable[m];
+    }
+    if (covered) continue;
+    if (!(thicknesses[k] < clamped_from)) {
+      for (std::size_t m = 0; m < map_count; ++m) bits[m * T + k] |= end_bits[m];
+      continue;
+    }
+    const Eigen::Vector3d back = front - thicknesses[k] * v;
+    const Angle theta = sliceAngle(back.normalized().dot(v), sign);
+    const bool past = maps[0].farPastEnd(theta.a, sign);
+    if (past) clamped_from = thicknesses[k];
+    for (std::size_t m = 0; m < map_count; ++m) {
+      const std::uint32_t b = sectorRun(u_front[m], maps[m].coordinate(theta));
+      if (past) end_bits[m] = b;
+      bits[m * T + k] |= b;
     }
   }
 }
@@ -170,6 +203,9 @@ void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const E
       const double length = front.norm();
       if (length > s.radius || !(length > 0.0)) continue;
       const Angle theta = sliceAngle(front.dot(v) / length, sign);
+      // Every back angle lies further past the end than the front one (sampleBits), so every
+      // coordinate is the end's and sets no sector.
+      if (maps[0].farPastEnd(theta.a, sign)) continue;
       for (std::size_t m = 0; m < map_count; ++m) u_front[m] = maps[m].coordinate(theta);
       sampleBits(maps, map_count, front, v, u_front.data(), sign, thicknesses, bits);
     }
@@ -245,13 +281,7 @@ double sectorCoordinate(double theta, double n, SectorWeights weights) {
 }
 
 std::uint32_t sectorBits(double ua, double ub) {
-  const double lo = std::clamp(std::min(ua, ub), 0.0, 1.0);
-  const double hi = std::clamp(std::max(ua, ub), 0.0, 1.0);
-  const int start = std::min(kSectors - 1, static_cast<int>(std::floor(lo * kSectors)));
-  const int count = static_cast<int>(std::ceil((hi - lo) * kSectors - kSectorSlack));
-  if (count <= 0) return 0u;
-  const std::uint32_t run = count >= kSectors ? 0xffffffffu : (1u << count) - 1u;
-  return run << start;
+  return sectorRun(ua, ub);
 }
 
 void validate(const BitmaskSettings& s) {
