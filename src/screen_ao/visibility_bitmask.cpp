@@ -23,6 +23,9 @@ constexpr double kSectorSlack = 1e-3;
 // into √(2e-15) ≈ 4.5e-8).
 constexpr double kEndMargin = 1e-6;
 
+// How far below a farPastEnd bound's cosine a cosine must be for the shortcut (SectorMap::pastCos).
+constexpr double kPastCosSlack = 1e-9;
+
 // Sector weightings one pass can serve: uniform and cosine.
 constexpr std::size_t kMaxSectorMaps = 2;
 
@@ -85,6 +88,21 @@ class SectorMap {
   bool farPastEnd(double theta, double sign) const {
     return sign > 0.0 ? theta > n_ + 0.5 * kPi + kEndMargin : theta < n_ - 0.5 * kPi - kEndMargin;
   }
+  // A cosine below which the angle sign·acos c is farPastEnd, found without the acos (−∞ where
+  // no such bound is used). farPastEnd is acos c > e with e = n + π/2 + kEndMargin on side + and
+  // −(n − π/2 − kEndMargin) on side − (the same rounded values); for e in [0, π), c < cos e −
+  // kPastCosSlack puts acos c past e by at least that slack (|acos′| ≥ 1), far beyond the
+  // rounding of cos e and of acos (an ulp, ~4e-16).
+  double pastCos(double sign) const {
+    const double e = sign > 0.0 ? n_ + 0.5 * kPi + kEndMargin : -(n_ - 0.5 * kPi - kEndMargin);
+    if (!(e >= 0.0 && e < kPi)) return -std::numeric_limits<double>::infinity();
+    return std::cos(e) - kPastCosSlack;
+  }
+  // The coordinate every angle past side `sign`'s end has (coordinate clamps it to this angle).
+  double endCoordinate(double sign) const {
+    return sign > 0.0 ? coordinate(Angle{n_ + 0.5 * kPi, cos_n_, -sin_n_})
+                      : coordinate(Angle{n_ - 0.5 * kPi, -cos_n_, sin_n_});
+  }
 
  private:
   // ∫ from n − π/2 to θ of cos(x − n)|sin x| dx over the open mass, θ within the hemisphere
@@ -144,39 +162,45 @@ std::uint32_t reachableSectors(double u, double sign) {
 }
 
 // The sectors of one sample (`front`, the offset from P, on side `sign`) for each sector map and
-// thickness, OR-ed into bits[m·T + k] (u_front[m]: the front angle's coordinate under maps[m]).
-// Each back angle is computed once and read by every map, and not at all where every map's bits
-// already hold all the sectors the sample can set (reachableSectors). The slab's back point
-// front − tV moves away from V as t grows (cos θ_b = (f·V − t)/|f − tV| falls), so once its angle
-// is far past the side's hemisphere end (farPastEnd, which does not depend on the map: further
-// than any rounding of it), every thicker slab's back angle is past it too and clamps to the same
-// end coordinate, whose sectors are reused; the same bits as computing each.
+// thickness, OR-ed into bits[m·T + k] (u_front[m]: the front angle's coordinate under maps[m];
+// past_cos and u_end[m]: the side's maps[0].pastCos and maps[m].endCoordinate). Each back angle
+// is computed once and read by every map, and not at all where every map's bits already hold all
+// the sectors the sample can set (reachableSectors). The slab's back point front − tV moves away
+// from V as t grows (cos θ_b = (f·V − t)/|f − tV| falls), so once its angle is far past the
+// side's hemisphere end (farPastEnd, which does not depend on the map: further than any rounding
+// of it; told by pastCos before any acos where it can), it and every thicker slab's back angle
+// clamp to the end's coordinate, whose sectors are computed once; the same bits as computing each.
 void sampleBits(const SectorMap* maps, std::size_t map_count, const Eigen::Vector3d& front,
-                const Eigen::Vector3d& v, const double* u_front, double sign,
-                const std::vector<double>& thicknesses, std::uint32_t* bits) {
+                const Eigen::Vector3d& v, const double* u_front, double sign, double past_cos,
+                const double* u_end, const std::vector<double>& thicknesses, std::uint32_t* bits) {
   const std::size_t T = thicknesses.size();
   std::array<std::uint32_t, kMaxSectorMaps> reachable{};
-  for (std::size_t m = 0; m < map_count; ++m) reachable[m] = reachableSectors(u_front[m], sign);
-  double clamped_from = std::numeric_limits<double>::infinity();  // the thinnest slab past the end
   std::array<std::uint32_t, kMaxSectorMaps> end_bits{};
+  for (std::size_t m = 0; m < map_count; ++m) {
+    reachable[m] = reachableSectors(u_front[m], sign);
+    end_bits[m] = sectorRun(u_front[m], u_end[m]);
+  }
+  double clamped_from = std::numeric_limits<double>::infinity();  // the thinnest slab past the end
   for (std::size_t k = 0; k < T; ++k) {
     bool covered = true;
     for (std::size_t m = 0; m < map_count; ++m) {
       covered = covered && (bits[m * T + k] & reachable[m]) == reachable[m];
     }
     if (covered) continue;
-    if (!(thicknesses[k] < clamped_from)) {
-      for (std::size_t m = 0; m < map_count; ++m) bits[m * T + k] |= end_bits[m];
-      continue;
+    bool past = !(thicknesses[k] < clamped_from);
+    Angle theta{};
+    if (!past) {
+      const Eigen::Vector3d back = front - thicknesses[k] * v;
+      const double c = std::clamp(back.normalized().dot(v), -1.0, 1.0);
+      past = c < past_cos;
+      if (!past) {
+        theta = sliceAngle(c, sign);
+        past = maps[0].farPastEnd(theta.a, sign);
+      }
+      if (past) clamped_from = thicknesses[k];
     }
-    const Eigen::Vector3d back = front - thicknesses[k] * v;
-    const Angle theta = sliceAngle(back.normalized().dot(v), sign);
-    const bool past = maps[0].farPastEnd(theta.a, sign);
-    if (past) clamped_from = thicknesses[k];
     for (std::size_t m = 0; m < map_count; ++m) {
-      const std::uint32_t b = sectorRun(u_front[m], maps[m].coordinate(theta));
-      if (past) end_bits[m] = b;
-      bits[m * T + k] |= b;
+      bits[m * T + k] |= past ? end_bits[m] : sectorRun(u_front[m], maps[m].coordinate(theta));
     }
   }
 }
@@ -190,8 +214,11 @@ void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const E
                std::uint32_t* bits) {
   std::fill(bits, bits + map_count * thicknesses.size(), 0u);
   std::array<double, kMaxSectorMaps> u_front{};
+  std::array<double, kMaxSectorMaps> u_end{};
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
+    const double past_cos = maps[0].pastCos(sign);
+    for (std::size_t m = 0; m < map_count; ++m) u_end[m] = maps[m].endCoordinate(sign);
     for (int step = 0; step < s.steps; ++step) {
       const double t = sign * (step + 0.5) / s.steps * radius_px;
       Eigen::Vector3d sample;
@@ -202,12 +229,15 @@ void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const E
       const Eigen::Vector3d front = sample - x;
       const double length = front.norm();
       if (length > s.radius || !(length > 0.0)) continue;
-      const Angle theta = sliceAngle(front.dot(v) / length, sign);
-      // Every back angle lies further past the end than the front one (sampleBits), so every
-      // coordinate is the end's and sets no sector.
+      // Every back angle lies further past the end than a front one far past it (sampleBits), so
+      // every coordinate is the end's and the sample sets no sector.
+      const double c = std::clamp(front.dot(v) / length, -1.0, 1.0);
+      if (c < past_cos) continue;
+      const Angle theta = sliceAngle(c, sign);
       if (maps[0].farPastEnd(theta.a, sign)) continue;
       for (std::size_t m = 0; m < map_count; ++m) u_front[m] = maps[m].coordinate(theta);
-      sampleBits(maps, map_count, front, v, u_front.data(), sign, thicknesses, bits);
+      sampleBits(maps, map_count, front, v, u_front.data(), sign, past_cos, u_end.data(),
+                 thicknesses, bits);
     }
   }
 }
