@@ -149,18 +149,6 @@ std::uint32_t sectorRun(double ua, double ub) {
   return run << start;
 }
 
-// Every sector a slab behind a sample on side `sign` with front coordinate u can set. The back
-// angle lies past the front one, away from V (cos θ_b = (f·V − t)/|f − tV| falls as t grows), so
-// on side + its coordinate is ≥ u and sectorRun starts at ⌊32u⌋; on side − it is ≤ u and the run
-// ends at or before ⌊32u⌋ (its count, ⌈32(u − u_b) − slack⌉ up to rounding of ~1e-14, is at most
-// ⌈32u⌉ − ⌊32u_b⌋). Rounding can put the back angle past the front one the wrong way only by far
-// less than the slack (1e-7 rad against 1e-3 of a sector), which sets no sector at all.
-std::uint32_t reachableSectors(double u, double sign) {
-  const int k = std::min(kSectors - 1, static_cast<int>(std::clamp(u, 0.0, 1.0) * kSectors));
-  if (sign > 0.0) return 0xffffffffu << k;
-  return k == kSectors - 1 ? 0xffffffffu : (1u << (k + 1)) - 1u;
-}
-
 // The sectors of one sample (`front`, the offset from P, on side `sign`) for each sector map and
 // thickness, OR-ed into bits[m·T + k] (u_front[m]: the front angle's coordinate under maps[m];
 // past_cos and u_end[m]: the side's maps[0].pastCos and maps[m].endCoordinate). Each back angle
@@ -312,6 +300,21 @@ double sectorCoordinate(double theta, double n, SectorWeights weights) {
 
 std::uint32_t sectorBits(double ua, double ub) {
   return sectorRun(ua, ub);
+}
+
+// The back angle lies past the front one, away from V (cos θ_b = (f·V − t)/|f − tV| falls as t
+// grows), so on side + its coordinate is ≥ u and sectorRun starts at ⌊32u⌋; on side − it is ≤ u and
+// the run ends at or before ⌊32u⌋ (its count, ⌈32(u − u_b) − slack⌉ up to rounding of ~1e-14, is at
+// most ⌈32u⌉ − ⌊32u_b⌋). Rounding can put the back angle past the front one the wrong way only by
+// far less than the slack (1e-7 rad against 1e-3 of a sector), which sets no sector at all.
+std::uint32_t reachableSectors(double u, double sign) {
+  const int k = std::min(kSectors - 1, static_cast<int>(std::clamp(u, 0.0, 1.0) * kSectors));
+  if (sign > 0.0) return 0xffffffffu << k;
+  return k == kSectors - 1 ? 0xffffffffu : (1u << (k + 1)) - 1u;
+}
+
+double pastEndCos(double n, double sign) {
+  return SectorMap(SliceHemisphere(n, false), SectorWeights::kUniform).pastCos(sign);
 }
 
 void validate(const BitmaskSettings& s) {
