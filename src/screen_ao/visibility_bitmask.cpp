@@ -32,17 +32,28 @@ constexpr std::size_t kMaxSectorMaps = 2;
 // What every sector map of one slice shares: n with its sine and cosine and, for cosine sectors,
 // the cosine-weighted mass below V (θ ∈ [n − π/2, 0]) and of the whole open hemisphere. One
 // slice's maps compute these once (uniform sectors read neither mass, so without a cosine map
-// they are left 0 and their trigonometry skipped).
+// they are left 0 and their trigonometry skipped). The masses' ends, angleOf(n ∓ π/2), are kept:
+// the clear runs' bent-normal integrals read the same angles at the hemisphere's ends.
 struct SliceHemisphere {
   SliceHemisphere(double n, bool with_mass) : n(n), sin_n(std::sin(n)), cos_n(std::cos(n)) {
     if (!with_mass) return;
-    below = arcIntegral(angleOf(n - 0.5 * kPi), sin_n, cos_n);  // = arcIntegral(n − π/2, n)
-    open = below + arcIntegral(angleOf(n + 0.5 * kPi), sin_n, cos_n);
+    has_ends = true;
+    lo_end = angleOf(n - 0.5 * kPi);
+    hi_end = angleOf(n + 0.5 * kPi);
+    below = arcIntegral(lo_end, sin_n, cos_n);  // = arcIntegral(n − π/2, n)
+    open = below + arcIntegral(hi_end, sin_n, cos_n);
   }
   double n, sin_n, cos_n;
+  bool has_ends = false;
+  Angle lo_end, hi_end;
   double below = 0.0;
   double open = 0.0;
 };
+
+// Whether two doubles have the same bits (not NaN): equal, and the same sign for zeros.
+bool sameBits(double a, double b) {
+  return a == b && std::signbit(a) == std::signbit(b);
+}
 
 // The map between slice angles and sector coordinates of one slice (n fixed).
 class SectorMap {
@@ -52,6 +63,9 @@ class SectorMap {
         sin_n_(h.sin_n),
         cos_n_(h.cos_n),
         weights_(weights),
+        has_ends_(h.has_ends),
+        lo_end_(h.lo_end),
+        hi_end_(h.hi_end),
         below_(h.below),
         open_(h.open) {}
   double coordinate(double theta) const { return coordinate(angleOf(theta)); }
@@ -64,23 +78,23 @@ class SectorMap {
     if (weights_ == SectorWeights::kUniform) return (t.a - n_ + 0.5 * kPi) / kPi;
     return cosineCoordinate(t);
   }
-  // The inverse: Newton on C from the uniform guess, kept inside a shrinking bracket (bisection
-  // when a step leaves it), to 1e-10 in u.
-  double angle(double u) const {
+  // The inverse, with its sine and cosine: Newton on C from the uniform guess, kept inside a
+  // shrinking bracket (bisection when a step leaves it), to 1e-10 in u.
+  Angle angle(double u) const {
     double lo = n_ - 0.5 * kPi;
     double hi = n_ + 0.5 * kPi;
     double t = lo + kPi * u;
-    if (weights_ == SectorWeights::kUniform) return t;
+    if (weights_ == SectorWeights::kUniform) return angleAt(t);
     for (int k = 0; k < 32; ++k) {
-      const Angle a = angleOf(t);
+      const Angle a = angleAt(t);
       const double f = cosineCoordinate(a) - u;
-      if (std::abs(f) < 1e-10) break;
+      if (std::abs(f) < 1e-10) return a;
       (f < 0.0 ? lo : hi) = t;
       const double slope = (a.c * cos_n_ + a.s * sin_n_) * std::abs(a.s) / open_;
       const double next = slope > 0.0 ? t - f / slope : lo - 1.0;
       t = next > lo && next < hi ? next : 0.5 * (lo + hi);
     }
-    return t;
+    return angleAt(t);
   }
   double openMass() const { return open_; }
   // Whether an angle on side `sign` (θ = sign·acos c) lies past that side's hemisphere end,
@@ -105,6 +119,13 @@ class SectorMap {
   }
 
  private:
+  // angleOf(t), taken from the hemisphere's ends where t has the bits of one of them.
+  Angle angleAt(double t) const {
+    if (has_ends_ && sameBits(t, lo_end_.a)) return lo_end_;
+    if (has_ends_ && sameBits(t, hi_end_.a)) return hi_end_;
+    return angleOf(t);
+  }
+
   // ∫ from n − π/2 to θ of cos(x − n)|sin x| dx over the open mass, θ within the hemisphere
   // (arcIntegral is the signed mass from 0).
   double cosineCoordinate(const Angle& t) const {
@@ -114,17 +135,19 @@ class SectorMap {
 
   double n_, sin_n_, cos_n_;
   SectorWeights weights_;
+  bool has_ends_;
+  Angle lo_end_, hi_end_;
   double below_;
   double open_;
 };
 
 // ∫ over [θa, θb] of cos(θ − n)|sin θ| (sin θ, cos θ) dθ: differences of Alg. 2's one-side terms.
-void bentOver(double a, double b, const Slice& slice, double* t0, double* t1) {
+void bentOver(const Angle& a, const Angle& b, const Slice& slice, double* t0, double* t1) {
   double a0 = 0.0, a1 = 0.0, b0 = 0.0, b1 = 0.0;
-  addBentSide(angleOf(a), slice.sin_n, slice.cos_n, &a0, &a1);  // = bentIntegrals(0, a)
-  addBentSide(angleOf(b), slice.sin_n, slice.cos_n, &b0, &b1);
-  const double sa = a < 0.0 ? -1.0 : 1.0;  // bentIntegrals(0, h) is the mass over [h, 0] for h < 0
-  const double sb = b < 0.0 ? -1.0 : 1.0;
+  addBentSide(a, slice.sin_n, slice.cos_n, &a0, &a1);  // = bentIntegrals(0, a)
+  addBentSide(b, slice.sin_n, slice.cos_n, &b0, &b1);
+  const double sa = a.a < 0.0 ? -1.0 : 1.0;  // bentIntegrals(0, h): the mass over [h, 0] for h < 0
+  const double sb = b.a < 0.0 ? -1.0 : 1.0;
   *t0 = sb * b0 - sa * a0;
   *t1 = sb * b1 - sa * a1;
 }
