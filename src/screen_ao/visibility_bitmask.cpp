@@ -23,23 +23,37 @@ constexpr double kSectorSlack = 1e-3;
 // into √(2e-15) ≈ 4.5e-8).
 constexpr double kEndMargin = 1e-6;
 
+// How far below a farPastEnd bound's cosine a cosine must be for the shortcut (SectorMap::pastCos).
+constexpr double kPastCosSlack = 1e-9;
+
 // Sector weightings one pass can serve: uniform and cosine.
 constexpr std::size_t kMaxSectorMaps = 2;
 
 // What every sector map of one slice shares: n with its sine and cosine and, for cosine sectors,
 // the cosine-weighted mass below V (θ ∈ [n − π/2, 0]) and of the whole open hemisphere. One
 // slice's maps compute these once (uniform sectors read neither mass, so without a cosine map
-// they are left 0 and their trigonometry skipped).
+// they are left 0 and their trigonometry skipped). The masses' ends, angleOf(n ∓ π/2), are kept:
+// the clear runs' bent-normal integrals read the same angles at the hemisphere's ends.
 struct SliceHemisphere {
   SliceHemisphere(double n, bool with_mass) : n(n), sin_n(std::sin(n)), cos_n(std::cos(n)) {
     if (!with_mass) return;
-    below = arcIntegral(angleOf(n - 0.5 * kPi), sin_n, cos_n);  // = arcIntegral(n − π/2, n)
-    open = below + arcIntegral(angleOf(n + 0.5 * kPi), sin_n, cos_n);
+    has_ends = true;
+    lo_end = angleOf(n - 0.5 * kPi);
+    hi_end = angleOf(n + 0.5 * kPi);
+    below = arcIntegral(lo_end, sin_n, cos_n);  // = arcIntegral(n − π/2, n)
+    open = below + arcIntegral(hi_end, sin_n, cos_n);
   }
   double n, sin_n, cos_n;
+  bool has_ends = false;
+  Angle lo_end, hi_end;
   double below = 0.0;
   double open = 0.0;
 };
+
+// Whether two doubles have the same bits (not NaN): equal, and the same sign for zeros.
+bool sameBits(double a, double b) {
+  return a == b && std::signbit(a) == std::signbit(b);
+}
 
 // The map between slice angles and sector coordinates of one slice (n fixed).
 class SectorMap {
@@ -49,6 +63,9 @@ class SectorMap {
         sin_n_(h.sin_n),
         cos_n_(h.cos_n),
         weights_(weights),
+        has_ends_(h.has_ends),
+        lo_end_(h.lo_end),
+        hi_end_(h.hi_end),
         below_(h.below),
         open_(h.open) {}
   double coordinate(double theta) const { return coordinate(angleOf(theta)); }
@@ -61,23 +78,23 @@ class SectorMap {
     if (weights_ == SectorWeights::kUniform) return (t.a - n_ + 0.5 * kPi) / kPi;
     return cosineCoordinate(t);
   }
-  // The inverse: Newton on C from the uniform guess, kept inside a shrinking bracket (bisection
-  // when a step leaves it), to 1e-10 in u.
-  double angle(double u) const {
+  // The inverse, with its sine and cosine: Newton on C from the uniform guess, kept inside a
+  // shrinking bracket (bisection when a step leaves it), to 1e-10 in u.
+  Angle angle(double u) const {
     double lo = n_ - 0.5 * kPi;
     double hi = n_ + 0.5 * kPi;
     double t = lo + kPi * u;
-    if (weights_ == SectorWeights::kUniform) return t;
+    if (weights_ == SectorWeights::kUniform) return angleAt(t);
     for (int k = 0; k < 32; ++k) {
-      const Angle a = angleOf(t);
+      const Angle a = angleAt(t);
       const double f = cosineCoordinate(a) - u;
-      if (std::abs(f) < 1e-10) break;
+      if (std::abs(f) < 1e-10) return a;
       (f < 0.0 ? lo : hi) = t;
       const double slope = (a.c * cos_n_ + a.s * sin_n_) * std::abs(a.s) / open_;
       const double next = slope > 0.0 ? t - f / slope : lo - 1.0;
       t = next > lo && next < hi ? next : 0.5 * (lo + hi);
     }
-    return t;
+    return angleAt(t);
   }
   double openMass() const { return open_; }
   // Whether an angle on side `sign` (θ = sign·acos c) lies past that side's hemisphere end,
@@ -85,8 +102,30 @@ class SectorMap {
   bool farPastEnd(double theta, double sign) const {
     return sign > 0.0 ? theta > n_ + 0.5 * kPi + kEndMargin : theta < n_ - 0.5 * kPi - kEndMargin;
   }
+  // A cosine below which the angle sign·acos c is farPastEnd, found without the acos (−∞ where
+  // no such bound is used). farPastEnd is acos c > e with e = n + π/2 + kEndMargin on side + and
+  // −(n − π/2 − kEndMargin) on side − (the same rounded values); for e in [0, π), c < cos e −
+  // kPastCosSlack puts acos c past e by at least that slack (|acos′| ≥ 1), far beyond the
+  // rounding of cos e and of acos (an ulp, ~4e-16).
+  double pastCos(double sign) const {
+    const double e = sign > 0.0 ? n_ + 0.5 * kPi + kEndMargin : -(n_ - 0.5 * kPi - kEndMargin);
+    if (!(e >= 0.0 && e < kPi)) return -std::numeric_limits<double>::infinity();
+    return std::cos(e) - kPastCosSlack;
+  }
+  // The coordinate every angle past side `sign`'s end has (coordinate clamps it to this angle).
+  double endCoordinate(double sign) const {
+    return sign > 0.0 ? coordinate(Angle{n_ + 0.5 * kPi, cos_n_, -sin_n_})
+                      : coordinate(Angle{n_ - 0.5 * kPi, -cos_n_, sin_n_});
+  }
 
  private:
+  // angleOf(t), taken from the hemisphere's ends where t has the bits of one of them.
+  Angle angleAt(double t) const {
+    if (has_ends_ && sameBits(t, lo_end_.a)) return lo_end_;
+    if (has_ends_ && sameBits(t, hi_end_.a)) return hi_end_;
+    return angleOf(t);
+  }
+
   // ∫ from n − π/2 to θ of cos(x − n)|sin x| dx over the open mass, θ within the hemisphere
   // (arcIntegral is the signed mass from 0).
   double cosineCoordinate(const Angle& t) const {
@@ -96,17 +135,19 @@ class SectorMap {
 
   double n_, sin_n_, cos_n_;
   SectorWeights weights_;
+  bool has_ends_;
+  Angle lo_end_, hi_end_;
   double below_;
   double open_;
 };
 
 // ∫ over [θa, θb] of cos(θ − n)|sin θ| (sin θ, cos θ) dθ: differences of Alg. 2's one-side terms.
-void bentOver(double a, double b, const Slice& slice, double* t0, double* t1) {
+void bentOver(const Angle& a, const Angle& b, const Slice& slice, double* t0, double* t1) {
   double a0 = 0.0, a1 = 0.0, b0 = 0.0, b1 = 0.0;
-  addBentSide(angleOf(a), slice.sin_n, slice.cos_n, &a0, &a1);  // = bentIntegrals(0, a)
-  addBentSide(angleOf(b), slice.sin_n, slice.cos_n, &b0, &b1);
-  const double sa = a < 0.0 ? -1.0 : 1.0;  // bentIntegrals(0, h) is the mass over [h, 0] for h < 0
-  const double sb = b < 0.0 ? -1.0 : 1.0;
+  addBentSide(a, slice.sin_n, slice.cos_n, &a0, &a1);  // = bentIntegrals(0, a)
+  addBentSide(b, slice.sin_n, slice.cos_n, &b0, &b1);
+  const double sa = a.a < 0.0 ? -1.0 : 1.0;  // bentIntegrals(0, h): the mass over [h, 0] for h < 0
+  const double sb = b.a < 0.0 ? -1.0 : 1.0;
   *t0 = sb * b0 - sa * a0;
   *t1 = sb * b1 - sa * a1;
 }
@@ -117,33 +158,60 @@ Angle sliceAngle(double c, double sign) {
   return {sign * std::acos(cc), sign * std::sqrt(1.0 - cc * cc), cc};
 }
 
+// sectorBits's run: lo*32 ∈ [0, 32] so its floor is its truncation, and the count is a ceiling
+// only where positive (a NaN bound gives no sectors, as before).
+std::uint32_t sectorRun(double ua, double ub) {
+  const double lo = std::clamp(std::min(ua, ub), 0.0, 1.0);
+  const double hi = std::clamp(std::max(ua, ub), 0.0, 1.0);
+  const double span = (hi - lo) * kSectors - kSectorSlack;
+  if (!(span > 0.0)) return 0u;
+  const int start = std::min(kSectors - 1, static_cast<int>(lo * kSectors));
+  int count = static_cast<int>(span);
+  if (count < span) ++count;
+  const std::uint32_t run = count >= kSectors ? 0xffffffffu : (1u << count) - 1u;
+  return run << start;
+}
+
 // The sectors of one sample (`front`, the offset from P, on side `sign`) for each sector map and
-// thickness, OR-ed into bits[m·T + k] (u_front[m]: the front angle's coordinate under maps[m]).
-// Each back angle is computed once and read by every map. The slab's back point front − tV moves
-// away from V as t grows (cos θ_b = (f·V − t)/|f − tV| falls), so once its angle is far past the
+// thickness, OR-ed into bits[m·T + k] (u_front[m]: the front angle's coordinate under maps[m];
+// past_cos and u_end[m]: the side's maps[0].pastCos and maps[m].endCoordinate). Each back angle
+// is computed once and read by every map, and not at all where every map's bits already hold all
+// the sectors the sample can set (reachableSectors). The slab's back point front − tV moves away
+// from V as t grows (cos θ_b = (f·V − t)/|f − tV| falls), so once its angle is far past the
 // side's hemisphere end (farPastEnd, which does not depend on the map: further than any rounding
-// of it), every thicker slab's back angle is past it too and clamps to the same end coordinate,
-// which is reused; the same bits as computing each.
+// of it; told by pastCos before any acos where it can), it and every thicker slab's back angle
+// clamp to the end's coordinate, whose sectors are computed once; the same bits as computing each.
 void sampleBits(const SectorMap* maps, std::size_t map_count, const Eigen::Vector3d& front,
-                const Eigen::Vector3d& v, const double* u_front, double sign,
-                const std::vector<double>& thicknesses, std::uint32_t* bits) {
+                const Eigen::Vector3d& v, const double* u_front, double sign, double past_cos,
+                const double* u_end, const std::vector<double>& thicknesses, std::uint32_t* bits) {
   const std::size_t T = thicknesses.size();
+  std::array<std::uint32_t, kMaxSectorMaps> reachable{};
+  std::array<std::uint32_t, kMaxSectorMaps> end_bits{};
+  for (std::size_t m = 0; m < map_count; ++m) {
+    reachable[m] = reachableSectors(u_front[m], sign);
+    end_bits[m] = sectorRun(u_front[m], u_end[m]);
+  }
   double clamped_from = std::numeric_limits<double>::infinity();  // the thinnest slab past the end
-  std::array<double, kMaxSectorMaps> u_end{};
   for (std::size_t k = 0; k < T; ++k) {
-    const bool clamped = !(thicknesses[k] < clamped_from);
+    bool covered = true;
+    for (std::size_t m = 0; m < map_count; ++m) {
+      covered = covered && (bits[m * T + k] & reachable[m]) == reachable[m];
+    }
+    if (covered) continue;
+    bool past = !(thicknesses[k] < clamped_from);
     Angle theta{};
-    bool past = false;
-    if (!clamped) {
+    if (!past) {
       const Eigen::Vector3d back = front - thicknesses[k] * v;
-      theta = sliceAngle(back.normalized().dot(v), sign);
-      past = maps[0].farPastEnd(theta.a, sign);
+      const double c = std::clamp(back.normalized().dot(v), -1.0, 1.0);
+      past = c < past_cos;
+      if (!past) {
+        theta = sliceAngle(c, sign);
+        past = maps[0].farPastEnd(theta.a, sign);
+      }
       if (past) clamped_from = thicknesses[k];
     }
     for (std::size_t m = 0; m < map_count; ++m) {
-      const double u_back = clamped ? u_end[m] : maps[m].coordinate(theta);
-      if (past) u_end[m] = u_back;
-      bits[m * T + k] |= sectorBits(u_front[m], u_back);
+      bits[m * T + k] |= past ? end_bits[m] : sectorRun(u_front[m], maps[m].coordinate(theta));
     }
   }
 }
@@ -157,8 +225,11 @@ void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const E
                std::uint32_t* bits) {
   std::fill(bits, bits + map_count * thicknesses.size(), 0u);
   std::array<double, kMaxSectorMaps> u_front{};
+  std::array<double, kMaxSectorMaps> u_end{};
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
+    const double past_cos = maps[0].pastCos(sign);
+    for (std::size_t m = 0; m < map_count; ++m) u_end[m] = maps[m].endCoordinate(sign);
     for (int step = 0; step < s.steps; ++step) {
       const double t = sign * (step + 0.5) / s.steps * radius_px;
       Eigen::Vector3d sample;
@@ -169,9 +240,15 @@ void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const E
       const Eigen::Vector3d front = sample - x;
       const double length = front.norm();
       if (length > s.radius || !(length > 0.0)) continue;
-      const Angle theta = sliceAngle(front.dot(v) / length, sign);
+      // Every back angle lies further past the end than a front one far past it (sampleBits), so
+      // every coordinate is the end's and the sample sets no sector.
+      const double c = std::clamp(front.dot(v) / length, -1.0, 1.0);
+      if (c < past_cos) continue;
+      const Angle theta = sliceAngle(c, sign);
+      if (maps[0].farPastEnd(theta.a, sign)) continue;
       for (std::size_t m = 0; m < map_count; ++m) u_front[m] = maps[m].coordinate(theta);
-      sampleBits(maps, map_count, front, v, u_front.data(), sign, thicknesses, bits);
+      sampleBits(maps, map_count, front, v, u_front.data(), sign, past_cos, u_end.data(),
+                 thicknesses, bits);
     }
   }
 }
@@ -245,13 +322,22 @@ double sectorCoordinate(double theta, double n, SectorWeights weights) {
 }
 
 std::uint32_t sectorBits(double ua, double ub) {
-  const double lo = std::clamp(std::min(ua, ub), 0.0, 1.0);
-  const double hi = std::clamp(std::max(ua, ub), 0.0, 1.0);
-  const int start = std::min(kSectors - 1, static_cast<int>(std::floor(lo * kSectors)));
-  const int count = static_cast<int>(std::ceil((hi - lo) * kSectors - kSectorSlack));
-  if (count <= 0) return 0u;
-  const std::uint32_t run = count >= kSectors ? 0xffffffffu : (1u << count) - 1u;
-  return run << start;
+  return sectorRun(ua, ub);
+}
+
+// The back angle lies past the front one, away from V (cos θ_b = (f·V − t)/|f − tV| falls as t
+// grows), so on side + its coordinate is ≥ u and sectorRun starts at ⌊32u⌋; on side − it is ≤ u and
+// the run ends at or before ⌊32u⌋ (its count, ⌈32(u − u_b) − slack⌉ up to rounding of ~1e-14, is at
+// most ⌈32u⌉ − ⌊32u_b⌋). Rounding can put the back angle past the front one the wrong way only by
+// far less than the slack (1e-7 rad against 1e-3 of a sector), which sets no sector at all.
+std::uint32_t reachableSectors(double u, double sign) {
+  const int k = std::min(kSectors - 1, static_cast<int>(std::clamp(u, 0.0, 1.0) * kSectors));
+  if (sign > 0.0) return 0xffffffffu << k;
+  return k == kSectors - 1 ? 0xffffffffu : (1u << (k + 1)) - 1u;
+}
+
+double pastEndCos(double n, double sign) {
+  return SectorMap(SliceHemisphere(n, false), SectorWeights::kUniform).pastCos(sign);
 }
 
 void validate(const BitmaskSettings& s) {

@@ -56,5 +56,12 @@ double sectorCoordinate(double theta, double n, SectorWeights weights);
 // The 32-bit mask with the sectors of [min(ua, ub), max(ua, ub)] set: start ⌊32·min⌋, count
 // ⌈32·(max − min)⌉ (the paper's rule).
 std::uint32_t sectorBits(double ua, double ub);
+// Every sector sectorBits(u, u_back) can set for a back angle past the front one (coordinate u)
+// away from V on side `sign` (−1 or +1), however the two angles round: the pass skips a slab
+// whose bits already hold these.
+std::uint32_t reachableSectors(double u, double sign);
+// A cosine c below which the angle sign·acos c lies more than 1e-6 rad past the hemisphere's end
+// n + sign·π/2 (−∞ where the pass uses no such bound): the pass's test before an acos.
+double pastEndCos(double n, double sign);
 
 }  // namespace gtbake

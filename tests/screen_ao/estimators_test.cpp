@@ -5,6 +5,7 @@
 #include <bitset>
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "common/error.h"
 #include "common/threads.h"
@@ -208,6 +209,83 @@ TEST(Estimators, SameBytesOnOneAndTwoThreads) {
     EXPECT_EQ(one.a, two.a) << describe(e).name;
     EXPECT_EQ(one.bent, two.bent) << describe(e).name;
   }
+}
+
+// sectorBits's run (docs/screen_ao.md, "bitmask"), start ⌊32·min⌋ and count ⌈32·(max − min) −
+// slack⌉, as the plain floor and ceiling give it, on random bounds and bounds at sector edges.
+TEST(Estimators, BitmaskSectorBitsAreTheFloorAndCeilingRule) {
+  const auto plain = [](double ua, double ub) {
+    const double lo = std::clamp(std::min(ua, ub), 0.0, 1.0);
+    const double hi = std::clamp(std::max(ua, ub), 0.0, 1.0);
+    const int start = std::min(kSectors - 1, static_cast<int>(std::floor(lo * kSectors)));
+    const int count = static_cast<int>(std::ceil((hi - lo) * kSectors - 1e-3));
+    if (count <= 0) return 0u;
+    const std::uint32_t run = count >= kSectors ? 0xffffffffu : (1u << count) - 1u;
+    return run << start;
+  };
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> any(-0.1, 1.1);
+  std::uniform_int_distribution<int> edge(0, kSectors);
+  std::uniform_int_distribution<int> ulps(-3, 3);
+  const auto nudge = [&](double u) {
+    for (int k = ulps(rng); k != 0; k += k > 0 ? -1 : 1) {
+      u = std::nextafter(u, k > 0 ? 2.0 : -1.0);
+    }
+    return u;
+  };
+  for (int n = 0; n < 200000; ++n) {
+    const double ua = n % 2 ? any(rng) : nudge(edge(rng) / 32.0);
+    const double ub = n % 3 ? any(rng) : nudge(ua + (edge(rng) + 1e-3) / 32.0);
+    EXPECT_EQ(sectorBits(ua, ub), plain(ua, ub)) << ua << " " << ub;
+  }
+}
+
+// A slab's sectors lie within reachableSectors of its front angle, for back angles past the
+// front one away from V and ones rounded up to 1e-7 rad the wrong way, front angles at sector
+// edges included, under both weightings.
+TEST(Estimators, BitmaskReachableSectorsHoldEverySlab) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::uniform_int_distribution<int> edge(0, kSectors);
+  for (int n = 0; n < 200000; ++n) {
+    const double normal = (unit(rng) - 0.5) * 3.0;
+    const double sign = n % 2 ? 1.0 : -1.0;
+    const double front =
+        n % 3 ? sign * kPi * unit(rng)
+              : normal - 0.5 * kPi + kPi * edge(rng) / kSectors + (unit(rng) - 0.5) * 1e-12;
+    const double step = n % 5 == 0   ? -1e-7 * unit(rng)
+                        : n % 5 == 1 ? 1e-7 * unit(rng)
+                                     : kPi * unit(rng);
+    const double back = front + sign * step;
+    for (SectorWeights w : {SectorWeights::kUniform, SectorWeights::kCosine}) {
+      const double uf = sectorCoordinate(front, normal, w);
+      const double ub = sectorCoordinate(back, normal, w);
+      EXPECT_EQ(sectorBits(uf, ub) & ~reachableSectors(uf, sign), 0u)
+          << normal << " " << front << " " << back;
+    }
+  }
+}
+
+// Below pastEndCos the angle sign·acos c is more than 1e-6 rad past the hemisphere's end, for
+// random cosines and ones within 1e-8 of the bound.
+TEST(Estimators, BitmaskPastEndCosIsFarPastTheEnd) {
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int below = 0;
+  for (int n = 0; n < 200000; ++n) {
+    const double normal = (unit(rng) - 0.5) * 2.0 * kPi;
+    const double sign = n % 2 ? 1.0 : -1.0;
+    const double bound = pastEndCos(normal, sign);
+    const double c = n % 3 || !std::isfinite(bound)
+                         ? 2.0 * unit(rng) - 1.0
+                         : std::clamp(bound + (unit(rng) - 0.5) * 2e-8, -1.0, 1.0);
+    if (!(c < bound)) continue;
+    ++below;
+    const double theta = sign * std::acos(c);
+    EXPECT_TRUE(sign > 0.0 ? theta > normal + 0.5 * kPi + 1e-6 : theta < normal - 0.5 * kPi - 1e-6)
+        << normal << " " << c;
+  }
+  EXPECT_GT(below, 10000);
 }
 
 // Several thicknesses in one pass (what gtbake tune runs) give each thickness's own run's bytes.
