@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -44,6 +46,22 @@ std::vector<Angle> baseSliceAngles(const GtaoReferenceSettings& s) {
   return out;
 }
 
+// Whether horizonOf(c, side, slice) cannot clamp, so needs no n (the slice's atan2): the horizon
+// rose above the hemisphere's end cos(n ∓ π/2) = floor_cos by 10⁻⁹, so its angle lies inside by
+// more than 10⁻⁹ (|d acos/dc| ≥ 1), and cos n > 10⁻³ keeps n within (−π/2, π/2) by as much, so the
+// other end is out of reach (θ has the side's sign). The rounding of acos, atan2 and of sin n, cos
+// n (|d acos| ≤ 10³ |d sin n| there) is below 10⁻¹², far inside both margins.
+bool risen(double c, double floor_cos, const Slice& slice) {
+  return c > floor_cos + 1e-9 && slice.cos_n > 1e-3;
+}
+
+// horizonOf(c, side, slice) where risen(c, floor_cos, slice): its unclamped branch.
+Angle risenHorizon(double horizon_cos, int side) {
+  const double sign = side == 0 ? -1.0 : 1.0;
+  const double c = std::clamp(horizon_cos, -1.0, 1.0);
+  return {sign * std::acos(c), sign * std::sqrt(1.0 - c * c), c};
+}
+
 class ReferencePixel {
  public:
   ReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSettings& s,
@@ -53,6 +71,7 @@ class ReferencePixel {
     x_ = f.x;
     v_ = f.v;
     normal_ = f.normal;
+    basis_ = viewSliceBasis(g, x_, v_);
   }
 
   // ∫ over φ ∈ [0, 2π) of the direction terms: the trapezoid rule on the base grid, each interval
@@ -75,11 +94,12 @@ class ReferencePixel {
   // The same with ψ and its sine and cosine given.
   DirectionTerms at(double phi, const Angle& psi) const {
     const int side = phi < kPi ? 1 : 0;
-    const Slice slice = makeViewSlice(g_, x_, v_, normal_, psi);
+    const Slice slice = viewSliceWithoutAngle(g_, basis_, x_, v_, normal_, psi);
     // The hemisphere's end, cos(n ∓ π/2): horizonOf clamps any lower horizon to it.
     const double floor_cos = side == 0 ? slice.sin_n : -slice.sin_n;
-    const Angle h = horizonOf(
-        exactHorizonCos(g_, i_, j_, x_, v_, slice, side, s_.radius, floor_cos), side, slice);
+    const double c = exactHorizonCos(g_, i_, j_, x_, v_, slice, side, s_.radius, floor_cos);
+    const Angle h =
+        risen(c, floor_cos, slice) ? risenHorizon(c, side) : horizonOf(c, side, withAngle(slice));
     DirectionTerms d;
     d.visibility = slice.projected_length * arcIntegral(h, slice.sin_n, slice.cos_n);
     double t0 = 0.0;
@@ -105,6 +125,7 @@ class ReferencePixel {
   const GtaoReferenceSettings& s_;
   const std::vector<Angle>& base_psi_;
   Eigen::Vector3d x_, v_, normal_;
+  ViewSliceBasis basis_;
 };
 
 }  // namespace
