@@ -46,22 +46,6 @@ std::vector<Angle> baseSliceAngles(const GtaoReferenceSettings& s) {
   return out;
 }
 
-// Whether horizonOf(c, side, slice) cannot clamp, so needs no n (the slice's atan2): the horizon
-// rose above the hemisphere's end cos(n ∓ π/2) = floor_cos by 10⁻⁹, so its angle lies inside by
-// more than 10⁻⁹ (|d acos/dc| ≥ 1), and cos n > 10⁻³ keeps n within (−π/2, π/2) by as much, so the
-// other end is out of reach (θ has the side's sign). The rounding of acos, atan2 and of sin n, cos
-// n (|d acos| ≤ 10³ |d sin n| there) is below 10⁻¹², far inside both margins.
-bool risen(double c, double floor_cos, const Slice& slice) {
-  return c > floor_cos + 1e-9 && slice.cos_n > 1e-3;
-}
-
-// horizonOf(c, side, slice) where risen(c, floor_cos, slice): its unclamped branch.
-Angle risenHorizon(double horizon_cos, int side) {
-  const double sign = side == 0 ? -1.0 : 1.0;
-  const double c = std::clamp(horizon_cos, -1.0, 1.0);
-  return {sign * std::acos(c), sign * std::sqrt(1.0 - c * c), c};
-}
-
 class ReferencePixel {
  public:
   ReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSettings& s,
@@ -98,8 +82,8 @@ class ReferencePixel {
     // The hemisphere's end, cos(n ∓ π/2): horizonOf clamps any lower horizon to it.
     const double floor_cos = side == 0 ? slice.sin_n : -slice.sin_n;
     const double c = exactHorizonCos(g_, i_, j_, x_, v_, slice, side, s_.radius, floor_cos);
-    const Angle h =
-        risen(c, floor_cos, slice) ? risenHorizon(c, side) : horizonOf(c, side, withAngle(slice));
+    const Angle h = horizonUnclamped(c, floor_cos, slice) ? unclampedHorizon(c, side)
+                                                          : horizonOf(c, side, withAngle(slice));
     DirectionTerms d;
     d.visibility = slice.projected_length * arcIntegral(h, slice.sin_n, slice.cos_n);
     double t0 = 0.0;

@@ -162,6 +162,23 @@ inline Angle horizonOf(double horizon_cos, int side, const Slice& slice) {
   return {theta, sign * std::sqrt(1.0 - c * c), c};
 }
 
+// Whether horizonOf(horizon_cos, side, slice) cannot clamp, so needs no slice.n (its atan2):
+// floor_cos is the side's hemisphere end cos(n ∓ π/2) (−sin n on side 1, sin n on side 0). A
+// horizon above it by 10⁻⁹ has an angle inside that end by more than 10⁻⁹ (|d acos/dc| ≥ 1), and
+// cos n > 10⁻³ keeps n inside (−π/2, π/2) by as much, out of reach of the other end (θ has the
+// side's sign). The rounding of acos, atan2 and of sin n, cos n (|d acos| ≤ 10³|d sin n| there)
+// is below 10⁻¹², far inside both margins.
+inline bool horizonUnclamped(double horizon_cos, double floor_cos, const Slice& slice) {
+  return horizon_cos > floor_cos + 1e-9 && slice.cos_n > 1e-3;
+}
+
+// horizonOf's value where horizonUnclamped holds.
+inline Angle unclampedHorizon(double horizon_cos, int side) {
+  const double sign = side == 0 ? -1.0 : 1.0;
+  const double c = std::clamp(horizon_cos, -1.0, 1.0);
+  return {sign * std::acos(c), sign * std::sqrt(1.0 - c * c), c};
+}
+
 // One side's share of the slice's bent-normal integrals (memo Alg. 2, lines 4–5): t0 =
 // ∫ cos(θ − n)|sin θ| sin θ dθ (along o) and t1 = ∫ cos(θ − n)|sin θ| cos θ dθ (along V) over
 // [h0, h1] are sums of one term per horizon, each zero at h = 0; added to *t0, *t1.
