@@ -2,8 +2,6 @@
 
 #include <tbb/parallel_for.h>
 
-#include <algorithm>
-#include <cmath>
 #include <string>
 #include <vector>
 
