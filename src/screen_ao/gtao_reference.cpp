@@ -53,6 +53,7 @@ class ReferencePixel {
     x_ = f.x;
     v_ = f.v;
     normal_ = f.normal;
+    basis_ = viewSliceBasis(g, x_, v_);
   }
 
   // ∫ over φ ∈ [0, 2π) of the direction terms: the trapezoid rule on the base grid, each interval
@@ -75,11 +76,12 @@ class ReferencePixel {
   // The same with ψ and its sine and cosine given.
   DirectionTerms at(double phi, const Angle& psi) const {
     const int side = phi < kPi ? 1 : 0;
-    const Slice slice = makeViewSlice(g_, x_, v_, normal_, psi);
+    const Slice slice = viewSliceWithoutAngle(g_, basis_, x_, v_, normal_, psi);
     // The hemisphere's end, cos(n ∓ π/2): horizonOf clamps any lower horizon to it.
     const double floor_cos = side == 0 ? slice.sin_n : -slice.sin_n;
-    const Angle h = horizonOf(
-        exactHorizonCos(g_, i_, j_, x_, v_, slice, side, s_.radius, floor_cos), side, slice);
+    const double c = exactHorizonCos(g_, i_, j_, x_, v_, slice, side, s_.radius, floor_cos);
+    const Angle h = horizonUnclamped(c, floor_cos, slice) ? unclampedHorizon(c, side)
+                                                          : horizonOf(c, side, withAngle(slice));
     DirectionTerms d;
     d.visibility = slice.projected_length * arcIntegral(h, slice.sin_n, slice.cos_n);
     double t0 = 0.0;
@@ -105,6 +107,7 @@ class ReferencePixel {
   const GtaoReferenceSettings& s_;
   const std::vector<Angle>& base_psi_;
   Eigen::Vector3d x_, v_, normal_;
+  ViewSliceBasis basis_;
 };
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 namespace gtbake {
@@ -200,27 +201,34 @@ double exactHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
   int fy = j;
   const int step_x = dx > 0.0 ? 1 : -1;
   const int step_y = dy > 0.0 ? 1 : -1;
+  // Each coordinate moves one way only, so once the line leaves the image it never returns: the
+  // walk stops at the first column or row past the edge instead of stepping on over nothing.
+  const int end_x = step_x > 0 ? g.width : -1;
+  const int end_y = step_y > 0 ? g.height : -1;
+  const std::ptrdiff_t row = step_y * static_cast<std::ptrdiff_t>(g.width);
+  const Texel* texel = &self;
   const double delta_x = dx != 0.0 ? 1.0 / std::abs(dx) : kInf;
   const double delta_y = dy != 0.0 ? 1.0 / std::abs(dy) : kInf;
   double next_x = dx != 0.0 ? 0.5 * delta_x : kInf;
   double next_y = dy != 0.0 ? 0.5 * delta_y : kInf;
   double enter = 0.0;
   while (enter < length) {
-    const double exit = std::min({next_x, next_y, length});
-    if (fx >= 0 && fy >= 0 && fx < g.width && fy < g.height) {
-      const Texel& texel = g.texels[static_cast<std::size_t>(fy) * g.width + fx];
-      if (texel.depth > nearest && texel.depth < farthest && texel.depth > 0.0f &&
-          !coplanar(texel, self) && search.visit(texel, enter, exit)) {
-        const double c = search.horizonCos();
-        if (c > tangent_cos) length = std::min(length, reach(c));
-      }
+    const double depth = texel->depth;
+    if (depth > nearest && depth < farthest && depth > 0.0 && !coplanar(*texel, self) &&
+        search.visit(*texel, enter, std::min({next_x, next_y, length}))) {
+      const double c = search.horizonCos();
+      if (c > tangent_cos) length = std::min(length, reach(c));
     }
     if (next_x < next_y) {
       fx += step_x;
+      if (fx == end_x) break;
+      texel += step_x;
       enter = next_x;
       next_x += delta_x;
     } else {
       fy += step_y;
+      if (fy == end_y) break;
+      texel += row;
       enter = next_y;
       next_y += delta_y;
     }

@@ -38,9 +38,11 @@ inline Angle angleOf(double a) {
   return {a, std::sin(a), std::cos(a)};
 }
 
-// The slice through V and the unit o ⊥ V, with image-plane direction omega.
-inline Slice sliceThrough(const Eigen::Vector3d& v, const Eigen::Vector3d& o,
-                          const Eigen::Vector3d& normal, const Eigen::Vector2d& omega) {
+// The slice through V and the unit o ⊥ V, with image-plane direction omega, but for its angle n,
+// left 0 (withAngle adds it): a caller that needs n only where a horizon may be clamped saves the
+// atan2 elsewhere.
+inline Slice sliceThroughWithoutAngle(const Eigen::Vector3d& v, const Eigen::Vector3d& o,
+                                      const Eigen::Vector3d& normal, const Eigen::Vector2d& omega) {
   Slice s;
   s.omega = omega;
   s.o = o;
@@ -50,8 +52,19 @@ inline Slice sliceThrough(const Eigen::Vector3d& v, const Eigen::Vector3d& o,
   if (s.projected_length <= 0.0) return s;
   s.cos_n = projected.dot(v) / s.projected_length;
   s.sin_n = s.o.dot(projected) / s.projected_length;
-  s.n = std::atan2(s.sin_n, s.cos_n);
   return s;
+}
+
+// The slice's n from its sine and cosine (0 where N' vanishes).
+inline Slice withAngle(Slice s) {
+  if (s.projected_length > 0.0) s.n = std::atan2(s.sin_n, s.cos_n);
+  return s;
+}
+
+// The slice through V and the unit o ⊥ V, with image-plane direction omega.
+inline Slice sliceThrough(const Eigen::Vector3d& v, const Eigen::Vector3d& o,
+                          const Eigen::Vector3d& normal, const Eigen::Vector2d& omega) {
+  return withAngle(sliceThroughWithoutAngle(v, o, normal, omega));
 }
 
 // The slice of image-plane angle φ (HBAO's parametrisation: uniform in the image, so not uniform
@@ -73,13 +86,40 @@ inline Slice sliceAlong(const GBuffer& g, const Eigen::Vector3d& x, const Eigen:
   return sliceThrough(v, o, normal, omega);
 }
 
+// What makeViewSlice computes once per pixel: the basis e1, e2 about V, P's image point and the
+// offset 10⁻³|P| along o at which sliceAlong finds the slice's image direction.
+struct ViewSliceBasis {
+  Eigen::Vector3d e1, e2;
+  Eigen::Vector2d from;
+  double offset = 0.0;
+};
+inline ViewSliceBasis viewSliceBasis(const GBuffer& g, const Eigen::Vector3d& x,
+                                     const Eigen::Vector3d& v) {
+  ViewSliceBasis b;
+  b.e1 = (Eigen::Vector3d::UnitX() - v.x() * v).normalized();
+  b.e2 = v.cross(b.e1);
+  b.from = g.project(x);
+  b.offset = 1e-3 * x.norm();
+  return b;
+}
+
+// makeViewSlice from the pixel's basis, without n (sliceThroughWithoutAngle): the same operations
+// as sliceAlong, so the same bits.
+inline Slice viewSliceWithoutAngle(const GBuffer& g, const ViewSliceBasis& b,
+                                   const Eigen::Vector3d& x, const Eigen::Vector3d& v,
+                                   const Eigen::Vector3d& normal, const Angle& psi) {
+  const Eigen::Vector3d o = psi.c * b.e1 + psi.s * b.e2;
+  const Eigen::Vector2d to = g.project(x + b.offset * o);
+  const Eigen::Vector2d omega =
+      Eigen::Vector2d(to.x() - b.from.x(), b.from.y() - to.y()).normalized();
+  return sliceThroughWithoutAngle(v, o, normal, omega);
+}
+
 // The same for ψ given with its sine and cosine (angleOf(ψ)): a loop over pixels whose angles ψ
 // are the same for every pixel takes them from a table made once.
 inline Slice makeViewSlice(const GBuffer& g, const Eigen::Vector3d& x, const Eigen::Vector3d& v,
                            const Eigen::Vector3d& normal, const Angle& psi) {
-  const Eigen::Vector3d e1 = (Eigen::Vector3d::UnitX() - v.x() * v).normalized();
-  const Eigen::Vector3d e2 = v.cross(e1);
-  return sliceAlong(g, x, v, normal, psi.c * e1 + psi.s * e2);
+  return withAngle(viewSliceWithoutAngle(g, viewSliceBasis(g, x, v), x, v, normal, psi));
 }
 inline Slice makeViewSlice(const GBuffer& g, const Eigen::Vector3d& x, const Eigen::Vector3d& v,
                            const Eigen::Vector3d& normal, double psi) {
@@ -120,6 +160,23 @@ inline Angle horizonOf(double horizon_cos, int side, const Slice& slice) {
   if (theta - slice.n > 0.5 * kPi) return {slice.n + 0.5 * kPi, slice.cos_n, -slice.sin_n};
   if (theta - slice.n < -0.5 * kPi) return {slice.n - 0.5 * kPi, -slice.cos_n, slice.sin_n};
   return {theta, sign * std::sqrt(1.0 - c * c), c};
+}
+
+// Whether horizonOf(horizon_cos, side, slice) cannot clamp, so needs no slice.n (its atan2):
+// floor_cos is the side's hemisphere end cos(n ∓ π/2) (−sin n on side 1, sin n on side 0). A
+// horizon above it by 10⁻⁹ has an angle inside that end by more than 10⁻⁹ (|d acos/dc| ≥ 1), and
+// cos n > 10⁻³ keeps n inside (−π/2, π/2) by as much, out of reach of the other end (θ has the
+// side's sign). The rounding of acos, atan2 and of sin n, cos n (|d acos| ≤ 10³|d sin n| there)
+// is below 10⁻¹², far inside both margins.
+inline bool horizonUnclamped(double horizon_cos, double floor_cos, const Slice& slice) {
+  return horizon_cos > floor_cos + 1e-9 && slice.cos_n > 1e-3;
+}
+
+// horizonOf's value where horizonUnclamped holds.
+inline Angle unclampedHorizon(double horizon_cos, int side) {
+  const double sign = side == 0 ? -1.0 : 1.0;
+  const double c = std::clamp(horizon_cos, -1.0, 1.0);
+  return {sign * std::acos(c), sign * std::sqrt(1.0 - c * c), c};
 }
 
 // One side's share of the slice's bent-normal integrals (memo Alg. 2, lines 4–5): t0 =

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "gbuffer_scenes.h"
 #include "screen_ao/gtao_reference.h"
@@ -104,6 +105,47 @@ TEST(GtaoReference, WithoutRefinementIsTheEvenSliceSum) {
     gtaoReferencePixel(g, i, j, s, &a, &bent);
     EXPECT_NEAR(a, sum / s.slices, 1e-12) << i << " " << j;
   }
+}
+
+// Where horizonUnclamped holds, unclampedHorizon is horizonOf bit for bit, without the slice's
+// angle n (docs/screen_ao.md, "gtao-reference"): random slices, N' near ±π/2 from V included, and
+// horizons at, just above and far above the hemisphere's end, and above 1.
+TEST(GtaoReference, UnclampedHorizonIsHorizonOf) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const auto unit = [&] {
+    Eigen::Vector3d u;
+    do u = Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng));
+    while (u.squaredNorm() > 1.0 || u.squaredNorm() < 1e-6);
+    return Eigen::Vector3d(u.normalized());
+  };
+  std::size_t unclamped = 0;
+  for (int trial = 0; trial < 200000; ++trial) {
+    const Eigen::Vector3d v = unit();
+    const Eigen::Vector3d w = unit();
+    const Eigen::Vector3d o = (w - v * v.dot(w)).normalized();
+    Eigen::Vector3d normal = unit();
+    if (trial % 4 == 0) {  // N' within 10⁻³ of ±π/2 from V, where the cos n bound decides
+      normal = (std::copysign(1.0, uniform(rng)) * o + 2e-3 * uniform(rng) * v).normalized();
+    }
+    const Slice without = sliceThroughWithoutAngle(v, o, normal, Eigen::Vector2d(1.0, 0.0));
+    const Slice slice = withAngle(without);
+    for (int side = 0; side < 2; ++side) {
+      const double floor_cos = side == 0 ? slice.sin_n : -slice.sin_n;
+      const double above = std::pow(10.0, -12.0 * std::abs(uniform(rng)));
+      for (const double c : {floor_cos, floor_cos + 1e-9, std::nextafter(floor_cos + 1e-9, 2.0),
+                             floor_cos + 2e-9, floor_cos + above, uniform(rng), 1.0 + 1e-12}) {
+        if (!horizonUnclamped(c, floor_cos, without)) continue;
+        ++unclamped;
+        const Angle fast = unclampedHorizon(c, side);
+        const Angle plain = horizonOf(c, side, slice);
+        EXPECT_EQ(fast.a, plain.a);
+        EXPECT_EQ(fast.s, plain.s);
+        EXPECT_EQ(fast.c, plain.c);
+      }
+    }
+  }
+  EXPECT_GT(unclamped, 500000u);
 }
 
 // The convergence check doubles the discretisation, and the defaults pass its bar on the test
