@@ -67,18 +67,20 @@ std::vector<SpecularSample> gatherSamples(const SpecularSweep& sweep) {
               ? std::asin(std::min(1.0, std::abs(b[0] * m[0] + b[1] * m[1] + b[2] * m[2]) / mlen)) *
                     kDegreesPerRadian
               : 0.0;
+      // Everything but the roughness, truth and noise is the pixel's: computed once, copied to
+      // each roughness (the same calls on the same values, so the same bits).
+      SpecularSample s;
+      s.scene = static_cast<int>(si);
+      s.pixel = p;
+      s.A = scene.A[p];
+      s.n_dot_v = static_cast<float>(nv);
+      s.n_dot_b = static_cast<float>(n[0] * b[0] + n[1] * b[1] + n[2] * b[2]);
+      setConeAngles(&s, std::acos(cos_beta));
+      s.cos_beta = static_cast<float>(cos_beta);
+      s.out_of_plane = off;
       for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
-        SpecularSample s;
-        s.scene = static_cast<int>(si);
         s.roughness = static_cast<int>(j);
-        s.pixel = p;
-        s.A = scene.A[p];
         s.r_p = static_cast<float>(sweep.roughness[j]);
-        s.n_dot_v = static_cast<float>(nv);
-        s.n_dot_b = static_cast<float>(n[0] * b[0] + n[1] * b[1] + n[2] * b[2]);
-        setConeAngles(&s, std::acos(cos_beta));
-        s.cos_beta = static_cast<float>(cos_beta);
-        s.out_of_plane = off;
         s.truth = scene.S[j][p];
         const double d = static_cast<double>(scene.H0[j][p]) - scene.H1[j][p];
         s.noise_var = 0.25 * d * d;
