@@ -253,6 +253,10 @@ std::vector<std::vector<float>> evaluateMethods(const std::vector<SpecularSample
   const auto wanted = [&](Method m) { return want[static_cast<int>(m)]; };
   const bool paper_cone = wanted(Method::kConePaperU) || wanted(Method::kConeAo2PaperU);
   const bool fitted_cone = wanted(Method::kConeFittedU) || wanted(Method::kConeAo2FittedU);
+  const bool any3 = wanted(Method::kS3Bc4) || wanted(Method::kS3Float) || wanted(Method::kS3R16) ||
+                    wanted(Method::kS3R8);
+  const bool any4 = wanted(Method::kS4Bc4) || wanted(Method::kS4Float) || wanted(Method::kS4R16) ||
+                    wanted(Method::kS4R8);
   tbb::parallel_for(std::size_t{0}, samples.size(), [&](std::size_t i) {
     if (progress && i % kProgressStride == 0) progress->add(kProgressStride);
     const SpecularSample& s = samples[i];
@@ -260,9 +264,13 @@ std::vector<std::vector<float>> evaluateMethods(const std::vector<SpecularSample
     auto set = [&](Method m, double v) {
       if (wanted(m)) values[static_cast<int>(m)][i] = static_cast<float>(v);
     };
+    // The axis warps once for every table read (all of one size: GtsoLookup::s3At).
+    GtsoAxisT<float> axes3{}, axes4{};
+    if (any3) axes3 = tables.bc4->axes3(s.A, s.cos_beta, s.r_p);
+    if (any4) axes4 = tables.bc4->axes4(s.A, s.cos_beta, s.r_p, s.n_dot_v);
     const auto table = [&](Method m3, Method m4, const GtsoLookup* lookup) {
-      if (wanted(m3)) set(m3, lookup->s3(s.A, s.cos_beta, s.r_p));
-      if (wanted(m4)) set(m4, lookup->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
+      if (wanted(m3)) set(m3, lookup->s3At(axes3));
+      if (wanted(m4)) set(m4, lookup->s4At(axes4));
     };
     table(Method::kS3Bc4, Method::kS4Bc4, tables.bc4.get());
     table(Method::kS3Float, Method::kS4Float, tables.floats.get());
