@@ -9,7 +9,6 @@
 #include <utility>
 
 #include "common/error.h"
-#include "common/math_constants.h"
 #include "gtso/cone_intersection.h"
 #include "runtime/gtso_runtime.h"
 
@@ -170,35 +169,6 @@ ConeAperture coneAperture(double u, double w) {
 ConeInput coneInput(const SpecularSample& s) {
   return {s.alpha_v, s.beta, s.cos_av, s.sin_av, s.cos_b, s.sin_b, gtso::capSolidAngle(s.alpha_v),
           s.truth};
-}
-
-// gtso::capIntersectionSolidAngle and coneSpecularOcclusion, case for case.
-double coneAt(const ConeInput& x, const ConeAperture& s) {
-  const double a1 = x.alpha_v;
-  const double a2 = s.a;
-  const double beta = x.beta;
-  if (a2 <= 0.0) {
-    if (beta < a1) return 1.0;
-    return beta == a1 ? 0.5 : 0.0;
-  }
-  double omega;
-  if (a1 <= 0.0 || beta >= a1 + a2) {
-    omega = 0.0;
-  } else if (beta <= std::abs(a1 - a2)) {
-    omega = a1 < a2 ? x.cap_av : s.cap;
-  } else if (a1 + a2 + beta >= 2.0 * kPi) {
-    omega = x.cap_av + s.cap - 4.0 * kPi;
-  } else {
-    auto clampedAcos = [](double v) { return std::acos(std::clamp(v, -1.0, 1.0)); };
-    const double c1 = x.cos_av, s1 = x.sin_av;
-    const double c2 = s.c, s2 = s.s;
-    const double cb = x.cos_b, sb = x.sin_b;
-    const double lens = clampedAcos((cb - c1 * c2) / (s1 * s2));
-    const double arc1 = clampedAcos((c2 - cb * c1) / (sb * s1));
-    const double arc2 = clampedAcos((c1 - cb * c2) / (sb * s2));
-    omega = std::max(0.0, 2.0 * (kPi - lens - c1 * arc1 - c2 * arc2));
-  }
-  return std::clamp(omega / s.cap, 0.0, 1.0);
 }
 
 double coneAt(const SpecularSample& x, const ConeAperture& s) {
