@@ -36,14 +36,32 @@ class Objective {
   };
 
   Objective(const std::vector<SpecularSample>& samples, bool perceptual) : perceptual_(perceptual) {
+    std::size_t n = 0;
     for (const SpecularSample& x : samples) {
       if (static_cast<std::size_t>(x.roughness) >= roughness_.size()) {
         roughness_.resize(x.roughness + 1, 0.0f);
       }
       roughness_[x.roughness] = x.r_p;
+      if (x.r_p > 0.0f) ++n;
+    }
+    // The samples with r_p > 0 in sample order, cut into chunks of kChunk; within a chunk grouped
+    // by roughness, each group keeping sample order. A chunk's sum for one roughness then adds
+    // the same terms in the same order as a pass over the whole chunk that skips the other
+    // roughness values, and a pass can skip the roughness values it does not need.
+    const std::size_t R = roughness_.size();
+    chunks_ = (n + kChunk - 1) / kChunk;
+    begin_.assign(chunks_ * R + 1, 0);
+    std::size_t k = 0;
+    for (const SpecularSample& x : samples) {
+      if (x.r_p > 0.0f) ++begin_[(k++ / kChunk) * R + static_cast<std::size_t>(x.roughness) + 1];
+    }
+    for (std::size_t g = 0; g + 1 < begin_.size(); ++g) begin_[g + 1] += begin_[g];
+    inputs_.resize(n);
+    std::vector<std::size_t> next(begin_.begin(), begin_.end() - 1);
+    k = 0;
+    for (const SpecularSample& x : samples) {
       if (x.r_p > 0.0f) {
-        inputs_.push_back(coneInput(x));
-        of_.push_back(x.roughness);
+        inputs_[next[(k++ / kChunk) * R + static_cast<std::size_t>(x.roughness)]++] = coneInput(x);
       }
     }
   }
@@ -55,8 +73,11 @@ class Objective {
 
   // Samples of the roughness values >= rp_min: what every SSE of that subset sums over.
   std::size_t count(double rp_min) const {
+    const std::size_t R = roughness_.size();
     std::size_t n = 0;
-    for (int j : of_) n += wanted(static_cast<std::size_t>(j), rp_min) ? 1 : 0;
+    for (std::size_t g = 0; g + 1 < begin_.size(); ++g) {
+      n += wanted(g % R, rp_min) ? begin_[g + 1] - begin_[g] : 0;
+    }
     return n;
   }
 
@@ -87,17 +108,20 @@ class Objective {
     }
     if (batch.empty()) return;
     const std::size_t B = batch.size();
-    const std::size_t chunks = (inputs_.size() + kChunk - 1) / kChunk;
-    std::vector<std::vector<Entry>> partial(chunks, std::vector<Entry>(B * R));
-    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) {
-      const std::size_t end = std::min(inputs_.size(), (c + 1) * kChunk);
-      for (std::size_t k = c * kChunk; k < end; ++k) {
-        const auto j = static_cast<std::size_t>(of_[k]);
+    std::vector<std::vector<Entry>> partial(chunks_, std::vector<Entry>(B * R));
+    tbb::parallel_for(std::size_t{0}, chunks_, [&](std::size_t c) {
+      for (std::size_t j = 0; j < R; ++j) {
+        const std::size_t first = begin_[c * R + j], last = begin_[c * R + j + 1];
         for (std::size_t b = 0; b < B; ++b) {
           if (!todo[b][j]) continue;
-          const double d = coneAt(inputs_[k], apertures[b][j]) - inputs_[k].truth;
-          partial[c][b * R + j].sse += d * d;
-          ++partial[c][b * R + j].count;
+          const ConeAperture& aperture = apertures[b][j];
+          double sse = 0.0;
+          for (std::size_t k = first; k < last; ++k) {
+            const double d = coneAt(inputs_[k], aperture) - inputs_[k].truth;
+            sse += d * d;
+          }
+          partial[c][b * R + j].sse = sse;
+          partial[c][b * R + j].count = last - first;
         }
       }
     });
@@ -124,8 +148,9 @@ class Objective {
  private:
   bool perceptual_;
   std::vector<float> roughness_;
-  std::vector<ConeInput> inputs_;  // the samples with r_p > 0, in sample order
-  std::vector<int> of_;            // their roughness index
+  std::size_t chunks_ = 0;
+  std::vector<ConeInput> inputs_;   // the samples with r_p > 0, by chunk, then roughness
+  std::vector<std::size_t> begin_;  // [chunk * R + roughness]: where its group starts in inputs_
   std::map<double, std::vector<Entry>> cache_;
 };
 

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "runtime/gtso_runtime.h"
+
 namespace gtbake {
 
 class GtsoLookup {
@@ -21,6 +23,14 @@ class GtsoLookup {
   virtual float s3(float A, float cos_beta, float r_p) const = 0;
   // S₄(A, β, r_p, θo): cos θo = n·ωr; the table assumes b in the plane of n and ωr.
   virtual float s4(float A, float cos_beta, float r_p, float cos_theta_o) const = 0;
+  // The same lookups split where the runtime's split: the axis warps (gtso3DAxes, gtso4DAxes),
+  // which depend only on the inputs and the table sizes, then the rest of gtso3DLookup and
+  // gtso4DLookup on them. s3At(axes3(A, cos β, r_p)) is s3(A, cos β, r_p) to the bit, and so is
+  // s3At of the axes of any lookup of the same sizes (every lookup of one TablesLookups).
+  virtual GtsoAxisT<float> axes3(float A, float cos_beta, float r_p) const = 0;
+  virtual GtsoAxisT<float> axes4(float A, float cos_beta, float r_p, float cos_theta_o) const = 0;
+  virtual float s3At(const GtsoAxisT<float>& axes) const = 0;
+  virtual float s4At(const GtsoAxisT<float>& axes) const = 0;
 };
 
 struct TablesLookupInfo {
@@ -35,7 +45,7 @@ struct TablesLookupInfo {
 // Lookups for the tables in <luts>/gtso (gtso.json, gtso3d.f32, gtso4d.f32) and the volumes
 // `gtbake encode` wrote into <luts> (gtso{3d,4d}{,_r16,_r8}.dds in encode.json's layouts, read
 // through encode/shipped_volumes.h, which verifies them against encode.manifest.json and the
-// tables).
+// tables). All four read the sizes of the same two tables.
 struct TablesLookups {
   std::unique_ptr<GtsoLookup> bc4;
   std::unique_ptr<GtsoLookup> r16;

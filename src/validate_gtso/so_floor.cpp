@@ -43,6 +43,16 @@ std::vector<Bins> binsOf(const std::vector<SpecularSample>& samples,
   return out;
 }
 
+// Whether the samples `a` and `b` have the same inputs in the same order.
+bool sameInputs(const std::vector<SpecularSample>& samples, const std::vector<std::size_t>& a,
+                const std::vector<std::size_t>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if (inputs(samples[a[k]]) != inputs(samples[b[k]])) return false;
+  }
+  return true;
+}
+
 std::size_t cellOf(const std::array<std::vector<int>, kInputs>& b, std::size_t k, int bins,
                    int divisor) {
   std::size_t cell = 0;
@@ -154,16 +164,27 @@ SoFloor soFloor(const std::vector<SpecularSample>& samples, const std::vector<in
       bases, std::vector<std::vector<double>>(kChoices, std::vector<double>(roughness, 0.0)));
   // The bins of every roughness and bin count, shared by both bases.
   const std::vector<int> counts(std::begin(kSoFloorBins), std::end(kSoFloorBins));
+  // The inputs are the pixel's, so every roughness of a sweep (each pixel at every roughness, in
+  // one order) has the same input sequence: bins of equal sequences are equal (the same sort of
+  // the same values), so they are computed once and shared.
+  std::vector<std::size_t> same_as(roughness);
+  for (std::size_t j = 0; j < roughness; ++j) {
+    same_as[j] = j;
+    for (std::size_t o = 0; o < j && same_as[j] == j; ++o) {
+      if (same_as[o] == o && sameInputs(samples, index[j], index[o])) same_as[j] = o;
+    }
+  }
   std::vector<std::vector<Bins>> bins(roughness);
-  tbb::parallel_for(std::size_t{0}, roughness,
-                    [&](std::size_t j) { bins[j] = binsOf(samples, index[j], counts); });
+  tbb::parallel_for(std::size_t{0}, roughness, [&](std::size_t j) {
+    if (same_as[j] == j) bins[j] = binsOf(samples, index[j], counts);
+  });
   const std::vector<float> none;
   tbb::parallel_for(std::size_t{0}, bases * kChoices * roughness, [&](std::size_t task) {
     const std::size_t b = task / (kChoices * roughness), choice = (task / roughness) % kChoices,
                       j = task % roughness;
     const std::vector<double> e2 =
         heldOutSquaredErrors(samples, index[j], cluster_of, clusters, kSoFloorBins[choice],
-                             bins[j][choice], b == 0 ? none : base);
+                             bins[same_as[j]][choice], b == 0 ? none : base);
     double sum = 0.0;
     for (double v : e2) sum += v;
     mse[b][choice][j] = sum / std::max<double>(1.0, static_cast<double>(e2.size()));

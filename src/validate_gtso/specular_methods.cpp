@@ -9,7 +9,6 @@
 #include <utility>
 
 #include "common/error.h"
-#include "common/math_constants.h"
 #include "gtso/cone_intersection.h"
 #include "runtime/gtso_runtime.h"
 
@@ -67,18 +66,20 @@ std::vector<SpecularSample> gatherSamples(const SpecularSweep& sweep) {
               ? std::asin(std::min(1.0, std::abs(b[0] * m[0] + b[1] * m[1] + b[2] * m[2]) / mlen)) *
                     kDegreesPerRadian
               : 0.0;
+      // Everything but the roughness, truth and noise is the pixel's: computed once, copied to
+      // each roughness (the same calls on the same values, so the same bits).
+      SpecularSample s;
+      s.scene = static_cast<int>(si);
+      s.pixel = p;
+      s.A = scene.A[p];
+      s.n_dot_v = static_cast<float>(nv);
+      s.n_dot_b = static_cast<float>(n[0] * b[0] + n[1] * b[1] + n[2] * b[2]);
+      setConeAngles(&s, std::acos(cos_beta));
+      s.cos_beta = static_cast<float>(cos_beta);
+      s.out_of_plane = off;
       for (std::size_t j = 0; j < sweep.roughness.size(); ++j) {
-        SpecularSample s;
-        s.scene = static_cast<int>(si);
         s.roughness = static_cast<int>(j);
-        s.pixel = p;
-        s.A = scene.A[p];
         s.r_p = static_cast<float>(sweep.roughness[j]);
-        s.n_dot_v = static_cast<float>(nv);
-        s.n_dot_b = static_cast<float>(n[0] * b[0] + n[1] * b[1] + n[2] * b[2]);
-        setConeAngles(&s, std::acos(cos_beta));
-        s.cos_beta = static_cast<float>(cos_beta);
-        s.out_of_plane = off;
         s.truth = scene.S[j][p];
         const double d = static_cast<double>(scene.H0[j][p]) - scene.H1[j][p];
         s.noise_var = 0.25 * d * d;
@@ -170,35 +171,6 @@ ConeInput coneInput(const SpecularSample& s) {
           s.truth};
 }
 
-// gtso::capIntersectionSolidAngle and coneSpecularOcclusion, case for case.
-double coneAt(const ConeInput& x, const ConeAperture& s) {
-  const double a1 = x.alpha_v;
-  const double a2 = s.a;
-  const double beta = x.beta;
-  if (a2 <= 0.0) {
-    if (beta < a1) return 1.0;
-    return beta == a1 ? 0.5 : 0.0;
-  }
-  double omega;
-  if (a1 <= 0.0 || beta >= a1 + a2) {
-    omega = 0.0;
-  } else if (beta <= std::abs(a1 - a2)) {
-    omega = a1 < a2 ? x.cap_av : s.cap;
-  } else if (a1 + a2 + beta >= 2.0 * kPi) {
-    omega = x.cap_av + s.cap - 4.0 * kPi;
-  } else {
-    auto clampedAcos = [](double v) { return std::acos(std::clamp(v, -1.0, 1.0)); };
-    const double c1 = x.cos_av, s1 = x.sin_av;
-    const double c2 = s.c, s2 = s.s;
-    const double cb = x.cos_b, sb = x.sin_b;
-    const double lens = clampedAcos((cb - c1 * c2) / (s1 * s2));
-    const double arc1 = clampedAcos((c2 - cb * c1) / (sb * s1));
-    const double arc2 = clampedAcos((c1 - cb * c2) / (sb * s2));
-    omega = std::max(0.0, 2.0 * (kPi - lens - c1 * arc1 - c2 * arc2));
-  }
-  return std::clamp(omega / s.cap, 0.0, 1.0);
-}
-
 double coneAt(const SpecularSample& x, const ConeAperture& s) {
   return coneAt(coneInput(x), s);
 }
@@ -251,6 +223,10 @@ std::vector<std::vector<float>> evaluateMethods(const std::vector<SpecularSample
   const auto wanted = [&](Method m) { return want[static_cast<int>(m)]; };
   const bool paper_cone = wanted(Method::kConePaperU) || wanted(Method::kConeAo2PaperU);
   const bool fitted_cone = wanted(Method::kConeFittedU) || wanted(Method::kConeAo2FittedU);
+  const bool any3 = wanted(Method::kS3Bc4) || wanted(Method::kS3Float) || wanted(Method::kS3R16) ||
+                    wanted(Method::kS3R8);
+  const bool any4 = wanted(Method::kS4Bc4) || wanted(Method::kS4Float) || wanted(Method::kS4R16) ||
+                    wanted(Method::kS4R8);
   tbb::parallel_for(std::size_t{0}, samples.size(), [&](std::size_t i) {
     if (progress && i % kProgressStride == 0) progress->add(kProgressStride);
     const SpecularSample& s = samples[i];
@@ -258,9 +234,13 @@ std::vector<std::vector<float>> evaluateMethods(const std::vector<SpecularSample
     auto set = [&](Method m, double v) {
       if (wanted(m)) values[static_cast<int>(m)][i] = static_cast<float>(v);
     };
+    // The axis warps once for every table read (all of one size: GtsoLookup::s3At).
+    GtsoAxisT<float> axes3{}, axes4{};
+    if (any3) axes3 = tables.bc4->axes3(s.A, s.cos_beta, s.r_p);
+    if (any4) axes4 = tables.bc4->axes4(s.A, s.cos_beta, s.r_p, s.n_dot_v);
     const auto table = [&](Method m3, Method m4, const GtsoLookup* lookup) {
-      if (wanted(m3)) set(m3, lookup->s3(s.A, s.cos_beta, s.r_p));
-      if (wanted(m4)) set(m4, lookup->s4(s.A, s.cos_beta, s.r_p, s.n_dot_v));
+      if (wanted(m3)) set(m3, lookup->s3At(axes3));
+      if (wanted(m4)) set(m4, lookup->s4At(axes4));
     };
     table(Method::kS3Bc4, Method::kS4Bc4, tables.bc4.get());
     table(Method::kS3Float, Method::kS4Float, tables.floats.get());

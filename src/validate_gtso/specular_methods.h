@@ -2,11 +2,14 @@
 // validate-gtso scores (docs/validate_gtso.md §1), and the error statistics against the truth.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <vector>
 
+#include "common/math_constants.h"
 #include "common/progress.h"
 #include "validate_gtso/gtso_lookup.h"
 #include "validate_gtso/specular_sweep.h"
@@ -90,8 +93,36 @@ struct ConeInput {
 };
 ConeInput coneInput(const SpecularSample& s);
 // gtso::coneSpecularOcclusion(αv, αs, β) from the sample's precomputed trig: the same operations
-// on the same values, so the same bits (tests/validate_gtso checks), at a fraction of the cost.
-double coneAt(const ConeInput& x, const ConeAperture& aperture);
+// on the same values, so the same bits (tests/validate_gtso checks), at a fraction of the cost:
+// gtso::capIntersectionSolidAngle and coneSpecularOcclusion, case for case. Inline, as the u
+// scans call it about two billion times.
+inline double coneAt(const ConeInput& x, const ConeAperture& s) {
+  const double a1 = x.alpha_v;
+  const double a2 = s.a;
+  const double beta = x.beta;
+  if (a2 <= 0.0) {
+    if (beta < a1) return 1.0;
+    return beta == a1 ? 0.5 : 0.0;
+  }
+  double omega;
+  if (a1 <= 0.0 || beta >= a1 + a2) {
+    omega = 0.0;
+  } else if (beta <= std::abs(a1 - a2)) {
+    omega = a1 < a2 ? x.cap_av : s.cap;
+  } else if (a1 + a2 + beta >= 2.0 * kPi) {
+    omega = x.cap_av + s.cap - 4.0 * kPi;
+  } else {
+    auto clampedAcos = [](double v) { return std::acos(std::clamp(v, -1.0, 1.0)); };
+    const double c1 = x.cos_av, s1 = x.sin_av;
+    const double c2 = s.c, s2 = s.s;
+    const double cb = x.cos_b, sb = x.sin_b;
+    const double lens = clampedAcos((cb - c1 * c2) / (s1 * s2));
+    const double arc1 = clampedAcos((c2 - cb * c1) / (sb * s1));
+    const double arc2 = clampedAcos((c1 - cb * c2) / (sb * s2));
+    omega = std::max(0.0, 2.0 * (kPi - lens - c1 * arc1 - c2 * arc2));
+  }
+  return std::clamp(omega / s.cap, 0.0, 1.0);
+}
 double coneAt(const SpecularSample& s, const ConeAperture& aperture);
 // S_cone at one sample: w = α = r_p² (perceptual = false) or w = r_p.
 double coneAt(const SpecularSample& s, double u, bool perceptual);

@@ -1,5 +1,8 @@
 #include "validate_gtso/validate_gtso_analysis.h"
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 
 #include "common/error.h"
@@ -45,7 +48,7 @@ Tables tabulate(const std::vector<SpecularSample>& samples,
                 std::vector<std::vector<ErrorStats>>(scenes, std::vector<ErrorStats>(roughness)));
   t.per_roughness.assign(kMethodCount, std::vector<ErrorStats>(roughness));
   t.overall.assign(kMethodCount, ErrorStats{});
-  for (std::size_t i = 0; i < samples.size(); ++i) {
+  const auto sample = [&](std::size_t i) {
     SpecularSample s = samples[i];
     if (truth) {
       const SpecularScene& scene = truth->scenes[static_cast<std::size_t>(s.scene)];
@@ -54,20 +57,41 @@ Tables tabulate(const std::vector<SpecularSample>& samples,
       const double d = static_cast<double>(scene.H0[j][s.pixel]) - scene.H1[j][s.pixel];
       s.noise_var = 0.25 * d * d;
     }
-    for (Method method : methods) {
-      const int m = static_cast<int>(method);
-      t.cell[m][s.scene][s.roughness].add(values[m][i] - s.truth, s.noise_var);
-    }
-    int bin = 0;
-    while (bin + 1 < kPlaneBinCount && s.out_of_plane >= kPlaneBins[bin + 1]) ++bin;
-    t.plane[0][bin].add(values[static_cast<int>(Method::kS4Bc4)][i] - s.truth, s.noise_var);
-    t.plane[1][bin].add(values[static_cast<int>(Method::kS3Bc4)][i] - s.truth, s.noise_var);
-    for (int f = 0; f < (formats ? kFormatMethodCount : 0); ++f) {
-      const auto [format, floats] = kFormatMethods[f];
-      t.vs_float[f].add(values[static_cast<int>(format)][i] - values[static_cast<int>(floats)][i],
-                        0.0);
-    }
+    return s;
+  };
+  // Each cell sums its samples in sample order, whichever thread runs it: the scenes' cells in
+  // parallel (a cell is one scene's), beside one pass in sample order for the tables pooled over
+  // scenes.
+  std::vector<std::vector<std::size_t>> of_scene(scenes);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    of_scene[static_cast<std::size_t>(samples[i].scene)].push_back(i);
   }
+  tbb::parallel_invoke(
+      [&] {
+        tbb::parallel_for(std::size_t{0}, scenes, [&](std::size_t sc) {
+          for (std::size_t i : of_scene[sc]) {
+            const SpecularSample s = sample(i);
+            for (Method method : methods) {
+              const int m = static_cast<int>(method);
+              t.cell[m][sc][s.roughness].add(values[m][i] - s.truth, s.noise_var);
+            }
+          }
+        });
+      },
+      [&] {
+        for (std::size_t i = 0; i < samples.size(); ++i) {
+          const SpecularSample s = sample(i);
+          int bin = 0;
+          while (bin + 1 < kPlaneBinCount && s.out_of_plane >= kPlaneBins[bin + 1]) ++bin;
+          t.plane[0][bin].add(values[static_cast<int>(Method::kS4Bc4)][i] - s.truth, s.noise_var);
+          t.plane[1][bin].add(values[static_cast<int>(Method::kS3Bc4)][i] - s.truth, s.noise_var);
+          for (int f = 0; f < (formats ? kFormatMethodCount : 0); ++f) {
+            const auto [format, floats] = kFormatMethods[f];
+            t.vs_float[f].add(
+                values[static_cast<int>(format)][i] - values[static_cast<int>(floats)][i], 0.0);
+          }
+        }
+      });
   for (int m = 0; m < kMethodCount; ++m) {
     for (std::size_t sc = 0; sc < scenes; ++sc) {
       for (std::size_t j = 0; j < roughness; ++j) {
