@@ -6,16 +6,6 @@
 
 namespace gtbake {
 
-namespace {
-
-double clockSeconds(clockid_t id) {
-  timespec t{};
-  clock_gettime(id, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-}  // namespace
-
 BackgroundChain::WorkerClock::WorkerClock(tbb::task_arena& arena)
     : tbb::task_scheduler_observer(arena) {
   observe(true);

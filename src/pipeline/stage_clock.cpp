@@ -13,12 +13,6 @@ namespace gtbake {
 
 namespace {
 
-double clockSeconds(clockid_t id) {
-  timespec t{};
-  clock_gettime(id, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
 double wallNow() {
   return clockSeconds(CLOCK_MONOTONIC);
 }
@@ -45,6 +39,12 @@ double cores(const StageTime& t) {
 }
 
 }  // namespace
+
+double clockSeconds(clockid_t id) {
+  timespec t{};
+  clock_gettime(id, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 StageClock::StageClock() : wall_start_(wallNow()), cpu_start_(cpuNow()) {}
 

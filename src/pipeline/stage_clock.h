@@ -3,6 +3,8 @@
 // much of its cores each stage keeps busy.
 #pragma once
 
+#include <time.h>
+
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -14,6 +16,9 @@ namespace gtbake {
 
 // The bar for `gtbake all` at its defaults on 2 cores (docs/performance.md).
 inline constexpr double kAllBarSeconds = 150.0;
+
+// The reading of a POSIX clock in seconds (CLOCK_MONOTONIC, a process's or a thread's CPU clock).
+double clockSeconds(clockid_t id);
 
 struct StageTime {
   std::string stage;
