@@ -211,8 +211,7 @@ class ConeAccumulator {
       lastFull_[k] = jFull;
       cumulative_[k][jFull] += full;
       if (jFull == 0 || !(cs[jFull - 1] < s2)) continue;
-      std::array<std::pair<double, double>, 3> v = {
-          {{scale * ta[k], wa}, {scale * tb[k], wb}, {scale * tc[k], wc}}};
+      std::array<std::pair<double, double>, 3> v = {{{sa, wa}, {sb, wb}, {sc, wc}}};
       if (v[1].first < v[0].first) std::swap(v[0], v[1]);
       if (v[2].first < v[1].first) std::swap(v[1], v[2]);
       if (v[1].first < v[0].first) std::swap(v[0], v[1]);

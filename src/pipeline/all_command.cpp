@@ -286,7 +286,7 @@ EncodeResult encodeStage(const AllOptions& options, int threads, std::FILE* summ
 class TablesInBackground {
  public:
   TablesInBackground(const AllOptions& options, int threads, StageClock* clock)
-      : clock_(clock), summary_(open_memstream(&text_, &size_)) {
+      : clock_(clock), progress_(options.progress), summary_(open_memstream(&text_, &size_)) {
     if (summary_ == nullptr) throw Error("gtbake all: no memory for the background summary");
     chain_.emplace(threads, [this, &options, threads](BackgroundChain& chain) {
       chain.run("gtso", [&] { baked_ = gtsoStage(options, threads, summary_); });
@@ -304,7 +304,7 @@ class TablesInBackground {
 
   // Waits for the chain, adds its stages to the clock and prints their summary lines.
   void join(GtsoResult* baked, EncodeResult* encoded) {
-    banner("gtso and encode (ran in the background)", true);
+    banner("gtso and encode (ran in the background)", progress_);
     const BackgroundChain::Joined joined = chain_->join();
     clock_->setBackgroundCpu(nullptr);
     clock_->addBackground(joined.stages, joined.waited_seconds);
@@ -316,6 +316,7 @@ class TablesInBackground {
 
  private:
   StageClock* clock_;
+  bool progress_;
   char* text_ = nullptr;
   std::size_t size_ = 0;
   std::FILE* summary_;

@@ -1,8 +1,7 @@
 // A chain of stages of `gtbake all` run on a thread of its own beside the stages in the
 // foreground, so that it uses the cores the foreground leaves idle (docs/performance.md "Stages
-// in the background"). Its outputs are the same bytes as when the
-// stages run in turn: nothing it runs reads what the foreground writes, or the reverse, until
-// join() returns.
+// in the background"). Its outputs are the same bytes as when the stages run in turn: nothing it
+// runs reads what the foreground writes, or the reverse, until join() returns.
 #pragma once
 
 #include <pthread.h>
@@ -10,7 +9,6 @@
 #include <tbb/task_scheduler_observer.h>
 #include <time.h>
 
-#include <algorithm>
 #include <atomic>
 #include <exception>
 #include <functional>
@@ -38,8 +36,8 @@ class BackgroundChain {
   void run(const std::string& stage, const std::function<void()>& fn);
   // Stages not yet started are skipped (the one running finishes: stages have no stop points).
   void cancel() { cancelled_ = true; }
-  // The CPU seconds the chain has used so far: its own thread, and TBB's workers while they ran
-  // its loops (a worker is counted when it leaves the arena).
+  // The CPU seconds the chain has used so far: its own thread, and TBB's workers while they were
+  // in its arena (WorkerClock).
   double cpuSeconds() const;
 
   struct Joined {

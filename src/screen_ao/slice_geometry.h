@@ -75,15 +75,21 @@ inline Slice makeSlice(const Eigen::Vector3d& v, const Eigen::Vector3d& normal,
   return sliceThrough(v, (d - d.dot(v) * v).normalized(), normal, omega);
 }
 
+// The unit image direction in which P + offset·o moves from P's image point `from` (screen x
+// right, y up).
+inline Eigen::Vector2d imageDirection(const GBuffer& g, const Eigen::Vector3d& x,
+                                      const Eigen::Vector2d& from, double offset,
+                                      const Eigen::Vector3d& o) {
+  const Eigen::Vector2d to = g.project(x + offset * o);
+  return Eigen::Vector2d(to.x() - from.x(), from.y() - to.y()).normalized();
+}
+
 // The slice of angle ψ about V (Eq. 5's parametrisation, uniform about V): o = cos ψ e1 + sin ψ e2
 // with e1 the view x axis made orthogonal to V and e2 = V × e1; omega is the image direction in
-// which P + εo moves (screen x right, y up).
+// which P + εo moves, ε = 10⁻³|P|.
 inline Slice sliceAlong(const GBuffer& g, const Eigen::Vector3d& x, const Eigen::Vector3d& v,
                         const Eigen::Vector3d& normal, const Eigen::Vector3d& o) {
-  const Eigen::Vector2d from = g.project(x);
-  const Eigen::Vector2d to = g.project(x + 1e-3 * x.norm() * o);
-  const Eigen::Vector2d omega = Eigen::Vector2d(to.x() - from.x(), from.y() - to.y()).normalized();
-  return sliceThrough(v, o, normal, omega);
+  return sliceThrough(v, o, normal, imageDirection(g, x, g.project(x), 1e-3 * x.norm(), o));
 }
 
 // What makeViewSlice computes once per pixel: the basis e1, e2 about V, P's image point and the
@@ -109,10 +115,7 @@ inline Slice viewSliceWithoutAngle(const GBuffer& g, const ViewSliceBasis& b,
                                    const Eigen::Vector3d& x, const Eigen::Vector3d& v,
                                    const Eigen::Vector3d& normal, const Angle& psi) {
   const Eigen::Vector3d o = psi.c * b.e1 + psi.s * b.e2;
-  const Eigen::Vector2d to = g.project(x + b.offset * o);
-  const Eigen::Vector2d omega =
-      Eigen::Vector2d(to.x() - b.from.x(), b.from.y() - to.y()).normalized();
-  return sliceThroughWithoutAngle(v, o, normal, omega);
+  return sliceThroughWithoutAngle(v, o, normal, imageDirection(g, x, b.from, b.offset, o));
 }
 
 // The same for ψ given with its sine and cosine (angleOf(ψ)): a loop over pixels whose angles ψ
