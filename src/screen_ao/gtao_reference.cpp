@@ -48,13 +48,12 @@ class ReferencePixel {
  public:
   ReferencePixel(const GBuffer& g, int i, int j, const GtaoReferenceSettings& s,
                  const std::vector<Angle>& base_psi)
-      : g_(g), i_(i), j_(j), s_(s), base_psi_(base_psi) {
-    const PixelFrame f = pixelFrame(g, static_cast<std::size_t>(j) * g.width + i);
-    x_ = f.x;
-    v_ = f.v;
-    normal_ = f.normal;
-    basis_ = viewSliceBasis(g, x_, v_);
-  }
+      : g_(g),
+        s_(s),
+        base_psi_(base_psi),
+        f_(pixelFrame(g, static_cast<std::size_t>(j) * g.width + i)),
+        basis_(viewSliceBasis(g, f_.x, f_.v)),
+        pixel_(g, i, j, f_.x, f_.v, s.radius) {}
 
   // ∫ over φ ∈ [0, 2π) of the direction terms: the trapezoid rule on the base grid, each interval
   // bisected while its jump is large (docs/screen_ao.md, "gtao-reference").
@@ -76,10 +75,10 @@ class ReferencePixel {
   // The same with ψ and its sine and cosine given.
   DirectionTerms at(double phi, const Angle& psi) const {
     const int side = phi < kPi ? 1 : 0;
-    const Slice slice = viewSliceWithoutAngle(g_, basis_, x_, v_, normal_, psi);
+    const Slice slice = viewSliceWithoutAngle(g_, basis_, f_.x, f_.v, f_.normal, psi);
     // The hemisphere's end, cos(n ∓ π/2): horizonOf clamps any lower horizon to it.
     const double floor_cos = side == 0 ? slice.sin_n : -slice.sin_n;
-    const double c = exactHorizonCos(g_, i_, j_, x_, v_, slice, side, s_.radius, floor_cos);
+    const double c = exactHorizonCos(g_, pixel_, slice, side, floor_cos);
     const Angle h = horizonUnclamped(c, floor_cos, slice) ? unclampedHorizon(c, side)
                                                           : horizonOf(c, side, withAngle(slice));
     DirectionTerms d;
@@ -87,7 +86,7 @@ class ReferencePixel {
     double t0 = 0.0;
     double t1 = 0.0;
     addBentSide(h, slice.sin_n, slice.cos_n, &t0, &t1);
-    d.bent = slice.projected_length * (t0 * slice.o + t1 * v_);
+    d.bent = slice.projected_length * (t0 * slice.o + t1 * f_.v);
     return d;
   }
   void refine(double a, double width, const DirectionTerms& fa, const DirectionTerms& fb,
@@ -103,11 +102,11 @@ class ReferencePixel {
   }
 
   const GBuffer& g_;
-  int i_, j_;
   const GtaoReferenceSettings& s_;
   const std::vector<Angle>& base_psi_;
-  Eigen::Vector3d x_, v_, normal_;
+  PixelFrame f_;
   ViewSliceBasis basis_;
+  HorizonPixel pixel_;  // what every slice's horizon search shares
 };
 
 }  // namespace

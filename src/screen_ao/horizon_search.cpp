@@ -15,24 +15,23 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // parameter t, and the running horizon as key = cos·|cos| (monotone in cos, no square root).
 class SideSearch {
  public:
-  SideSearch(const Eigen::Vector3d& x, const Eigen::Vector3d& v, const Eigen::Vector3d& r0,
-             const Eigen::Vector3d& r1, double radius, double reach, double floor_cos)
-      : x_(x),
-        v_(v),
-        r0_(r0),
+  SideSearch(const HorizonPixel& p, const Eigen::Vector3d& r1, double reach, double floor_cos)
+      : x_(p.x),
+        v_(p.v),
+        r0_(p.r0),
         r1_(r1),
-        radius2_(radius * radius),
+        radius2_(p.radius * p.radius),
         reach_(reach),
         key_(floor_cos * std::abs(floor_cos)),
-        rv0_(r0.dot(v)),
-        rv1_(r1.dot(v)),
-        rx0_(r0.dot(x)),
-        rx1_(r1.dot(x)),
-        rr0_(r0.squaredNorm()),
-        rr1_(r0.dot(r1)),
+        rv0_(p.rv0),
+        rv1_(r1.dot(p.v)),
+        rx0_(p.rx0),
+        rx1_(r1.dot(p.x)),
+        rr0_(p.rr0),
+        rr1_(p.r0.dot(r1)),
         rr2_(r1.squaredNorm()),
-        xv_(x.dot(v)),
-        xx_(x.squaredNorm()) {}
+        xv_(p.xv),
+        xx_(p.xx) {}
 
   double horizonCos() const { return std::copysign(std::sqrt(std::abs(key_)), key_); }
 
@@ -160,45 +159,70 @@ double imageExit(const GBuffer& g, double x0, double y0, double dx, double dy) {
 
 }  // namespace
 
+HorizonPixel::HorizonPixel(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
+                           const Eigen::Vector3d& v, double radius)
+    : i(i),
+      j(j),
+      x(x),
+      v(v),
+      radius(radius),
+      x0(i + 0.5),
+      y0(j + 0.5),
+      kx(2.0 * g.tan_half * g.aspect / g.width),
+      ky(2.0 * g.tan_half / g.height),
+      r0(kx * x0 - g.tan_half * g.aspect, g.tan_half - ky * y0, -1.0),
+      distance(x.norm()),
+      tangent_cos(radius / distance),
+      rv0(r0.dot(v)),
+      rx0(r0.dot(x)),
+      rr0(r0.squaredNorm()),
+      xv(x.dot(v)),
+      xx(x.squaredNorm()),
+      self(&g.texels[static_cast<std::size_t>(j) * g.width + i]),
+      // Texels whose slab lies wholly outside the ball's depths [Z − R, Z + R] have no sample in
+      // it.
+      nearest((self->depth - radius) / (1.0 + slabReach(g))),
+      farthest((self->depth + radius) / (1.0 - slabReach(g))),
+      slab_reach(slabReach(g)) {}
+
 double exactHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
                        const Eigen::Vector3d& v, const Slice& slice, int side, double radius,
+                       double floor_cos) {
+  return exactHorizonCos(g, HorizonPixel(g, i, j, x, v, radius), slice, side, floor_cos);
+}
+
+double exactHorizonCos(const GBuffer& g, const HorizonPixel& p, const Slice& slice, int side,
                        double floor_cos) {
   const double sign = side == 0 ? -1.0 : 1.0;
   const double dx = sign * slice.omega.x();
   const double dy = -sign * slice.omega.y();  // image rows grow downwards
-  const double x0 = i + 0.5;
-  const double y0 = j + 0.5;
-  const double kx = 2.0 * g.tan_half * g.aspect / g.width;
-  const double ky = 2.0 * g.tan_half / g.height;
-  const Eigen::Vector3d r0(kx * x0 - g.tan_half * g.aspect, g.tan_half - ky * y0, -1.0);
-  const Eigen::Vector3d r1(kx * dx, -ky * dy, 0.0);
+  const double x0 = p.x0;
+  const double y0 = p.y0;
+  const Eigen::Vector3d r1(p.kx * dx, -p.ky * dy, 0.0);
   const Eigen::Vector3d o = sign * slice.o;
-  const double distance = x.norm();
   // Where the rays stop reaching a point of the ball above cos c: the ray through the ball's point
   // at angle acos(c) from V towards o, or through its tangent point (cos = R/|P|) for lower c.
   // Below the tangent ray's cos R/|P| the reach no longer depends on c. The horizon only rises
   // from floor_cos, so a horizon at or below it means floor_cos was too, and length already holds
   // that reach: it is recomputed only for horizons above the tangent ray.
-  const double tangent_cos = radius / distance;
+  const double tangent_cos = p.tangent_cos;
   const auto reach = [&](double c) {
-    if (!(distance > radius)) return kInf;
+    if (!(p.distance > p.radius)) return kInf;
     const double q = std::max(c, tangent_cos);
-    const Eigen::Vector3d point = x + radius * (std::sqrt(1.0 - q * q) * o + q * v);
+    const Eigen::Vector3d point = p.x + p.radius * (std::sqrt(1.0 - q * q) * o + q * p.v);
     if (!(point.z() < 0.0)) return kInf;
     const Eigen::Vector2d s = g.project(point);
     return (s.x() - x0) * dx + (s.y() - y0) * dy;
   };
-  SideSearch search(x, v, r0, r1, radius, slabReach(g), floor_cos);
+  SideSearch search(p, r1, p.slab_reach, floor_cos);
   double length = std::min(imageExit(g, x0, y0, dx, dy), reach(floor_cos));
 
   // Amanatides–Woo over the texels the line crosses, from the pixel's own outwards.
-  const Texel& self = g.texels[static_cast<std::size_t>(j) * g.width + i];
-  // Texels whose slab lies wholly outside the ball's depths [Z − R, Z + R] have no sample in it.
-  const double reach_depth = slabReach(g);
-  const double nearest = (self.depth - radius) / (1.0 + reach_depth);
-  const double farthest = (self.depth + radius) / (1.0 - reach_depth);
-  int fx = i;
-  int fy = j;
+  const Texel& self = *p.self;
+  const double nearest = p.nearest;
+  const double farthest = p.farthest;
+  int fx = p.i;
+  int fy = p.j;
   const int step_x = dx > 0.0 ? 1 : -1;
   const int step_y = dy > 0.0 ? 1 : -1;
   // Each coordinate moves one way only, so once the line leaves the image it never returns: the

@@ -26,4 +26,28 @@ double exactHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
                        const Eigen::Vector3d& v, const Slice& slice, int side, double radius,
                        double floor_cos);
 
+// What exactHorizonCos computes of pixel (i, j) at x, V = v, and the radius before it looks at the
+// slice: a caller searching many slices of one pixel makes it once.
+struct HorizonPixel {
+  HorizonPixel(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const Eigen::Vector3d& v,
+               double radius);
+
+  int i, j;
+  Eigen::Vector3d x, v;
+  double radius;
+  double x0, y0;                 // the pixel's centre in the image
+  double kx, ky;                 // the view ray's x and y per unit of image x and y
+  Eigen::Vector3d r0;            // the view ray (z = −1) through the centre
+  double distance;               // |P|
+  double tangent_cos;            // R/|P|
+  double rv0, rx0, rr0, xv, xx;  // r0·v, r0·x, |r0|², x·v, |x|²
+  const Texel* self;             // the pixel's own texel
+  double nearest, farthest;      // the depths a texel's slab must reach into to meet the ball
+  double slab_reach;             // slabReach(g)
+};
+
+// exactHorizonCos for the pixel p.
+double exactHorizonCos(const GBuffer& g, const HorizonPixel& p, const Slice& slice, int side,
+                       double floor_cos);
+
 }  // namespace gtbake
