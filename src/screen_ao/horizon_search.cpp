@@ -237,8 +237,10 @@ double exactHorizonCos(const GBuffer& g, const HorizonPixel& p, const Slice& sli
   double next_y = dy != 0.0 ? 0.5 * delta_y : kInf;
   double enter = 0.0;
   while (enter < length) {
+    // Most texels skipped lie in the pixel's own plane, so that test goes first (the tests only
+    // decide whether the texel is visited, so their order changes nothing else).
     const double depth = texel->depth;
-    if (depth > nearest && depth < farthest && depth > 0.0 && !coplanar(*texel, self) &&
+    if (!coplanar(*texel, self) && depth > nearest && depth < farthest && depth > 0.0 &&
         search.visit(*texel, enter, std::min({next_x, next_y, length}))) {
       const double c = search.horizonCos();
       if (c > tangent_cos) length = std::min(length, reach(c));
