@@ -140,11 +140,10 @@ class SideSearch {
 
 // Whether texel t lies in the plane of the pixel's own texel (the same normal, the offset within
 // 10⁻⁶): its samples lie on P's tangent plane, at or below the tangent horizon (the floor), so the
-// search skips it, the pixel's own texel included.
-bool coplanar(const Texel& t, const Texel& self) {
+// search skips it, the pixel's own texel included. `tolerance` is the pixel's plane_tolerance.
+bool coplanar(const Texel& t, const Texel& self, float tolerance) {
   return t.normal[0] == self.normal[0] && t.normal[1] == self.normal[1] &&
-         t.normal[2] == self.normal[2] &&
-         std::abs(t.plane - self.plane) <= 1e-6f * std::abs(self.plane);
+         t.normal[2] == self.normal[2] && std::abs(t.plane - self.plane) <= tolerance;
 }
 
 // Image parameter at which the line (x0, y0) + t(dx, dy) leaves the image.
@@ -183,7 +182,8 @@ HorizonPixel::HorizonPixel(const GBuffer& g, int i, int j, const Eigen::Vector3d
       // it.
       nearest((self->depth - radius) / (1.0 + slabReach(g))),
       farthest((self->depth + radius) / (1.0 - slabReach(g))),
-      slab_reach(slabReach(g)) {}
+      slab_reach(slabReach(g)),
+      plane_tolerance(1e-6f * std::abs(self->plane)) {}
 
 double exactHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
                        const Eigen::Vector3d& v, const Slice& slice, int side, double radius,
@@ -240,8 +240,8 @@ double exactHorizonCos(const GBuffer& g, const HorizonPixel& p, const Slice& sli
     // Most texels skipped lie in the pixel's own plane, so that test goes first (the tests only
     // decide whether the texel is visited, so their order changes nothing else).
     const double depth = texel->depth;
-    if (!coplanar(*texel, self) && depth > nearest && depth < farthest && depth > 0.0 &&
-        search.visit(*texel, enter, std::min({next_x, next_y, length}))) {
+    if (!coplanar(*texel, self, p.plane_tolerance) && depth > nearest && depth < farthest &&
+        depth > 0.0 && search.visit(*texel, enter, std::min({next_x, next_y, length}))) {
       const double c = search.horizonCos();
       if (c > tangent_cos) length = std::min(length, reach(c));
     }

@@ -44,6 +44,7 @@ struct HorizonPixel {
   const Texel* self;             // the pixel's own texel
   double nearest, farthest;      // the depths a texel's slab must reach into to meet the ball
   double slab_reach;             // slabReach(g)
+  float plane_tolerance;  // 10⁻⁶|N·T| of the own texel, in float as coplanar compares it
 };
 
 // exactHorizonCos for the pixel p.
