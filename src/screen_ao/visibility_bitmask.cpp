@@ -26,6 +26,10 @@ constexpr double kEndMargin = 1e-6;
 // How far below a farPastEnd bound's cosine a cosine must be for the shortcut (SectorMap::pastCos).
 constexpr double kPastCosSlack = 1e-9;
 
+// A sample whose front angle lies within this much (rad) of its side's hemisphere end, or past it,
+// sets no sector (SectorMap::bandCos): half of kSectorSlack's 1e-4 rad.
+constexpr double kEndBand = 5e-5;
+
 // Sector weightings one pass can serve: uniform and cosine.
 constexpr std::size_t kMaxSectorMaps = 2;
 
@@ -107,11 +111,15 @@ class SectorMap {
   // −(n − π/2 − kEndMargin) on side − (the same rounded values); for e in [0, π), c < cos e −
   // kPastCosSlack puts acos c past e by at least that slack (|acos′| ≥ 1), far beyond the
   // rounding of cos e and of acos (an ulp, ~4e-16).
-  double pastCos(double sign) const {
-    const double e = sign > 0.0 ? n_ + 0.5 * kPi + kEndMargin : -(n_ - 0.5 * kPi - kEndMargin);
-    if (!(e >= 0.0 && e < kPi)) return -std::numeric_limits<double>::infinity();
-    return std::cos(e) - kPastCosSlack;
-  }
+  double pastCos(double sign) const { return cosBeyondEnd(sign, kEndMargin); }
+  // A cosine below which the angle sign·acos c lies within kEndBand of side `sign`'s end or past
+  // it (as pastCos, with e the end moved kEndBand inwards; −∞ where no such bound is used). A
+  // sample whose front angle does sets no sector under either weighting: its back angles lie
+  // further out (sampleBits; rounded the wrong way by under 1e-7 rad) and clamp to the end, so
+  // both coordinates are within 32·(kEndBand/π + 1e-7) ≈ 5.1e-4 sectors of the end's uniform one,
+  // less than kSectorSlack, and within far less of the cosine one, whose weight cos(θ − n)|sin θ|
+  // is at most |θ − (n ± π/2)| there over an open mass of at least 1.
+  double bandCos(double sign) const { return cosBeyondEnd(sign, -kEndBand); }
   // The coordinate every angle past side `sign`'s end has (coordinate clamps it to this angle).
   double endCoordinate(double sign) const {
     return sign > 0.0 ? coordinate(Angle{n_ + 0.5 * kPi, cos_n_, -sin_n_})
@@ -119,6 +127,14 @@ class SectorMap {
   }
 
  private:
+  // A cosine below which the angle sign·acos c lies past e, side `sign`'s end moved `beyond`
+  // outwards: e = n + π/2 + beyond on side + and −(n − π/2 − beyond) on side −, as acos c > e.
+  double cosBeyondEnd(double sign, double beyond) const {
+    const double e = sign > 0.0 ? n_ + 0.5 * kPi + beyond : -(n_ - 0.5 * kPi - beyond);
+    if (!(e >= 0.0 && e < kPi)) return -std::numeric_limits<double>::infinity();
+    return std::cos(e) - kPastCosSlack;
+  }
+
   // angleOf(t), taken from the hemisphere's ends where t has the bits of one of them.
   Angle angleAt(double t) const {
     if (has_ends_ && sameBits(t, lo_end_.a)) return lo_end_;
@@ -229,6 +245,7 @@ void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const E
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
     const double past_cos = maps[0].pastCos(sign);
+    const double band_cos = std::max(past_cos, maps[0].bandCos(sign));
     for (std::size_t m = 0; m < map_count; ++m) u_end[m] = maps[m].endCoordinate(sign);
     for (int step = 0; step < s.steps; ++step) {
       const double t = sign * (step + 0.5) / s.steps * radius_px;
@@ -241,9 +258,10 @@ void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const E
       const double length = front.norm();
       if (length > s.radius || !(length > 0.0)) continue;
       // Every back angle lies further past the end than a front one far past it (sampleBits), so
-      // every coordinate is the end's and the sample sets no sector.
+      // every coordinate is the end's and the sample sets no sector; nor does one whose front
+      // angle lies within kEndBand of the end (bandCos).
       const double c = std::clamp(front.dot(v) / length, -1.0, 1.0);
-      if (c < past_cos) continue;
+      if (c < band_cos) continue;
       const Angle theta = sliceAngle(c, sign);
       if (maps[0].farPastEnd(theta.a, sign)) continue;
       for (std::size_t m = 0; m < map_count; ++m) u_front[m] = maps[m].coordinate(theta);
@@ -338,6 +356,10 @@ std::uint32_t reachableSectors(double u, double sign) {
 
 double pastEndCos(double n, double sign) {
   return SectorMap(SliceHemisphere(n, false), SectorWeights::kUniform).pastCos(sign);
+}
+
+double endBandCos(double n, double sign) {
+  return SectorMap(SliceHemisphere(n, false), SectorWeights::kUniform).bandCos(sign);
 }
 
 void validate(const BitmaskSettings& s) {
