@@ -7,6 +7,7 @@
 
 #include "common/error.h"
 #include "screen_ao/estimator.h"
+#include "screen_ao/sample_image.h"
 #include "screen_ao/slice_geometry.h"
 
 namespace gtbake {
@@ -237,35 +238,6 @@ void sampleBits(const SectorMap* maps, std::size_t map_count, const Eigen::Vecto
     }
   }
 }
-
-// What a sample reads of the G-buffer, copied once per pixel (through g the compiler reloads its
-// fields after every store to the bits, which may alias them).
-struct SampleImage {
-  explicit SampleImage(const GBuffer& g)
-      : texels(g.texels.data()),
-        columns(static_cast<std::size_t>(g.width)),
-        width(g.width),
-        height(g.height),
-        tan_half(g.tan_half),
-        aspect(g.aspect),
-        reach(slabReach(g)) {}
-  // texelPlanePoint's point at the image point (x, y), with imageRay's arithmetic, but without
-  // its floor calls: x ≥ 0 exactly where ⌊x⌋ ≥ 0 and x < W where ⌊x⌋ < W (W an integer), and
-  // there the truncation that indexes the texel is the floor.
-  bool point(double x, double y, Eigen::Vector3d* out) const {
-    if (!(x >= 0.0 && y >= 0.0 && x < width && y < height)) return false;
-    const Texel& t = texels[static_cast<std::size_t>(static_cast<int>(y)) * columns +
-                            static_cast<std::size_t>(static_cast<int>(x))];
-    if (!(t.depth > 0.0f)) return false;
-    const Eigen::Vector3d ray((2.0 * x / width - 1.0) * tan_half * aspect,
-                              (1.0 - 2.0 * y / height) * tan_half, -1.0);
-    *out = texelDepthOnRay(t, ray, reach) * ray;
-    return true;
-  }
-  const Texel* texels;
-  std::size_t columns;
-  double width, height, tan_half, aspect, reach;
-};
 
 // What is the same for every pixel of a pass: the slice angles ψ_k = π(k + ½)/slices with their
 // sines and cosines, and the samples' offsets ±(step + ½)/steps (side·steps + step; side 0 along
