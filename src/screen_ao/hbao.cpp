@@ -2,6 +2,7 @@
 
 #include "common/error.h"
 #include "common/rng.h"
+#include "screen_ao/sample_image.h"
 #include "screen_ao/slice_geometry.h"
 
 namespace gtbake {
@@ -36,6 +37,7 @@ void hbaoPixel(const GBuffer& g, int i, int j, std::size_t p, const HbaoSettings
   const double radius_px = s.radius * g.pixelsPerMetre(g.depth[p]);
   const std::array<float, 4> u = rng.uniform4(p, 0);
   const double step_px = radius_px / s.steps;
+  const SampleImage image(g);
   double occlusion = 0.0;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (int d = 0; d < s.directions; ++d) {
@@ -47,7 +49,7 @@ void hbaoPixel(const GBuffer& g, int i, int j, std::size_t p, const HbaoSettings
     for (int k = 0; k < s.steps; ++k) {
       const double t = (k + u[1]) * step_px + 1.0;
       Eigen::Vector3d sample;
-      if (!texelPlanePoint(g, i + 0.5 + t * omega.x(), j + 0.5 - t * omega.y(), &sample)) continue;
+      if (!image.point(i + 0.5 + t * omega.x(), j + 0.5 - t * omega.y(), &sample)) continue;
       const Eigen::Vector3d delta = sample - x;
       const double length = delta.norm();
       if (length > s.radius || !(length > 0.0)) continue;

@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <array>
-#include <bitset>
 #include <limits>
 #include <vector>
 
 #include "common/error.h"
 #include "screen_ao/estimator.h"
+#include "screen_ao/sample_image.h"
 #include "screen_ao/slice_geometry.h"
 
 namespace gtbake {
@@ -25,6 +25,14 @@ constexpr double kEndMargin = 1e-6;
 
 // How far below a farPastEnd bound's cosine a cosine must be for the shortcut (SectorMap::pastCos).
 constexpr double kPastCosSlack = 1e-9;
+
+// A sample whose front angle lies within this much (rad) of its side's hemisphere end, or past it,
+// sets no sector (SectorMap::bandCos): half of kSectorSlack's 1e-4 rad.
+constexpr double kEndBand = 5e-5;
+
+// kEndMargin and −kEndBand with their sines and cosines (SectorMap::cosBeyondEnd).
+const Angle kEndMarginAngle = angleOf(kEndMargin);
+const Angle kEndBandAngle = angleOf(-kEndBand);
 
 // Sector weightings one pass can serve: uniform and cosine.
 constexpr std::size_t kMaxSectorMaps = 2;
@@ -106,12 +114,16 @@ class SectorMap {
   // no such bound is used). farPastEnd is acos c > e with e = n + π/2 + kEndMargin on side + and
   // −(n − π/2 − kEndMargin) on side − (the same rounded values); for e in [0, π), c < cos e −
   // kPastCosSlack puts acos c past e by at least that slack (|acos′| ≥ 1), far beyond the
-  // rounding of cos e and of acos (an ulp, ~4e-16).
-  double pastCos(double sign) const {
-    const double e = sign > 0.0 ? n_ + 0.5 * kPi + kEndMargin : -(n_ - 0.5 * kPi - kEndMargin);
-    if (!(e >= 0.0 && e < kPi)) return -std::numeric_limits<double>::infinity();
-    return std::cos(e) - kPastCosSlack;
-  }
+  // rounding of cos e (cosBeyondEnd) and of acos (an ulp, ~4e-16).
+  double pastCos(double sign) const { return cosBeyondEnd(sign, kEndMargin, kEndMarginAngle); }
+  // A cosine below which the angle sign·acos c lies within kEndBand of side `sign`'s end or past
+  // it (as pastCos, with e the end moved kEndBand inwards; −∞ where no such bound is used). A
+  // sample whose front angle does sets no sector under either weighting: its back angles lie
+  // further out (sampleBits; rounded the wrong way by under 1e-7 rad) and clamp to the end, so
+  // both coordinates are within 32·(kEndBand/π + 1e-7) ≈ 5.1e-4 sectors of the end's uniform one,
+  // less than kSectorSlack, and within far less of the cosine one, whose weight cos(θ − n)|sin θ|
+  // is at most |θ − (n ± π/2)| there over an open mass of at least 1.
+  double bandCos(double sign) const { return cosBeyondEnd(sign, -kEndBand, kEndBandAngle); }
   // The coordinate every angle past side `sign`'s end has (coordinate clamps it to this angle).
   double endCoordinate(double sign) const {
     return sign > 0.0 ? coordinate(Angle{n_ + 0.5 * kPi, cos_n_, -sin_n_})
@@ -119,6 +131,17 @@ class SectorMap {
   }
 
  private:
+  // A cosine below which the angle sign·acos c lies past e, side `sign`'s end moved `beyond`
+  // outwards (b: angleOf(beyond)): e = n + π/2 + β on side + and −(n − π/2 − β) on side −, as
+  // acos c > e. cos e = ∓sin(n ± β) comes from n's sine and cosine and β's, without a cos call:
+  // a few ulps off (~1e-15, with the rounding of e itself), far inside kPastCosSlack.
+  double cosBeyondEnd(double sign, double beyond, const Angle& b) const {
+    const double e = sign > 0.0 ? n_ + 0.5 * kPi + beyond : -(n_ - 0.5 * kPi - beyond);
+    if (!(e >= 0.0 && e < kPi)) return -std::numeric_limits<double>::infinity();
+    const double cos_e = sign > 0.0 ? -(sin_n_ * b.c + cos_n_ * b.s) : sin_n_ * b.c - cos_n_ * b.s;
+    return cos_e - kPastCosSlack;
+  }
+
   // angleOf(t), taken from the hemisphere's ends where t has the bits of one of them.
   Angle angleAt(double t) const {
     if (has_ends_ && sameBits(t, lo_end_.a)) return lo_end_;
@@ -186,11 +209,8 @@ void sampleBits(const SectorMap* maps, std::size_t map_count, const Eigen::Vecto
                 const double* u_end, const std::vector<double>& thicknesses, std::uint32_t* bits) {
   const std::size_t T = thicknesses.size();
   std::array<std::uint32_t, kMaxSectorMaps> reachable{};
-  std::array<std::uint32_t, kMaxSectorMaps> end_bits{};
-  for (std::size_t m = 0; m < map_count; ++m) {
-    reachable[m] = reachableSectors(u_front[m], sign);
-    end_bits[m] = sectorRun(u_front[m], u_end[m]);
-  }
+  std::array<std::uint32_t, kMaxSectorMaps> end_bits{};  // set with clamped_from
+  for (std::size_t m = 0; m < map_count; ++m) reachable[m] = reachableSectors(u_front[m], sign);
   double clamped_from = std::numeric_limits<double>::infinity();  // the thinnest slab past the end
   for (std::size_t k = 0; k < T; ++k) {
     bool covered = true;
@@ -208,7 +228,10 @@ void sampleBits(const SectorMap* maps, std::size_t map_count, const Eigen::Vecto
         theta = sliceAngle(c, sign);
         past = maps[0].farPastEnd(theta.a, sign);
       }
-      if (past) clamped_from = thicknesses[k];
+      if (past) {
+        clamped_from = thicknesses[k];
+        for (std::size_t m = 0; m < map_count; ++m) end_bits[m] = sectorRun(u_front[m], u_end[m]);
+      }
     }
     for (std::size_t m = 0; m < map_count; ++m) {
       bits[m * T + k] |= past ? end_bits[m] : sectorRun(u_front[m], maps[m].coordinate(theta));
@@ -216,12 +239,30 @@ void sampleBits(const SectorMap* maps, std::size_t map_count, const Eigen::Vecto
   }
 }
 
+// What is the same for every pixel of a pass: the slice angles ψ_k = π(k + ½)/slices with their
+// sines and cosines, and the samples' offsets ±(step + ½)/steps (side·steps + step; side 0 along
+// −ω), which times the projected radius are their distances in pixels.
+struct PassTables {
+  explicit PassTables(const BitmaskSettings& s) : psi(s.slices), offsets(2 * s.steps) {
+    for (int k = 0; k < s.slices; ++k) psi[k] = angleOf(kPi * (k + 0.5) / s.slices);
+    for (int side = 0; side < 2; ++side) {
+      const double sign = side == 0 ? -1.0 : 1.0;
+      for (int step = 0; step < s.steps; ++step) {
+        offsets[side * s.steps + step] = sign * (step + 0.5) / s.steps;
+      }
+    }
+  }
+  std::vector<Angle> psi;
+  std::vector<double> offsets;
+};
+
 // One slice's 32 sectors from both sides' samples, for each sector map and thickness (bits[m·T +
 // k] for maps[m] at thicknesses[k]): the samples and their front angles are shared, each
 // thickness adds its own back angles and each map its own coordinates of them.
-void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const Eigen::Vector3d& v,
-               const Slice& slice, const SectorMap* maps, std::size_t map_count, double radius_px,
-               double reach, const BitmaskSettings& s, const std::vector<double>& thicknesses,
+void sliceBits(const SampleImage& image, int i, int j, const Eigen::Vector3d& x,
+               const Eigen::Vector3d& v, const Slice& slice, const SectorMap* maps,
+               std::size_t map_count, double radius_px, const BitmaskSettings& s,
+               const std::vector<double>& offsets, const std::vector<double>& thicknesses,
                std::uint32_t* bits) {
   std::fill(bits, bits + map_count * thicknesses.size(), 0u);
   std::array<double, kMaxSectorMaps> u_front{};
@@ -229,21 +270,22 @@ void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const E
   for (int side = 0; side < 2; ++side) {
     const double sign = side == 0 ? -1.0 : 1.0;
     const double past_cos = maps[0].pastCos(sign);
+    const double band_cos = std::max(past_cos, maps[0].bandCos(sign));
     for (std::size_t m = 0; m < map_count; ++m) u_end[m] = maps[m].endCoordinate(sign);
     for (int step = 0; step < s.steps; ++step) {
-      const double t = sign * (step + 0.5) / s.steps * radius_px;
+      const double t = offsets[side * s.steps + step] * radius_px;
       Eigen::Vector3d sample;
-      if (!texelPlanePoint(g, i + 0.5 + t * slice.omega.x(), j + 0.5 - t * slice.omega.y(), reach,
-                           &sample)) {
+      if (!image.point(i + 0.5 + t * slice.omega.x(), j + 0.5 - t * slice.omega.y(), &sample)) {
         continue;
       }
       const Eigen::Vector3d front = sample - x;
       const double length = front.norm();
       if (length > s.radius || !(length > 0.0)) continue;
       // Every back angle lies further past the end than a front one far past it (sampleBits), so
-      // every coordinate is the end's and the sample sets no sector.
+      // every coordinate is the end's and the sample sets no sector; nor does one whose front
+      // angle lies within kEndBand of the end (bandCos).
       const double c = std::clamp(front.dot(v) / length, -1.0, 1.0);
-      if (c < past_cos) continue;
+      if (c < band_cos) continue;
       const Angle theta = sliceAngle(c, sign);
       if (maps[0].farPastEnd(theta.a, sign)) continue;
       for (std::size_t m = 0; m < map_count; ++m) u_front[m] = maps[m].coordinate(theta);
@@ -253,21 +295,28 @@ void sliceBits(const GBuffer& g, int i, int j, const Eigen::Vector3d& x, const E
   }
 }
 
+// The number of set bits (std::bitset's count, without its library call).
+int setSectors(std::uint32_t bits) {
+  bits = bits - ((bits >> 1) & 0x55555555u);
+  bits = (bits & 0x33333333u) + ((bits >> 2) & 0x33333333u);
+  bits = (bits + (bits >> 4)) & 0x0f0f0f0fu;
+  return static_cast<int>((bits * 0x01010101u) >> 24);
+}
+
 // One slice's visibility and, unless sum is null, bent-normal terms from its sectors.
 void addSlice(std::uint32_t bits, const Slice& slice, const SectorMap& map,
               const Eigen::Vector3d& v, SectorWeights weights, double* visibility,
               Eigen::Vector3d* sum) {
-  const double clear = 1.0 - static_cast<double>(std::bitset<32>(bits).count()) / kSectors;
+  const double clear = 1.0 - static_cast<double>(setSectors(bits)) / kSectors;
   *visibility +=
       weights == SectorWeights::kUniform ? clear : slice.projected_length * map.openMass() * clear;
   if (sum == nullptr) return;
-  for (int run = 0; run < kSectors;) {  // each run of clear sectors
-    if ((bits >> run) & 1u) {
-      ++run;
-      continue;
-    }
-    int end = run;
-    while (end < kSectors && !((bits >> end) & 1u)) ++end;
+  for (int run = 0; run < kSectors;) {  // each run of clear sectors [run, end)
+    const std::uint32_t clear_from = ~bits >> run;
+    if (clear_from == 0u) break;
+    run += __builtin_ctz(clear_from);
+    const std::uint32_t set_from = bits >> run;
+    const int end = set_from == 0u ? kSectors : run + __builtin_ctz(set_from);
     double t0 = 0.0;
     double t1 = 0.0;
     bentOver(map.angle(static_cast<double>(run) / kSectors),
@@ -277,18 +326,11 @@ void addSlice(std::uint32_t bits, const Slice& slice, const SectorMap& map,
   }
 }
 
-// The slice angles ψ_k = π(k + ½)/slices with their sines and cosines, the same for every pixel.
-std::vector<Angle> sliceAngles(const BitmaskSettings& s) {
-  std::vector<Angle> out(s.slices);
-  for (int k = 0; k < s.slices; ++k) out[k] = angleOf(kPi * (k + 0.5) / s.slices);
-  return out;
-}
-
 // Pixel p for each sector weighting and thickness: Â and the view-space bent normal into
-// a[w·T + k], bent[w·T + k] for weights[w] at thicknesses[k] (Â alone when bent is null). psi is
-// sliceAngles(s); bits holds weights.size()·T words of scratch.
+// a[w·T + k], bent[w·T + k] for weights[w] at thicknesses[k] (Â alone when bent is null). tables
+// is PassTables(s); bits holds weights.size()·T words of scratch.
 void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSettings& s,
-                  const std::vector<Angle>& psi, const std::vector<SectorWeights>& weights,
+                  const PassTables& tables, const std::vector<SectorWeights>& weights,
                   const std::vector<double>& thicknesses, std::uint32_t* bits, double* a,
                   Eigen::Vector3d* bent) {
   const auto [x, v, normal] = pixelFrame(g, p);
@@ -299,12 +341,15 @@ void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSe
       std::find(weights.begin(), weights.end(), SectorWeights::kCosine) != weights.end();
   std::fill(a, a + n, 0.0);
   if (bent != nullptr) std::fill(bent, bent + n, Eigen::Vector3d::Zero());
+  const ViewSliceBasis basis = viewSliceBasis(g, x, v);
+  const SampleImage image(g);
   for (int k = 0; k < s.slices; ++k) {
-    const Slice slice = makeViewSlice(g, x, v, normal, psi[k]);
+    // makeViewSlice's bits, from the pixel's basis made once.
+    const Slice slice = withAngle(viewSliceWithoutAngle(g, basis, x, v, normal, tables.psi[k]));
     const SliceHemisphere hemisphere(slice.n, with_mass);
     const std::array<SectorMap, kMaxSectorMaps> maps = {SectorMap(hemisphere, weights.front()),
                                                         SectorMap(hemisphere, weights.back())};
-    sliceBits(g, i, j, x, v, slice, maps.data(), weights.size(), radius_px, slabReach(g), s,
+    sliceBits(image, i, j, x, v, slice, maps.data(), weights.size(), radius_px, s, tables.offsets,
               thicknesses, bits);
     for (std::size_t t = 0; t < n; ++t) {
       addSlice(bits[t], slice, maps[t / T], v, weights[t / T], &a[t],
@@ -340,6 +385,10 @@ double pastEndCos(double n, double sign) {
   return SectorMap(SliceHemisphere(n, false), SectorWeights::kUniform).pastCos(sign);
 }
 
+double endBandCos(double n, double sign) {
+  return SectorMap(SliceHemisphere(n, false), SectorWeights::kUniform).bandCos(sign);
+}
+
 void validate(const BitmaskSettings& s) {
   const std::string name =
       describe(s.weights == SectorWeights::kUniform ? Estimator::kBitmaskUniform
@@ -359,10 +408,10 @@ AoEstimate visibilityBitmask(const GBuffer& g, const BitmaskSettings& s) {
   validate(s);
   const std::vector<SectorWeights> weights = {s.weights};
   const std::vector<double> thickness = {s.thickness};
-  const std::vector<Angle> psi = sliceAngles(s);
+  const PassTables tables(s);
   return estimatePerPixel(g, [&](int i, int j, std::size_t p, double* a, Eigen::Vector3d* bent) {
     std::uint32_t bits = 0;
-    bitmaskPixel(g, i, j, p, s, psi, weights, thickness, &bits, a, bent);
+    bitmaskPixel(g, i, j, p, s, tables, weights, thickness, &bits, a, bent);
   });
 }
 
@@ -391,7 +440,7 @@ std::vector<std::vector<AoEstimate>> visibilityBitmasks(const GBuffer& g, const 
   }
   const bool with_bent = parts == EstimateParts::kAoAndBent;
   const std::size_t T = thicknesses.size();
-  const std::vector<Angle> psi = sliceAngles(s);
+  const PassTables tables(s);
   forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
     // Per-thread scratch, sized once per thread rather than allocated per pixel.
     thread_local std::vector<std::uint32_t> bits;
@@ -400,7 +449,7 @@ std::vector<std::vector<AoEstimate>> visibilityBitmasks(const GBuffer& g, const 
     bits.resize(weights.size() * T);
     a.resize(weights.size() * T);
     bent.resize(with_bent ? a.size() : 0);
-    bitmaskPixel(g, i, j, p, s, psi, weights, thicknesses, bits.data(), a.data(),
+    bitmaskPixel(g, i, j, p, s, tables, weights, thicknesses, bits.data(), a.data(),
                  with_bent ? bent.data() : nullptr);
     for (std::size_t k = 0; k < a.size(); ++k) {
       if (with_bent) {

@@ -63,5 +63,9 @@ std::uint32_t reachableSectors(double u, double sign);
 // A cosine c below which the angle sign·acos c lies more than 1e-6 rad past the hemisphere's end
 // n + sign·π/2 (−∞ where the pass uses no such bound): the pass's test before an acos.
 double pastEndCos(double n, double sign);
+// A cosine c below which the angle sign·acos c lies within 5e-5 rad of the hemisphere's end
+// n + sign·π/2 or past it (−∞ where the pass uses no such bound), so that a sample with that front
+// angle sets no sector under either weighting: the pass skips it before any acos.
+double endBandCos(double n, double sign);
 
 }  // namespace gtbake

@@ -288,6 +288,38 @@ TEST(Estimators, BitmaskPastEndCosIsFarPastTheEnd) {
   EXPECT_GT(below, 10000);
 }
 
+// Below endBandCos a front angle sets no sector with any back angle past it away from V (or
+// rounded up to 1e-7 rad the wrong way) under either weighting, nor with the end's coordinate, for
+// random cosines and ones within 1e-8 of the bound.
+TEST(Estimators, BitmaskEndBandSetsNoSector) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int below = 0;
+  for (int n = 0; n < 200000; ++n) {
+    const double normal = (unit(rng) - 0.5) * 2.0 * kPi;
+    const double sign = n % 2 ? 1.0 : -1.0;
+    const double bound = endBandCos(normal, sign);
+    const double c = n % 3 || !std::isfinite(bound)
+                         ? 2.0 * unit(rng) - 1.0
+                         : std::clamp(bound + (unit(rng) - 0.5) * 2e-8, -1.0, 1.0);
+    if (!(c < bound)) continue;
+    ++below;
+    const double front = sign * std::acos(c);
+    const double step = n % 5 == 0   ? -1e-7 * unit(rng)
+                        : n % 5 == 1 ? 1e-4 * unit(rng)
+                                     : kPi * unit(rng);
+    const double back = front + sign * step;
+    const double end = normal + sign * 0.5 * kPi;
+    for (SectorWeights w : {SectorWeights::kUniform, SectorWeights::kCosine}) {
+      const double uf = sectorCoordinate(front, normal, w);
+      EXPECT_EQ(sectorBits(uf, sectorCoordinate(back, normal, w)), 0u)
+          << normal << " " << c << " " << back;
+      EXPECT_EQ(sectorBits(uf, sectorCoordinate(end, normal, w)), 0u) << normal << " " << c;
+    }
+  }
+  EXPECT_GT(below, 10000);
+}
+
 // Several thicknesses in one pass (what gtbake tune runs) give each thickness's own run's bytes.
 TEST(Estimators, BitmaskThicknessesInOnePassMatchOneRunEach) {
   const SweepImage image = test::traceImage(test::cornerField(0.3), 40, 40, 2, 0.3, 1);
