@@ -22,10 +22,6 @@ constexpr int kMaxDirections = 64;  // validate's bounds
 constexpr int kMaxSteps = 256;
 constexpr std::size_t kMaxThins = 8;  // thin compensations sharing one group's samples
 
-std::uint8_t unorm8(double x) {
-  return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0));
-}
-
 // The quadratic steps' pixel offsets t_k = ((k + noise)/steps)² × R in pixels, at least the next
 // texel; the same for every slice and side of a pixel's frame.
 void stepOffsets(int steps, double step_noise, double radius_px, double* offsets) {
