@@ -138,6 +138,9 @@ void sideHorizonCos(const SampleGrid& grid, int i, int j, const Eigen::Vector3d&
     const double length = d.norm();
     if (!(length > 0.0)) continue;
     const double sample_cos = d.dot(v) / length;
+    // A sample no higher than the tangent plane blends to at most low_cos (the weight is in
+    // [0, 1]), which never raises a maximum.
+    if (sample_cos <= low_cos) continue;
     for (std::size_t t = 0; t < thins.size(); ++t) {
       // Without thin compensation the stretched offset is d itself (z·1 is exact).
       const double stretched =
@@ -209,21 +212,30 @@ std::vector<HorizonGroup> horizonGroups(const std::vector<GtaoRuntimeSettings>& 
 
 // A frame's slice at a pixel with its angle n computed the first time a horizon may clamp
 // (horizonUnclamped): elsewhere horizonOf's value needs no n, so no atan2.
+// Each side also keeps the last horizon computed, which a group or thin compensation with the same
+// cos (often the plane's, low_cos, where no sample is in reach) takes as it is.
 struct FrameSlice {
   Slice slice;
   bool angled = false;
+  std::array<double, 2> last_cos;  // NaN before the first: equal to no cos
+  std::array<Angle, 2> last;
 };
 
 // horizonOf(horizon_cos, side, slice) of the slice with its angle.
 Angle sideHorizon(double horizon_cos, int side, FrameSlice* s) {
+  if (horizon_cos == s->last_cos[side]) return s->last[side];
   const double floor_cos = side == 0 ? s->slice.sin_n : -s->slice.sin_n;  // cos(n ∓ π/2)
-  if (horizonUnclamped(horizon_cos, floor_cos, s->slice))
-    return unclampedHorizon(horizon_cos, side);
-  if (!s->angled) {
-    s->slice = withAngle(s->slice);
-    s->angled = true;
+  s->last_cos[side] = horizon_cos;
+  if (horizonUnclamped(horizon_cos, floor_cos, s->slice)) {
+    s->last[side] = unclampedHorizon(horizon_cos, side);
+  } else {
+    if (!s->angled) {
+      s->slice = withAngle(s->slice);
+      s->angled = true;
+    }
+    s->last[side] = horizonOf(horizon_cos, side, s->slice);
   }
-  return horizonOf(horizon_cos, side, s->slice);
+  return s->last[side];
 }
 
 // One group's horizons at pixel p for every thin compensation of it: visibility[t] and, unless
@@ -279,9 +291,12 @@ void framePixel(const GBuffer& g, const SampleGrid& grid, int i, int j, std::siz
   for (int d = 0; d < directions; ++d) {
     // sliceAlong without its angle, from the pixel's image point and offset.
     const Eigen::Vector3d o = tangentDirection(px.v, kPi * (d + base_noise) / directions);
+    constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
     slices[d] = {sliceThroughWithoutAngle(px.v, o, px.normal,
                                           imageDirection(g, px.x, px.from, px.offset, o)),
-                 false};
+                 false,
+                 {kNone, kNone},
+                 {}};
   }
   for (const HorizonGroup& group : groups) {
     std::array<double, kMaxThins> visibility;
