@@ -15,10 +15,6 @@ constexpr double kBlurSigma = 1.5;  // pixels
 constexpr double kDepthRejection = 0.05;
 constexpr std::size_t kTaps = (2 * kBlurRadius + 1) * (2 * kBlurRadius + 1);
 
-std::uint8_t unorm8(double x) {
-  return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0));
-}
-
 bool inside(const GBuffer& g, int i, int j) {
   return i >= 0 && j >= 0 && i < g.width && j < g.height &&
          g.mask[static_cast<std::size_t>(j) * g.width + i] != 0;
@@ -99,7 +95,8 @@ FilterSetup filterSetup(const GBuffer& g) {
   }
   const EdgeWeights edges = edgeWeights(g);
   FilterSetup f{std::vector<double>(kTaps * g.pixels(), 0.0),
-                std::vector<std::ptrdiff_t>(g.pixels(), -1)};
+                std::vector<std::ptrdiff_t>(g.pixels(), -1),
+                std::vector<std::uint16_t>(g.pixels(), 0)};
   forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
     double* w = &f.blur[kTaps * p];
     for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) {
@@ -108,28 +105,49 @@ FilterSetup filterSetup(const GBuffer& g) {
       }
     }
     f.history[p] = historyPixel(g, i, j, p);
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        if (inside(g, i + dx, j + dy)) f.around[p] |= 1u << (3 * (dy + 1) + dx + 1);
+      }
+    }
   });
   return f;
 }
 
+namespace {
+
+// The blur of channels First…3 at pixel (i, j) into out (bilateralBlur's; First a constant so
+// the channel loop unrolls).
+template <int First>
+void blurPixel(const GBuffer& g, const FilterSetup& f, const Rgba8Image& in, int i, int j,
+               std::size_t p, Rgba8Image* out) {
+  const double* w = &f.blur[kTaps * p];
+  double sum[4] = {0.0, 0.0, 0.0, 0.0};
+  double total = 0.0;
+  for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) {
+    const auto* row = &in[static_cast<std::size_t>(j + dy) * g.width + i];
+    for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx, ++w) {
+      if (!(*w > 0.0)) continue;
+      const auto& c = row[dx];
+      for (int k = First; k < 4; ++k) sum[k] += *w * c[k] / 255.0;
+      total += *w;
+    }
+  }
+  for (int k = First; k < 4; ++k) (*out)[p][k] = unorm8(sum[k] / total);
+}
+
+}  // namespace
+
 Rgba8Image bilateralBlur(const GBuffer& g, const FilterSetup& f, const Rgba8Image& in,
                          EstimateParts parts) {
-  const int first = parts == EstimateParts::kAoOnly ? 3 : 0;  // the channels blurred
   Rgba8Image out(in.size(), {0, 0, 0, 0});
-  forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
-    const double* w = &f.blur[kTaps * p];
-    double sum[4] = {0.0, 0.0, 0.0, 0.0};
-    double total = 0.0;
-    for (int dy = -kBlurRadius; dy <= kBlurRadius; ++dy) {
-      for (int dx = -kBlurRadius; dx <= kBlurRadius; ++dx, ++w) {
-        if (!(*w > 0.0)) continue;
-        const auto& c = in[static_cast<std::size_t>(j + dy) * g.width + (i + dx)];
-        for (int k = first; k < 4; ++k) sum[k] += *w * c[k] / 255.0;
-        total += *w;
-      }
-    }
-    for (int k = first; k < 4; ++k) out[p][k] = unorm8(sum[k] / total);
-  });
+  if (parts == EstimateParts::kAoOnly) {  // A alone
+    forEachMaskedPixel(g,
+                       [&](int i, int j, std::size_t p) { blurPixel<3>(g, f, in, i, j, p, &out); });
+  } else {
+    forEachMaskedPixel(g,
+                       [&](int i, int j, std::size_t p) { blurPixel<0>(g, f, in, i, j, p, &out); });
+  }
   return out;
 }
 
@@ -144,16 +162,21 @@ Rgba8Image temporalFilter(const GBuffer& g, const FilterSetup& f, const Rgba8Ima
       return;
     }
     const auto q = static_cast<std::size_t>(f.history[p]);
-    double lo = 1.0;
-    double hi = 0.0;
+    // The 3×3 extremes of the bytes, divided once: a/255 rises with a, so the extreme of the
+    // quotients is the quotient of the extreme byte (the centre is inside, and every a/255 lies
+    // in [0, 1], the fold's start values).
+    std::uint8_t lo_byte = 255;
+    std::uint8_t hi_byte = 0;
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
-        if (!inside(g, i + dx, j + dy)) continue;
-        const double a = current[static_cast<std::size_t>(j + dy) * g.width + (i + dx)][3] / 255.0;
-        lo = std::min(lo, a);
-        hi = std::max(hi, a);
+        if ((f.around[p] & (1u << (3 * (dy + 1) + dx + 1))) == 0) continue;
+        const std::uint8_t a = current[static_cast<std::size_t>(j + dy) * g.width + (i + dx)][3];
+        lo_byte = std::min(lo_byte, a);
+        hi_byte = std::max(hi_byte, a);
       }
     }
+    const double lo = lo_byte / 255.0;
+    const double hi = hi_byte / 255.0;
     const double h_ao = std::clamp(history[q][3] / 255.0, lo, hi);  // layer 3
     const double c_ao = c[3] / 255.0;
     if (parts == EstimateParts::kAoOnly) {

@@ -3,12 +3,25 @@
 // rejection layers, and the decode of the final RGBA8 image.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "screen_ao/gtao_runtime.h"
 
 namespace gtbake {
+
+// x clamped to [0, 1] as a byte: lround(x·255). The value is in [0, 255], where its whole part
+// and the fraction left are exact, so rounding half away from zero is a comparison of that fraction
+// with ½ (lround itself, a call, only for NaN).
+inline std::uint8_t unorm8(double x) {
+  const double y = std::clamp(x, 0.0, 1.0) * 255.0;
+  if (!(y >= 0.0)) return static_cast<std::uint8_t>(std::lround(y));
+  const int whole = static_cast<int>(y);
+  return static_cast<std::uint8_t>(whole + (y - whole >= 0.5 ? 1 : 0));
+}
 
 // clamp(1 − |z1 − z2|/(max(z1, z2)·0.05), 0, 1) on linear depths.
 double depthEdgeWeight(double z1, double z2);
@@ -24,6 +37,9 @@ struct FilterSetup {
   // camera maps a pixel to itself), −1 where it is off-screen (layer 1) or its depth differs by
   // more than 5 % (layer 2).
   std::vector<std::ptrdiff_t> history;
+  // [p] bit 3(dy + 1) + dx + 1 set where the 3×3 neighbour (dx, dy) is on the image and unmasked:
+  // the pixels of the temporal filter's clamp.
+  std::vector<std::uint16_t> around;
 };
 FilterSetup filterSetup(const GBuffer& g);
 

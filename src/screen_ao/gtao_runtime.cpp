@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "common/error.h"
@@ -21,21 +22,6 @@ constexpr int kMaxDirections = 64;  // validate's bounds
 constexpr int kMaxSteps = 256;
 constexpr std::size_t kMaxThins = 8;  // thin compensations sharing one group's samples
 
-std::uint8_t unorm8(double x) {
-  return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0));
-}
-
-// Flat inside R(1 − 0.615), then linear to 0 at R. The ends skip the division with its result: a
-// quotient ≤ 0 clamps to 1, and a numerator ≥ the range makes it ≥ 1, which clamps to 0.
-double falloffWeight(double distance, double radius) {
-  const double range = kFalloffRange * radius;
-  const double from = radius * (1.0 - kFalloffRange);
-  const double over = distance - from;
-  if (over <= 0.0) return 1.0;
-  if (over >= range) return 0.0;
-  return std::clamp(1.0 - over / range, 0.0, 1.0);
-}
-
 // The quadratic steps' pixel offsets t_k = ((k + noise)/steps)² × R in pixels, at least the next
 // texel; the same for every slice and side of a pixel's frame.
 void stepOffsets(int steps, double step_noise, double radius_px, double* offsets) {
@@ -45,32 +31,121 @@ void stepOffsets(int steps, double step_noise, double radius_px, double* offsets
   }
 }
 
+// A texel as the horizon steps read it: its plane offset N·T in double (texelDepthOnRay's k,
+// computed once per texel rather than per step), N, and its depth Z (0 where masked).
+struct PlaneTexel {
+  double k;
+  float normal[3];
+  float depth;
+};
+
+// What texelPlanePoint reads of the G-buffer, laid out for the steps.
+struct SampleGrid {
+  std::vector<PlaneTexel> texels;
+  int width = 0;
+  int height = 0;
+  double near = 0.0;  // 1 − κ, 1 + κ: the slab's ends per metre of depth (slabReach)
+  double far = 0.0;
+  // 2/W and 2/H where W and H are powers of two: 2x/W is then x·(2/W) exactly (both scale by a
+  // power of two), without the division; 0 elsewhere.
+  double x_scale = 0.0;
+  double y_scale = 0.0;
+  double tan_half = 0.0;
+  double aspect = 1.0;
+};
+
+double powerOfTwoScale(int n) {
+  return (n & (n - 1)) == 0 ? 2.0 / n : 0.0;
+}
+
+SampleGrid sampleGrid(const GBuffer& g) {
+  SampleGrid s;
+  s.texels.resize(g.pixels());
+  for (std::size_t p = 0; p < g.pixels(); ++p) {
+    const Texel& t = g.texels[p];
+    s.texels[p] = {t.normal[0] * static_cast<double>(t.position[0]) +
+                       t.normal[1] * static_cast<double>(t.position[1]) +
+                       t.normal[2] * static_cast<double>(t.position[2]),
+                   {t.normal[0], t.normal[1], t.normal[2]},
+                   t.depth};
+  }
+  s.width = g.width;
+  s.height = g.height;
+  const double reach = slabReach(g);
+  s.near = 1.0 - reach;
+  s.far = 1.0 + reach;
+  s.x_scale = powerOfTwoScale(g.width);
+  s.y_scale = powerOfTwoScale(g.height);
+  s.tan_half = g.tan_half;
+  s.aspect = g.aspect;
+  return s;
+}
+
+// texelPlanePoint(g, x, y, slabReach(g), point), the same operations on the same values but for
+// the texel's index: for x ≥ 0 floor(x) is x truncated, and floor(x) < 0 or ≥ W just where x is
+// (W an integer), so the bounds test reads x itself.
+bool samplePoint(const SampleGrid& s, double x, double y, Eigen::Vector3d* point) {
+  if (!(x >= 0.0 && y >= 0.0 && x < s.width && y < s.height)) return false;
+  const PlaneTexel& t = s.texels[static_cast<std::size_t>(static_cast<int>(y)) * s.width +
+                                 static_cast<std::size_t>(static_cast<int>(x))];
+  if (!(t.depth > 0.0f)) return false;
+  const double u = s.x_scale != 0.0 ? x * s.x_scale : 2.0 * x / s.width;
+  const double w = s.y_scale != 0.0 ? y * s.y_scale : 2.0 * y / s.height;
+  const Eigen::Vector3d ray((u - 1.0) * s.tan_half * s.aspect, (1.0 - w) * s.tan_half, -1.0);
+  const double d = t.normal[0] * ray.x() + t.normal[1] * ray.y() + t.normal[2] * ray.z();
+  const double plane = t.k * d > 0.0 ? t.k / d : std::numeric_limits<double>::infinity();
+  const double z = t.depth;
+  *point = std::clamp(plane, z * s.near, z * s.far) * ray;
+  return true;
+}
+
+// The falloff of radius R: flat up to `from`, then linear over `range` (computed once per radius).
+struct Falloff {
+  double radius, from, range;
+};
+
+Falloff falloffOf(double radius) {
+  return {radius, radius * (1.0 - kFalloffRange), kFalloffRange * radius};
+}
+
+// Flat inside R(1 − 0.615), then linear to 0 at R. The ends skip the division with its result: a
+// quotient ≤ 0 clamps to 1, and a numerator ≥ the range makes it ≥ 1, which clamps to 0.
+double falloffWeight(double distance, const Falloff& f) {
+  const double over = distance - f.from;
+  if (over <= 0.0) return 1.0;
+  if (over >= f.range) return 0.0;
+  return std::clamp(1.0 - over / f.range, 0.0, 1.0);
+}
+
 // One side's horizon cosine for each thin compensation of `thins`, into horizon_cos[t]: the samples
 // at `offsets` (stepOffsets), each sample's cos blended towards the tangent plane's (low) horizon
 // by the falloff weight, the falloff distance taken with the view-z part of the offset stretched by
 // 1 + thin_compensation. The samples are shared; each value's maximum is the one a run at that
 // value alone computes.
-void sideHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
+void sideHorizonCos(const SampleGrid& grid, int i, int j, const Eigen::Vector3d& x,
                     const Eigen::Vector3d& v, const Eigen::Vector2d& omega, double sign,
-                    double low_cos, const double* offsets, double reach, int steps, double radius,
+                    double low_cos, const double* offsets, int steps, const Falloff& falloff,
                     const std::vector<double>& thins, double* horizon_cos) {
   for (std::size_t t = 0; t < thins.size(); ++t) horizon_cos[t] = low_cos;
   for (int k = 0; k < steps; ++k) {
     const double offset = offsets[k];
     Eigen::Vector3d sample;
-    if (!texelPlanePoint(g, i + 0.5 + sign * offset * omega.x(),
-                         j + 0.5 - sign * offset * omega.y(), reach, &sample)) {
+    if (!samplePoint(grid, i + 0.5 + sign * offset * omega.x(), j + 0.5 - sign * offset * omega.y(),
+                     &sample)) {
       continue;
     }
     const Eigen::Vector3d d = sample - x;
     const double length = d.norm();
     if (!(length > 0.0)) continue;
     const double sample_cos = d.dot(v) / length;
+    // A sample no higher than the tangent plane blends to at most low_cos (the weight is in
+    // [0, 1]), which never raises a maximum.
+    if (sample_cos <= low_cos) continue;
     for (std::size_t t = 0; t < thins.size(); ++t) {
       // Without thin compensation the stretched offset is d itself (z·1 is exact).
       const double stretched =
           thins[t] == 0.0 ? length : Eigen::Vector3d(d.x(), d.y(), d.z() * (1.0 + thins[t])).norm();
-      const double weight = falloffWeight(stretched, radius);
+      const double weight = falloffWeight(stretched, falloff);
       // At weight 0 the blend is low_cos, which never raises the running maximum.
       if (!(weight > 0.0)) continue;
       horizon_cos[t] = std::max(horizon_cos[t], low_cos + (sample_cos - low_cos) * weight);
@@ -80,8 +155,11 @@ void sideHorizonCos(const GBuffer& g, int i, int j, const Eigen::Vector3d& x,
 
 // What a pixel's pass reads that neither the frame nor the run changes: P, V, the normal through
 // the R10G10B10A2 buffer in view space, and its interleaved gradient noise.
+// P's image point and the offset 10⁻³|P| are sliceAlong's, per pixel rather than per slice.
 struct PixelSetup {
   Eigen::Vector3d x, v, normal;
+  Eigen::Vector2d from;
+  double offset = 0.0;
   double ign = 0.0;
 };
 
@@ -93,6 +171,8 @@ std::vector<PixelSetup> pixelSetup(const GBuffer& g) {
     px.v = -px.x.normalized();
     const Eigen::Vector3d world(g.normal[3 * p], g.normal[3 * p + 1], g.normal[3 * p + 2]);
     px.normal = g.worldToView(r10g10b10Normal(world));
+    px.from = g.project(px.x);
+    px.offset = 1e-3 * px.x.norm();
     px.ign = interleavedGradientNoise(i, j);
   });
   return out;
@@ -130,13 +210,41 @@ std::vector<HorizonGroup> horizonGroups(const std::vector<GtaoRuntimeSettings>& 
   return groups;
 }
 
+// A frame's slice at a pixel with its angle n computed the first time a horizon may clamp
+// (horizonUnclamped): elsewhere horizonOf's value needs no n, so no atan2.
+// Each side also keeps the last horizon computed, which a group or thin compensation with the same
+// cos (often the plane's, low_cos, where no sample is in reach) takes as it is.
+struct FrameSlice {
+  Slice slice;
+  bool angled = false;
+  std::array<double, 2> last_cos;  // NaN before the first: equal to no cos
+  std::array<Angle, 2> last;
+};
+
+// horizonOf(horizon_cos, side, slice) of the slice with its angle.
+Angle sideHorizon(double horizon_cos, int side, FrameSlice* s) {
+  if (horizon_cos == s->last_cos[side]) return s->last[side];
+  const double floor_cos = side == 0 ? s->slice.sin_n : -s->slice.sin_n;  // cos(n ∓ π/2)
+  s->last_cos[side] = horizon_cos;
+  if (horizonUnclamped(horizon_cos, floor_cos, s->slice)) {
+    s->last[side] = unclampedHorizon(horizon_cos, side);
+  } else {
+    if (!s->angled) {
+      s->slice = withAngle(s->slice);
+      s->angled = true;
+    }
+    s->last[side] = horizonOf(horizon_cos, side, s->slice);
+  }
+  return s->last[side];
+}
+
 // One group's horizons at pixel p for every thin compensation of it: visibility[t] and, unless
 // sum is null, the unnormalised view-space bent normal sum[t].
-void groupHorizons(const GBuffer& g, int i, int j, std::size_t p, const PixelSetup& px,
-                   const Slice* slices, int directions, double step_noise,
+void groupHorizons(const GBuffer& g, const SampleGrid& grid, int i, int j, std::size_t p,
+                   const PixelSetup& px, FrameSlice* slices, int directions, double step_noise,
                    const HorizonGroup& group, double* visibility, Eigen::Vector3d* sum) {
   const std::size_t thins = group.thins.size();
-  const double reach = slabReach(g);
+  const Falloff falloff = falloffOf(group.radius);
   std::array<double, kMaxSteps> offsets;
   stepOffsets(group.steps, step_noise, group.radius * g.pixelsPerMetre(g.depth[p]), offsets.data());
   for (std::size_t t = 0; t < thins; ++t) {
@@ -144,17 +252,24 @@ void groupHorizons(const GBuffer& g, int i, int j, std::size_t p, const PixelSet
     if (sum) sum[t] = Eigen::Vector3d::Zero();
   }
   for (int d = 0; d < directions; ++d) {
-    const Slice& slice = slices[d];
+    FrameSlice& slice = slices[d];
     std::array<std::array<double, kMaxThins>, 2> c;
     for (int side = 0; side < 2; ++side) {
       const double sign = side == 0 ? -1.0 : 1.0;
-      const double low_cos = side == 0 ? slice.sin_n : -slice.sin_n;  // cos(n ± π/2)
-      sideHorizonCos(g, i, j, px.x, px.v, slice.omega, sign, low_cos, offsets.data(), reach,
-                     group.steps, group.radius, group.thins, c[side].data());
+      const double low_cos = side == 0 ? slice.slice.sin_n : -slice.slice.sin_n;  // cos(n ± π/2)
+      sideHorizonCos(grid, i, j, px.x, px.v, slice.slice.omega, sign, low_cos, offsets.data(),
+                     group.steps, falloff, group.thins, c[side].data());
     }
+    // Per thread: an Angle array of the frame would set every element's default on each call.
+    thread_local std::array<std::array<Angle, 2>, kMaxThins> h;
     for (std::size_t t = 0; t < thins; ++t) {
-      const Angle h[2] = {horizonOf(c[0][t], 0, slice), horizonOf(c[1][t], 1, slice)};
-      accumulateSlice(slice, h, px.v, &visibility[t], sum ? &sum[t] : nullptr);
+      for (int side = 0; side < 2; ++side) {
+        // Thin compensations whose samples blend alike have the same cos, so the same horizon.
+        std::size_t same = 0;
+        while (same < t && c[side][same] != c[side][t]) ++same;
+        h[t][side] = same < t ? h[same][side] : sideHorizon(c[side][t], side, &slice);
+      }
+      accumulateSlice(slice.slice, h[t].data(), px.v, &visibility[t], sum ? &sum[t] : nullptr);
     }
   }
 }
@@ -163,24 +278,31 @@ void groupHorizons(const GBuffer& g, int i, int j, std::size_t p, const PixelSet
 // once, each group's samples once and each of its thin compensations' horizons and their sum
 // (visibility and, unless kAoOnly leaves RGB 0, the unnormalised view-space bent normal), then
 // each run's intensity power.
-void framePixel(const GBuffer& g, int i, int j, std::size_t p, const PixelSetup& px, int frame,
-                const std::vector<GtaoRuntimeSettings>& runs,
+void framePixel(const GBuffer& g, const SampleGrid& grid, int i, int j, std::size_t p,
+                const PixelSetup& px, int frame, const std::vector<GtaoRuntimeSettings>& runs,
                 const std::vector<HorizonGroup>& groups, EstimateParts parts,
                 std::vector<Rgba8Image>* out) {
   const bool with_bent = parts == EstimateParts::kAoAndBent;
   const int directions = runs.front().directions;
   const double base_noise = frameNoise(px.ign, frame);
   const double step_noise = fract(base_noise * 0.7 + 0.15);
-  std::array<Slice, kMaxDirections> slices;
+  // Per thread: a Slice array of the frame would set all kMaxDirections elements' defaults.
+  thread_local std::array<FrameSlice, kMaxDirections> slices;
   for (int d = 0; d < directions; ++d) {
-    slices[d] = sliceAlong(g, px.x, px.v, px.normal,
-                           tangentDirection(px.v, kPi * (d + base_noise) / directions));
+    // sliceAlong without its angle, from the pixel's image point and offset.
+    const Eigen::Vector3d o = tangentDirection(px.v, kPi * (d + base_noise) / directions);
+    constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+    slices[d] = {sliceThroughWithoutAngle(px.v, o, px.normal,
+                                          imageDirection(g, px.x, px.from, px.offset, o)),
+                 false,
+                 {kNone, kNone},
+                 {}};
   }
   for (const HorizonGroup& group : groups) {
     std::array<double, kMaxThins> visibility;
     std::array<Eigen::Vector3d, kMaxThins> sum;
-    groupHorizons(g, i, j, p, px, slices.data(), directions, step_noise, group, visibility.data(),
-                  with_bent ? sum.data() : nullptr);
+    groupHorizons(g, grid, i, j, p, px, slices.data(), directions, step_noise, group,
+                  visibility.data(), with_bent ? sum.data() : nullptr);
     for (std::size_t t = 0; t < group.thins.size(); ++t) {
       std::array<std::uint8_t, 4> bytes = {0, 0, 0, 0};
       if (with_bent) {
@@ -191,7 +313,9 @@ void framePixel(const GBuffer& g, int i, int j, std::size_t p, const PixelSetup&
       }
       const double open = std::clamp(visibility[t] / directions, 0.0, 1.0);
       for (std::size_t r : group.runs[t]) {
-        bytes[3] = unorm8(std::pow(open, runs[r].intensity));
+        // x¹ is x itself (pow's result is within an ulp of the exact one, here representable).
+        const double intensity = runs[r].intensity;
+        bytes[3] = unorm8(intensity == 1.0 ? open : std::pow(open, intensity));
         (*out)[r][p] = bytes;
       }
     }
@@ -253,11 +377,12 @@ std::vector<AoEstimate> gtaoRuntimeRuns(const GBuffer& g,
   const std::vector<PixelSetup> pixels = pixelSetup(g);
   const std::vector<HorizonGroup> groups = horizonGroups(runs);
   const FilterSetup filters = filterSetup(g);
+  const SampleGrid grid = sampleGrid(g);
   std::vector<Rgba8Image> history(runs.size());
   for (int frame = 0; frame < runs.front().frames; ++frame) {
     std::vector<Rgba8Image> current(runs.size(), Rgba8Image(g.pixels(), {0, 0, 0, 0}));
     forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
-      framePixel(g, i, j, p, pixels[p], frame, runs, groups, parts, &current);
+      framePixel(g, grid, i, j, p, pixels[p], frame, runs, groups, parts, &current);
     });
     for (std::size_t r = 0; r < runs.size(); ++r) {
       if (runs[r].blur) current[r] = bilateralBlur(g, filters, current[r], parts);

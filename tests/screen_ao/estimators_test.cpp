@@ -423,5 +423,30 @@ TEST(Estimators, RuntimeManyThinCompensationsShareSamplesAndMatchOneRunEach) {
   EXPECT_NE(shared[0].a, shared[9].a);  // the thin compensation matters
 }
 
+// unorm8's whole-and-fraction rounding is lround's on [0, 1] (docs/screen_ao.md, "gtao-runtime"):
+// random values, the byte midpoints and their neighbours, the ends and values outside.
+TEST(Estimators, Unorm8IsLroundOfTheScaledClamp) {
+  const auto plain = [](double x) {
+    return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0, 1.0) * 255.0));
+  };
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-0.1, 1.1);
+  for (int k = 0; k < 1000000; ++k) {
+    const double x = u(rng);
+    ASSERT_EQ(unorm8(x), plain(x)) << x;
+  }
+  for (int b = 0; b <= 255; ++b) {
+    for (double at : {(b - 0.5) / 255.0, (b + 0.5) / 255.0, b / 255.0}) {
+      double x = at;
+      for (int step = 0; step < 8; ++step) x = std::nextafter(x, -1.0);
+      for (int step = 0; step < 16; ++step, x = std::nextafter(x, 2.0)) {
+        ASSERT_EQ(unorm8(x), plain(x)) << x;
+      }
+    }
+  }
+  for (double x : {0.0, -0.0, 1.0, -1.0, 2.0, 1e-300, 1.0 - 1e-16})
+    EXPECT_EQ(unorm8(x), plain(x)) << x;
+}
+
 }  // namespace
 }  // namespace gtbake
