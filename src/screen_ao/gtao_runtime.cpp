@@ -8,6 +8,7 @@
 #include "common/error.h"
 #include "screen_ao/ao_filters.h"
 #include "screen_ao/pixel_loop.h"
+#include "screen_ao/sample_image.h"
 #include "screen_ao/slice_geometry.h"
 
 namespace gtbake {
@@ -29,74 +30,6 @@ void stepOffsets(int steps, double step_noise, double radius_px, double* offsets
     const double linear = (k + step_noise) / steps;
     offsets[k] = std::max(1.0, linear * linear * radius_px);
   }
-}
-
-// A texel as the horizon steps read it: its plane offset N·T in double (texelDepthOnRay's k,
-// computed once per texel rather than per step), N, and its depth Z (0 where masked).
-struct PlaneTexel {
-  double k;
-  float normal[3];
-  float depth;
-};
-
-// What texelPlanePoint reads of the G-buffer, laid out for the steps.
-struct SampleGrid {
-  std::vector<PlaneTexel> texels;
-  int width = 0;
-  int height = 0;
-  double near = 0.0;  // 1 − κ, 1 + κ: the slab's ends per metre of depth (slabReach)
-  double far = 0.0;
-  // 2/W and 2/H where W and H are powers of two: 2x/W is then x·(2/W) exactly (both scale by a
-  // power of two), without the division; 0 elsewhere.
-  double x_scale = 0.0;
-  double y_scale = 0.0;
-  double tan_half = 0.0;
-  double aspect = 1.0;
-};
-
-double powerOfTwoScale(int n) {
-  return (n & (n - 1)) == 0 ? 2.0 / n : 0.0;
-}
-
-SampleGrid sampleGrid(const GBuffer& g) {
-  SampleGrid s;
-  s.texels.resize(g.pixels());
-  for (std::size_t p = 0; p < g.pixels(); ++p) {
-    const Texel& t = g.texels[p];
-    s.texels[p] = {t.normal[0] * static_cast<double>(t.position[0]) +
-                       t.normal[1] * static_cast<double>(t.position[1]) +
-                       t.normal[2] * static_cast<double>(t.position[2]),
-                   {t.normal[0], t.normal[1], t.normal[2]},
-                   t.depth};
-  }
-  s.width = g.width;
-  s.height = g.height;
-  const double reach = slabReach(g);
-  s.near = 1.0 - reach;
-  s.far = 1.0 + reach;
-  s.x_scale = powerOfTwoScale(g.width);
-  s.y_scale = powerOfTwoScale(g.height);
-  s.tan_half = g.tan_half;
-  s.aspect = g.aspect;
-  return s;
-}
-
-// texelPlanePoint(g, x, y, slabReach(g), point), the same operations on the same values but for
-// the texel's index: for x ≥ 0 floor(x) is x truncated, and floor(x) < 0 or ≥ W just where x is
-// (W an integer), so the bounds test reads x itself.
-bool samplePoint(const SampleGrid& s, double x, double y, Eigen::Vector3d* point) {
-  if (!(x >= 0.0 && y >= 0.0 && x < s.width && y < s.height)) return false;
-  const PlaneTexel& t = s.texels[static_cast<std::size_t>(static_cast<int>(y)) * s.width +
-                                 static_cast<std::size_t>(static_cast<int>(x))];
-  if (!(t.depth > 0.0f)) return false;
-  const double u = s.x_scale != 0.0 ? x * s.x_scale : 2.0 * x / s.width;
-  const double w = s.y_scale != 0.0 ? y * s.y_scale : 2.0 * y / s.height;
-  const Eigen::Vector3d ray((u - 1.0) * s.tan_half * s.aspect, (1.0 - w) * s.tan_half, -1.0);
-  const double d = t.normal[0] * ray.x() + t.normal[1] * ray.y() + t.normal[2] * ray.z();
-  const double plane = t.k * d > 0.0 ? t.k / d : std::numeric_limits<double>::infinity();
-  const double z = t.depth;
-  *point = std::clamp(plane, z * s.near, z * s.far) * ray;
-  return true;
 }
 
 // The falloff of radius R: flat up to `from`, then linear over `range` (computed once per radius).
@@ -122,7 +55,7 @@ double falloffWeight(double distance, const Falloff& f) {
 // by the falloff weight, the falloff distance taken with the view-z part of the offset stretched by
 // 1 + thin_compensation. The samples are shared; each value's maximum is the one a run at that
 // value alone computes.
-void sideHorizonCos(const SampleGrid& grid, int i, int j, const Eigen::Vector3d& x,
+void sideHorizonCos(const SampleImage& grid, int i, int j, const Eigen::Vector3d& x,
                     const Eigen::Vector3d& v, const Eigen::Vector2d& omega, double sign,
                     double low_cos, const double* offsets, int steps, const Falloff& falloff,
                     const std::vector<double>& thins, double* horizon_cos) {
@@ -130,8 +63,8 @@ void sideHorizonCos(const SampleGrid& grid, int i, int j, const Eigen::Vector3d&
   for (int k = 0; k < steps; ++k) {
     const double offset = offsets[k];
     Eigen::Vector3d sample;
-    if (!samplePoint(grid, i + 0.5 + sign * offset * omega.x(), j + 0.5 - sign * offset * omega.y(),
-                     &sample)) {
+    if (!grid.point(i + 0.5 + sign * offset * omega.x(), j + 0.5 - sign * offset * omega.y(),
+                    &sample)) {
       continue;
     }
     const Eigen::Vector3d d = sample - x;
@@ -240,7 +173,7 @@ Angle sideHorizon(double horizon_cos, int side, FrameSlice* s) {
 
 // One group's horizons at pixel p for every thin compensation of it: visibility[t] and, unless
 // sum is null, the unnormalised view-space bent normal sum[t].
-void groupHorizons(const GBuffer& g, const SampleGrid& grid, int i, int j, std::size_t p,
+void groupHorizons(const GBuffer& g, const SampleImage& grid, int i, int j, std::size_t p,
                    const PixelSetup& px, FrameSlice* slices, int directions, double step_noise,
                    const HorizonGroup& group, double* visibility, Eigen::Vector3d* sum) {
   const std::size_t thins = group.thins.size();
@@ -278,7 +211,7 @@ void groupHorizons(const GBuffer& g, const SampleGrid& grid, int i, int j, std::
 // once, each group's samples once and each of its thin compensations' horizons and their sum
 // (visibility and, unless kAoOnly leaves RGB 0, the unnormalised view-space bent normal), then
 // each run's intensity power.
-void framePixel(const GBuffer& g, const SampleGrid& grid, int i, int j, std::size_t p,
+void framePixel(const GBuffer& g, const SampleImage& grid, int i, int j, std::size_t p,
                 const PixelSetup& px, int frame, const std::vector<GtaoRuntimeSettings>& runs,
                 const std::vector<HorizonGroup>& groups, EstimateParts parts,
                 std::vector<Rgba8Image>* out) {
@@ -377,7 +310,7 @@ std::vector<AoEstimate> gtaoRuntimeRuns(const GBuffer& g,
   const std::vector<PixelSetup> pixels = pixelSetup(g);
   const std::vector<HorizonGroup> groups = horizonGroups(runs);
   const FilterSetup filters = filterSetup(g);
-  const SampleGrid grid = sampleGrid(g);
+  const SampleImage grid(g);
   std::vector<Rgba8Image> history(runs.size());
   for (int frame = 0; frame < runs.front().frames; ++frame) {
     std::vector<Rgba8Image> current(runs.size(), Rgba8Image(g.pixels(), {0, 0, 0, 0}));
