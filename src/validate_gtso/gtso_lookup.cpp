@@ -20,7 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // One table behind the runtime-lookup API of src/runtime/gtso_runtime.h (the code the
-// header and shader includes ship): its texels in one format and its sizes.
+// header and shader includes ship): its texels, decoded from one format to floats, and its sizes.
 class RuntimeTables final : public GtsoLookup {
  public:
   // bytes3/bytes4: the volumes' payloads as export writes them (BC4 blocks, little-endian R16,
