@@ -20,7 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // One table behind the runtime-lookup API of src/runtime/gtso_runtime.h (the code the
-// header and shader includes ship): its texels in one format and its sizes.
+// header and shader includes ship): its texels, decoded from one format to floats, and its sizes.
 class RuntimeTables final : public GtsoLookup {
  public:
   // bytes3/bytes4: the volumes' payloads as export writes them (BC4 blocks, little-endian R16,
@@ -37,8 +37,8 @@ class RuntimeTables final : public GtsoLookup {
       volume4_[a] = v4[a];
     }
     for (int a = 0; a < 4; ++a) size4_[a] = t4.dims[a];
-    load(t3, bytes3, 0);
-    load(t4, bytes4, 1);
+    load(t3, bytes3, 0, volume3_);
+    load(t4, bytes4, 1, volume4_);
   }
 
   float s3(float A, float cos_beta, float r_p) const override {
@@ -81,39 +81,41 @@ class RuntimeTables final : public GtsoLookup {
   }
 
  private:
-  void load(const GtsoTable& t, const std::vector<std::uint8_t>* bytes, int k) {
-    switch (format_) {
-      case TexelFormat::kFloat32:
-        floats_[k] = t.values;
-        break;
-      case TexelFormat::kBc4:
-        blocks_[k] = bc4BlockWords(*bytes);
-        break;
-      case TexelFormat::kR16:
-        r16_[k] = r16Words(*bytes);
-        break;
-      case TexelFormat::kR8:
-        r8_[k] = *bytes;
-        break;
-    }
-  }
-  GtsoVolume volume(int k, const int* v) const {
+  // The texels as floats in texture order, x fastest. BC4, R16 and R8 are decoded once here, each
+  // texel by the runtime's own gtsoFetchTexel: a lookup then reads, through the float path of the
+  // same filtering code, the very floats the runtime's fetch of that format returns (the same
+  // bits, without decoding up to 16 texels again at every lookup).
+  void load(const GtsoTable& t, const std::vector<std::uint8_t>* bytes, int k, const int* v) {
+    std::vector<std::uint64_t> blocks;
+    std::vector<std::uint16_t> r16;
     const void* texels = nullptr;
     switch (format_) {
       case TexelFormat::kFloat32:
-        texels = floats_[k].data();
-        break;
+        floats_[k] = t.values;
+        return;
       case TexelFormat::kBc4:
-        texels = blocks_[k].data();
+        blocks = bc4BlockWords(*bytes);
+        texels = blocks.data();
         break;
       case TexelFormat::kR16:
-        texels = r16_[k].data();
+        r16 = r16Words(*bytes);
+        texels = r16.data();
         break;
       case TexelFormat::kR8:
-        texels = r8_[k].data();
+        texels = bytes->data();
         break;
     }
-    return GtsoVolume{format_, texels, v[0], v[1], v[2]};
+    const GtsoVolume encoded{format_, texels, v[0], v[1], v[2]};
+    floats_[k].resize(static_cast<std::size_t>(v[0]) * v[1] * v[2]);
+    std::size_t linear = 0;
+    for (int z = 0; z < v[2]; ++z) {
+      for (int y = 0; y < v[1]; ++y) {
+        for (int x = 0; x < v[0]; ++x) floats_[k][linear++] = gtsoFetchTexel(encoded, x, y, z);
+      }
+    }
+  }
+  GtsoVolume volume(int k, const int* v) const {
+    return GtsoVolume{TexelFormat::kFloat32, floats_[k].data(), v[0], v[1], v[2]};
   }
 
   TexelFormat format_;
@@ -122,10 +124,7 @@ class RuntimeTables final : public GtsoLookup {
   int size4_[4] = {0, 0, 0, 0};
   int volume3_[3] = {0, 0, 0};
   int volume4_[3] = {0, 0, 0};
-  std::vector<std::uint64_t> blocks_[2];  // [3D, 4D]
-  std::vector<std::uint16_t> r16_[2];
-  std::vector<std::uint8_t> r8_[2];
-  std::vector<float> floats_[2];
+  std::vector<float> floats_[2];  // [3D, 4D]
 };
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -23,6 +24,7 @@
 #include "scene/scene.h"
 #include "support/test_scenes.h"
 #include "sweep/sweep_command.h"
+#include "texture/bc4_block.h"
 #include "texture/bc4_encoder.h"
 #include "texture/texture_containers.h"
 #include "validate_gtso/cone_u_fit.h"
@@ -173,6 +175,25 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
   // the ends of every input included.
   const GtsoLookup* all[] = {lookups.bc4.get(), lookups.floats.get(), lookups.r16.get(),
                              lookups.r8.get()};
+  // ... and the runtime's own lookups on the encoded volumes (the lookups decode every texel
+  // once, by the runtime's fetch, and filter the floats): the same bits for every format.
+  const std::vector<std::uint64_t> blocks3 = bc4BlockWords(shipped.t3.bc4.bytes),
+                                   blocks4 = bc4BlockWords(shipped.t4.bc4.bytes);
+  const std::vector<std::uint16_t> words3 = r16Words(shipped.t3.r16.bytes),
+                                   words4 = r16Words(shipped.t4.r16.bytes);
+  const auto encoded = [](TexelFormat format, const void* texels, const ShippedVolume& v) {
+    return GtsoVolume{format, texels, v.volume[0], v.volume[1], v.volume[2]};
+  };
+  const std::pair<const GtsoLookup*, std::array<GtsoVolume, 2>> runtime[] = {
+      {lookups.bc4.get(),
+       {encoded(TexelFormat::kBc4, blocks3.data(), shipped.t3),
+        encoded(TexelFormat::kBc4, blocks4.data(), shipped.t4)}},
+      {lookups.r16.get(),
+       {encoded(TexelFormat::kR16, words3.data(), shipped.t3),
+        encoded(TexelFormat::kR16, words4.data(), shipped.t4)}},
+      {lookups.r8.get(),
+       {encoded(TexelFormat::kR8, shipped.t3.r8.bytes.data(), shipped.t3),
+        encoded(TexelFormat::kR8, shipped.t4.r8.bytes.data(), shipped.t4)}}};
   const float ends[] = {0.0f, 1.0f};
   for (int p = 0; p < 20000; ++p) {
     float A = unit(gen), cb = 2.0f * unit(gen) - 1.0f, rp = unit(gen), ct = unit(gen);
@@ -185,6 +206,11 @@ TEST(ValidateGtso, LookupAtTexelCentresReturnsTheTexels) {
     for (const GtsoLookup* lookup : all) {
       ASSERT_EQ(lookup->s3At(axes3), lookup->s3(A, cb, rp));
       ASSERT_EQ(lookup->s4At(axes4), lookup->s4(A, cb, rp, ct));
+    }
+    for (const auto& [lookup, v] : runtime) {
+      ASSERT_EQ(lookup->s3(A, cb, rp), gtso3DLookup(v[0], size3, A, cb, rp, shipped.t3.layout));
+      ASSERT_EQ(lookup->s4(A, cb, rp, ct),
+                gtso4DLookup(v[1], size4, A, cb, rp, ct, shipped.t4.layout));
     }
   }
   fs::remove_all(root);
