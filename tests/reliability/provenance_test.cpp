@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstring>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "common/error.h"
 #include "common/image_io.h"
@@ -305,6 +306,55 @@ TEST(ExrRead, AVerifiedReadRefusesAnEditedFileWhoseImageIsKept) {
   EXPECT_ERROR(readVerifiedExr(one, "b.exr", "one/b.exr"), "is not part of the output set");
   // The untouched copy still reads.
   EXPECT_EQ(readVerifiedExr(two, "a.exr", "two/a.exr").get(), first.get());
+}
+
+// A verified file whose identity (device, inode, size, modification and status-change times) is
+// unchanged and was settled when it was read is not read again; any write in place, even one that
+// restores the same bytes and size, changes the identity and the file is read and verified again,
+// and a file read while still fresh is never taken as unchanged.
+TEST(ExrRead, AnUnchangedSettledFileIsNotReadAgainAndAnyWriteIsSeen) {
+  TempDir dir("exr_unchanged");
+  std::vector<ExrChannel> channels = {{"A", std::vector<float>(8 * 8)}};
+  for (std::size_t p = 0; p < channels[0].pixels.size(); ++p) {
+    channels[0].pixels[p] = 1.5f + static_cast<float>(p % 7);
+  }
+  const std::string bytes = encodeExr(8, 8, channels);
+  for (const char* set_dir : {"settled", "fresh"}) {
+    OutputSet set(dir.path() / set_dir, "demo");
+    set.add("a.exr", bytes);
+    set.commit();
+    if (std::string(set_dir) == "settled") std::this_thread::sleep_for(std::chrono::seconds(2));
+  }
+  const OutputManifest settled = readOutputSet(dir.path() / "settled", "demo");
+  const OutputManifest fresh = readOutputSet(dir.path() / "fresh", "demo");
+  auto delta = [](const ExrReadCounts& from) {
+    const ExrReadCounts now = exrReadCounts();
+    return std::make_pair(now.read - from.read, now.unchanged - from.unchanged);
+  };
+  using Counts = std::pair<std::size_t, std::size_t>;
+  ExrReadCounts start = exrReadCounts();
+  const std::shared_ptr<const ExrImage> first = readVerifiedExr(settled, "a.exr", "a.exr");
+  EXPECT_EQ(readVerifiedExr(settled, "a.exr", "a.exr").get(), first.get());
+  EXPECT_EQ(delta(start), Counts(1, 1));
+  EXPECT_ERROR(readVerifiedExr(settled, "a.exr", "a.exr", {8, 16, "sweep.json"}),
+               "does not match sweep.json");
+  // The file just written (the second set, committed a moment ago) is read every time.
+  start = exrReadCounts();
+  readVerifiedExr(fresh, "a.exr", "a.exr");
+  readVerifiedExr(fresh, "a.exr", "a.exr");
+  EXPECT_EQ(delta(start), Counts(2, 0));
+  // A byte changed in place, same size: the write is seen and the file refused.
+  std::string edited = bytes;
+  edited[edited.size() - 5] ^= 0x20;
+  const fs::path path = dir.path() / "settled" / "a.exr";
+  spit(path, edited);
+  start = exrReadCounts();
+  EXPECT_ERROR(readVerifiedExr(settled, "a.exr", "a.exr"), "does not match demo.manifest.json");
+  // The original bytes written back: read and verified again (the write left a fresh identity).
+  spit(path, bytes);
+  EXPECT_EQ(readVerifiedExr(settled, "a.exr", "a.exr").get(), first.get());
+  EXPECT_EQ(readVerifiedExr(settled, "a.exr", "a.exr").get(), first.get());
+  EXPECT_EQ(delta(start), Counts(2, 0));
 }
 
 TEST(FitSet, OutputNeverReplacesAnInputAndIsNeverADirectory) {
