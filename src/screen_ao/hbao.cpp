@@ -31,13 +31,12 @@ double tangentSine(const GBuffer& g, int i, int j, const Eigen::Vector2d& omega,
   return std::clamp(tangent.normalized().dot(v), -1.0, 1.0);
 }
 
-void hbaoPixel(const GBuffer& g, int i, int j, std::size_t p, const HbaoSettings& s,
-               const CounterRng& rng, double* a, Eigen::Vector3d* bent) {
+void hbaoPixel(const GBuffer& g, const SampleImage& image, int i, int j, std::size_t p,
+               const HbaoSettings& s, const CounterRng& rng, double* a, Eigen::Vector3d* bent) {
   const auto [x, v, normal] = pixelFrame(g, p);
   const double radius_px = s.radius * g.pixelsPerMetre(g.depth[p]);
   const std::array<float, 4> u = rng.uniform4(p, 0);
   const double step_px = radius_px / s.steps;
-  const SampleImage image(g);
   double occlusion = 0.0;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (int d = 0; d < s.directions; ++d) {
@@ -85,8 +84,9 @@ void validate(const HbaoSettings& s) {
 AoEstimate hbao(const GBuffer& g, const HbaoSettings& s) {
   validate(s);
   const CounterRng rng(s.seed, 0x4842414fu);  // "HBAO"
+  const SampleImage image(g);
   return estimatePerPixel(g, [&](int i, int j, std::size_t p, double* a, Eigen::Vector3d* bent) {
-    hbaoPixel(g, i, j, p, s, rng, a, bent);
+    hbaoPixel(g, image, i, j, p, s, rng, a, bent);
   });
 }
 

@@ -328,11 +328,12 @@ void addSlice(std::uint32_t bits, const Slice& slice, const SectorMap& map,
 
 // Pixel p for each sector weighting and thickness: Â and the view-space bent normal into
 // a[w·T + k], bent[w·T + k] for weights[w] at thicknesses[k] (Â alone when bent is null). tables
-// is PassTables(s); bits holds weights.size()·T words of scratch.
-void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSettings& s,
-                  const PassTables& tables, const std::vector<SectorWeights>& weights,
-                  const std::vector<double>& thicknesses, std::uint32_t* bits, double* a,
-                  Eigen::Vector3d* bent) {
+// is PassTables(s) and image SampleImage(g), both made once per pass; bits holds
+// weights.size()·T words of scratch.
+void bitmaskPixel(const GBuffer& g, const SampleImage& image, int i, int j, std::size_t p,
+                  const BitmaskSettings& s, const PassTables& tables,
+                  const std::vector<SectorWeights>& weights, const std::vector<double>& thicknesses,
+                  std::uint32_t* bits, double* a, Eigen::Vector3d* bent) {
   const auto [x, v, normal] = pixelFrame(g, p);
   const double radius_px = s.radius * g.pixelsPerMetre(g.depth[p]);
   const std::size_t T = thicknesses.size();
@@ -342,7 +343,6 @@ void bitmaskPixel(const GBuffer& g, int i, int j, std::size_t p, const BitmaskSe
   std::fill(a, a + n, 0.0);
   if (bent != nullptr) std::fill(bent, bent + n, Eigen::Vector3d::Zero());
   const ViewSliceBasis basis = viewSliceBasis(g, x, v);
-  const SampleImage image(g);
   for (int k = 0; k < s.slices; ++k) {
     // makeViewSlice's bits, from the pixel's basis made once.
     const Slice slice = withAngle(viewSliceWithoutAngle(g, basis, x, v, normal, tables.psi[k]));
@@ -409,9 +409,10 @@ AoEstimate visibilityBitmask(const GBuffer& g, const BitmaskSettings& s) {
   const std::vector<SectorWeights> weights = {s.weights};
   const std::vector<double> thickness = {s.thickness};
   const PassTables tables(s);
+  const SampleImage image(g);
   return estimatePerPixel(g, [&](int i, int j, std::size_t p, double* a, Eigen::Vector3d* bent) {
     std::uint32_t bits = 0;
-    bitmaskPixel(g, i, j, p, s, tables, weights, thickness, &bits, a, bent);
+    bitmaskPixel(g, image, i, j, p, s, tables, weights, thickness, &bits, a, bent);
   });
 }
 
@@ -441,6 +442,7 @@ std::vector<std::vector<AoEstimate>> visibilityBitmasks(const GBuffer& g, const 
   const bool with_bent = parts == EstimateParts::kAoAndBent;
   const std::size_t T = thicknesses.size();
   const PassTables tables(s);
+  const SampleImage image(g);
   forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
     // Per-thread scratch, sized once per thread rather than allocated per pixel.
     thread_local std::vector<std::uint32_t> bits;
@@ -449,7 +451,7 @@ std::vector<std::vector<AoEstimate>> visibilityBitmasks(const GBuffer& g, const 
     bits.resize(weights.size() * T);
     a.resize(weights.size() * T);
     bent.resize(with_bent ? a.size() : 0);
-    bitmaskPixel(g, i, j, p, s, tables, weights, thicknesses, bits.data(), a.data(),
+    bitmaskPixel(g, image, i, j, p, s, tables, weights, thicknesses, bits.data(), a.data(),
                  with_bent ? bent.data() : nullptr);
     for (std::size_t k = 0; k < a.size(); ++k) {
       if (with_bent) {
