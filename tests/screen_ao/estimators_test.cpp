@@ -266,25 +266,39 @@ TEST(Estimators, BitmaskReachableSectorsHoldEverySlab) {
   }
 }
 
+// Calls check(normal, sign, c, unit) for each of 200,000 random slices whose cosine c lies below
+// bound(normal, sign): c random, and every third one within 1e-8 of the bound; unit draws more
+// uniform numbers from the same generator. Returns how many cases were below.
+template <typename Bound, typename Check>
+int forCosinesBelow(std::uint64_t seed, Bound bound_of, Check check) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  auto unit = [&] { return uniform(rng); };
+  int below = 0;
+  for (int n = 0; n < 200000; ++n) {
+    const double normal = (unit() - 0.5) * 2.0 * kPi;
+    const double sign = n % 2 ? 1.0 : -1.0;
+    const double bound = bound_of(normal, sign);
+    const double c = n % 3 || !std::isfinite(bound)
+                         ? 2.0 * unit() - 1.0
+                         : std::clamp(bound + (unit() - 0.5) * 2e-8, -1.0, 1.0);
+    if (!(c < bound)) continue;
+    ++below;
+    check(n, normal, sign, c, unit);
+  }
+  return below;
+}
+
 // Below pastEndCos the angle sign·acos c is more than 1e-6 rad past the hemisphere's end, for
 // random cosines and ones within 1e-8 of the bound.
 TEST(Estimators, BitmaskPastEndCosIsFarPastTheEnd) {
-  std::mt19937_64 rng(13);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  int below = 0;
-  for (int n = 0; n < 200000; ++n) {
-    const double normal = (unit(rng) - 0.5) * 2.0 * kPi;
-    const double sign = n % 2 ? 1.0 : -1.0;
-    const double bound = pastEndCos(normal, sign);
-    const double c = n % 3 || !std::isfinite(bound)
-                         ? 2.0 * unit(rng) - 1.0
-                         : std::clamp(bound + (unit(rng) - 0.5) * 2e-8, -1.0, 1.0);
-    if (!(c < bound)) continue;
-    ++below;
-    const double theta = sign * std::acos(c);
-    EXPECT_TRUE(sign > 0.0 ? theta > normal + 0.5 * kPi + 1e-6 : theta < normal - 0.5 * kPi - 1e-6)
-        << normal << " " << c;
-  }
+  const int below =
+      forCosinesBelow(13, pastEndCos, [](int, double normal, double sign, double c, auto&) {
+        const double theta = sign * std::acos(c);
+        EXPECT_TRUE(sign > 0.0 ? theta > normal + 0.5 * kPi + 1e-6
+                               : theta < normal - 0.5 * kPi - 1e-6)
+            << normal << " " << c;
+      });
   EXPECT_GT(below, 10000);
 }
 
@@ -292,31 +306,19 @@ TEST(Estimators, BitmaskPastEndCosIsFarPastTheEnd) {
 // rounded up to 1e-7 rad the wrong way) under either weighting, nor with the end's coordinate, for
 // random cosines and ones within 1e-8 of the bound.
 TEST(Estimators, BitmaskEndBandSetsNoSector) {
-  std::mt19937_64 rng(17);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  int below = 0;
-  for (int n = 0; n < 200000; ++n) {
-    const double normal = (unit(rng) - 0.5) * 2.0 * kPi;
-    const double sign = n % 2 ? 1.0 : -1.0;
-    const double bound = endBandCos(normal, sign);
-    const double c = n % 3 || !std::isfinite(bound)
-                         ? 2.0 * unit(rng) - 1.0
-                         : std::clamp(bound + (unit(rng) - 0.5) * 2e-8, -1.0, 1.0);
-    if (!(c < bound)) continue;
-    ++below;
-    const double front = sign * std::acos(c);
-    const double step = n % 5 == 0   ? -1e-7 * unit(rng)
-                        : n % 5 == 1 ? 1e-4 * unit(rng)
-                                     : kPi * unit(rng);
-    const double back = front + sign * step;
-    const double end = normal + sign * 0.5 * kPi;
-    for (SectorWeights w : {SectorWeights::kUniform, SectorWeights::kCosine}) {
-      const double uf = sectorCoordinate(front, normal, w);
-      EXPECT_EQ(sectorBits(uf, sectorCoordinate(back, normal, w)), 0u)
-          << normal << " " << c << " " << back;
-      EXPECT_EQ(sectorBits(uf, sectorCoordinate(end, normal, w)), 0u) << normal << " " << c;
-    }
-  }
+  const int below =
+      forCosinesBelow(17, endBandCos, [](int n, double normal, double sign, double c, auto& unit) {
+        const double front = sign * std::acos(c);
+        const double step = n % 5 == 0 ? -1e-7 * unit() : n % 5 == 1 ? 1e-4 * unit() : kPi * unit();
+        const double back = front + sign * step;
+        const double end = normal + sign * 0.5 * kPi;
+        for (SectorWeights w : {SectorWeights::kUniform, SectorWeights::kCosine}) {
+          const double uf = sectorCoordinate(front, normal, w);
+          EXPECT_EQ(sectorBits(uf, sectorCoordinate(back, normal, w)), 0u)
+              << normal << " " << c << " " << back;
+          EXPECT_EQ(sectorBits(uf, sectorCoordinate(end, normal, w)), 0u) << normal << " " << c;
+        }
+      });
   EXPECT_GT(below, 10000);
 }
 
