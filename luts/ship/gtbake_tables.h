@@ -452,13 +452,17 @@ inline float gtsoSampleTrilinear(const GtsoVolume& v, float cu, float cv, float 
 }
 
 // S3 from a 3D table of size[3] texels per axis (A, theta_o, r_p), stored in `layout`
-// (texture extent along x = size[layout.axis[0]], etc.).
-inline float gtso3DLookup(const GtsoVolume& table, const int* size, float A, float cosBeta,
-                          float rp, const GtsoLayout& layout = kGtsoIdentityLayout) {
-  const GtsoAxisT<float> a = gtso3DAxes(A, cosBeta, rp, size);
+// (texture extent along x = size[layout.axis[0]], etc.). gtso3DLookupAt filters at the axis
+// coordinates gtso3DAxes returns, for a caller that reads several tables at the same point.
+inline float gtso3DLookupAt(const GtsoVolume& table, const int* size, const GtsoAxisT<float>& a,
+                            const GtsoLayout& layout = kGtsoIdentityLayout) {
   float c[3];
   for (int k = 0; k < 3; ++k) c[k] = gtsoTexelRemap(a.t[k], size[k]);
   return gtsoSampleTrilinear(table, c[layout.axis[0]], c[layout.axis[1]], c[layout.axis[2]]);
+}
+inline float gtso3DLookup(const GtsoVolume& table, const int* size, float A, float cosBeta,
+                          float rp, const GtsoLayout& layout = kGtsoIdentityLayout) {
+  return gtso3DLookupAt(table, size, gtso3DAxes(A, cosBeta, rp, size), layout);
 }
 
 // The first texel of theta_o slice w's tile in a 4D volume whose tiles are n[3] texels
@@ -474,11 +478,10 @@ inline void gtso4DTileOrigin(const GtsoLayout& layout, const int* n, int w, int*
 // neighbouring theta_o slices and a lerp. Each fetch filters at the half-texel-remapped position
 // t (N - 1) inside its tile and addresses only the tile's texels (clamp to the tile's edge
 // texels), so the result does not depend on tilesX: the fold and the atlas of the same texels
-// agree to the last bit (docs/export.md §2c).
-inline float gtso4DLookup(const GtsoVolume& table, const int* size, float A, float cosBeta,
-                          float rp, float cosThetaO,
-                          const GtsoLayout& layout = kGtsoIdentityLayout) {
-  const GtsoAxisT<float> a = gtso4DAxes(A, cosBeta, rp, cosThetaO, size);
+// agree to the last bit (docs/export.md §2c). gtso4DLookupAt filters at the axis coordinates
+// gtso4DAxes returns.
+inline float gtso4DLookupAt(const GtsoVolume& table, const int* size, const GtsoAxisT<float>& a,
+                            const GtsoLayout& layout = kGtsoIdentityLayout) {
   const float sw = a.t[3] * static_cast<float>(size[3] - 1);
   int s0 = static_cast<int>(sw);
   if (s0 > size[3] - 2) s0 = size[3] - 2;
@@ -494,6 +497,11 @@ inline float gtso4DLookup(const GtsoVolume& table, const int* size, float A, flo
   const float f0 = gtsoSampleTexels(table, p, lo0, n);
   const float f1 = gtsoSampleTexels(table, p, lo1, n);
   return f0 + (f1 - f0) * (sw - static_cast<float>(s0));
+}
+inline float gtso4DLookup(const GtsoVolume& table, const int* size, float A, float cosBeta,
+                          float rp, float cosThetaO,
+                          const GtsoLayout& layout = kGtsoIdentityLayout) {
+  return gtso4DLookupAt(table, size, gtso4DAxes(A, cosBeta, rp, cosThetaO, size), layout);
 }
 
 // ---- closed forms ----

@@ -53,31 +53,11 @@ class RuntimeTables final : public GtsoLookup {
   GtsoAxisT<float> axes4(float A, float cos_beta, float r_p, float cos_theta_o) const override {
     return gtso4DAxes(A, cos_beta, r_p, cos_theta_o, size4_);
   }
-  // gtso3DLookup after its gtso3DAxes, statement for statement.
   float s3At(const GtsoAxisT<float>& a) const override {
-    float c[3];
-    for (int k = 0; k < 3; ++k) c[k] = gtsoTexelRemap(a.t[k], size3_[k]);
-    return gtsoSampleTrilinear(volume(0, volume3_), c[layout3_.axis[0]], c[layout3_.axis[1]],
-                               c[layout3_.axis[2]]);
+    return gtso3DLookupAt(volume(0, volume3_), size3_, a, layout3_);
   }
-  // gtso4DLookup after its gtso4DAxes, statement for statement.
   float s4At(const GtsoAxisT<float>& a) const override {
-    const float sw = a.t[3] * static_cast<float>(size4_[3] - 1);
-    int s0 = static_cast<int>(sw);
-    if (s0 > size4_[3] - 2) s0 = size4_[3] - 2;
-    int n[3];
-    float p[3];
-    for (int k = 0; k < 3; ++k) {
-      n[k] = size4_[layout4_.axis[k]];
-      p[k] = a.t[layout4_.axis[k]] * static_cast<float>(n[k] - 1);
-    }
-    int lo0[3], lo1[3];
-    gtso4DTileOrigin(layout4_, n, s0, lo0);
-    gtso4DTileOrigin(layout4_, n, s0 + 1, lo1);
-    const GtsoVolume v = volume(1, volume4_);
-    const float f0 = gtsoSampleTexels(v, p, lo0, n);
-    const float f1 = gtsoSampleTexels(v, p, lo1, n);
-    return f0 + (f1 - f0) * (sw - static_cast<float>(s0));
+    return gtso4DLookupAt(volume(1, volume4_), size4_, a, layout4_);
   }
 
  private:
