@@ -437,9 +437,9 @@ std::shared_ptr<const ExrImage> readVerifiedExr(const OutputManifest& manifest,
   }
   const std::string bytes = manifest.readVerified(file);
   ++exr_reads;
-  // readVerified returned, so the bytes' SHA-256 is exactly the manifest's; they are the file's
-  // if nothing changed it while they were read.
-  const std::string& sha = manifest.find(file)->sha256;
+  // readVerified returned, so `file` has an entry and the bytes' SHA-256 is exactly its; they are
+  // the file's if nothing changed it while they were read.
+  const std::string& sha = entry->sha256;
   const std::optional<FileIdentity> after = identityOf(path);
   if (before && after && *before == *after) {
     const double changed = static_cast<double>(after->changed.tv_sec) +

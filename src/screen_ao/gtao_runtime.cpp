@@ -34,11 +34,11 @@ void stepOffsets(int steps, double step_noise, double radius_px, double* offsets
 
 // The falloff of radius R: flat up to `from`, then linear over `range` (computed once per radius).
 struct Falloff {
-  double radius, from, range;
+  double from, range;
 };
 
 Falloff falloffOf(double radius) {
-  return {radius, radius * (1.0 - kFalloffRange), kFalloffRange * radius};
+  return {radius * (1.0 - kFalloffRange), kFalloffRange * radius};
 }
 
 // Flat inside R(1 − 0.615), then linear to 0 at R. The ends skip the division with its result: a
@@ -55,7 +55,7 @@ double falloffWeight(double distance, const Falloff& f) {
 // by the falloff weight, the falloff distance taken with the view-z part of the offset stretched by
 // 1 + thin_compensation. The samples are shared; each value's maximum is the one a run at that
 // value alone computes.
-void sideHorizonCos(const SampleImage& grid, int i, int j, const Eigen::Vector3d& x,
+void sideHorizonCos(const SampleImage& image, int i, int j, const Eigen::Vector3d& x,
                     const Eigen::Vector3d& v, const Eigen::Vector2d& omega, double sign,
                     double low_cos, const double* offsets, int steps, const Falloff& falloff,
                     const std::vector<double>& thins, double* horizon_cos) {
@@ -63,8 +63,8 @@ void sideHorizonCos(const SampleImage& grid, int i, int j, const Eigen::Vector3d
   for (int k = 0; k < steps; ++k) {
     const double offset = offsets[k];
     Eigen::Vector3d sample;
-    if (!grid.point(i + 0.5 + sign * offset * omega.x(), j + 0.5 - sign * offset * omega.y(),
-                    &sample)) {
+    if (!image.point(i + 0.5 + sign * offset * omega.x(), j + 0.5 - sign * offset * omega.y(),
+                     &sample)) {
       continue;
     }
     const Eigen::Vector3d d = sample - x;
@@ -173,7 +173,7 @@ Angle sideHorizon(double horizon_cos, int side, FrameSlice* s) {
 
 // One group's horizons at pixel p for every thin compensation of it: visibility[t] and, unless
 // sum is null, the unnormalised view-space bent normal sum[t].
-void groupHorizons(const GBuffer& g, const SampleImage& grid, int i, int j, std::size_t p,
+void groupHorizons(const GBuffer& g, const SampleImage& image, int i, int j, std::size_t p,
                    const PixelSetup& px, FrameSlice* slices, int directions, double step_noise,
                    const HorizonGroup& group, double* visibility, Eigen::Vector3d* sum) {
   const std::size_t thins = group.thins.size();
@@ -190,7 +190,7 @@ void groupHorizons(const GBuffer& g, const SampleImage& grid, int i, int j, std:
     for (int side = 0; side < 2; ++side) {
       const double sign = side == 0 ? -1.0 : 1.0;
       const double low_cos = side == 0 ? slice.slice.sin_n : -slice.slice.sin_n;  // cos(n ± π/2)
-      sideHorizonCos(grid, i, j, px.x, px.v, slice.slice.omega, sign, low_cos, offsets.data(),
+      sideHorizonCos(image, i, j, px.x, px.v, slice.slice.omega, sign, low_cos, offsets.data(),
                      group.steps, falloff, group.thins, c[side].data());
     }
     // Per thread: an Angle array of the frame would set every element's default on each call.
@@ -211,7 +211,7 @@ void groupHorizons(const GBuffer& g, const SampleImage& grid, int i, int j, std:
 // once, each group's samples once and each of its thin compensations' horizons and their sum
 // (visibility and, unless kAoOnly leaves RGB 0, the unnormalised view-space bent normal), then
 // each run's intensity power.
-void framePixel(const GBuffer& g, const SampleImage& grid, int i, int j, std::size_t p,
+void framePixel(const GBuffer& g, const SampleImage& image, int i, int j, std::size_t p,
                 const PixelSetup& px, int frame, const std::vector<GtaoRuntimeSettings>& runs,
                 const std::vector<HorizonGroup>& groups, EstimateParts parts,
                 std::vector<Rgba8Image>* out) {
@@ -234,7 +234,7 @@ void framePixel(const GBuffer& g, const SampleImage& grid, int i, int j, std::si
   for (const HorizonGroup& group : groups) {
     std::array<double, kMaxThins> visibility;
     std::array<Eigen::Vector3d, kMaxThins> sum;
-    groupHorizons(g, grid, i, j, p, px, slices.data(), directions, step_noise, group,
+    groupHorizons(g, image, i, j, p, px, slices.data(), directions, step_noise, group,
                   visibility.data(), with_bent ? sum.data() : nullptr);
     for (std::size_t t = 0; t < group.thins.size(); ++t) {
       std::array<std::uint8_t, 4> bytes = {0, 0, 0, 0};
@@ -310,12 +310,12 @@ std::vector<AoEstimate> gtaoRuntimeRuns(const GBuffer& g,
   const std::vector<PixelSetup> pixels = pixelSetup(g);
   const std::vector<HorizonGroup> groups = horizonGroups(runs);
   const FilterSetup filters = filterSetup(g);
-  const SampleImage grid(g);
+  const SampleImage image(g);
   std::vector<Rgba8Image> history(runs.size());
   for (int frame = 0; frame < runs.front().frames; ++frame) {
     std::vector<Rgba8Image> current(runs.size(), Rgba8Image(g.pixels(), {0, 0, 0, 0}));
     forEachMaskedPixel(g, [&](int i, int j, std::size_t p) {
-      framePixel(g, grid, i, j, p, pixels[p], frame, runs, groups, parts, &current);
+      framePixel(g, image, i, j, p, pixels[p], frame, runs, groups, parts, &current);
     });
     for (std::size_t r = 0; r < runs.size(); ++r) {
       if (runs[r].blur) current[r] = bilateralBlur(g, filters, current[r], parts);

@@ -11,6 +11,7 @@
 #include "common/threads.h"
 #include "gbuffer_scenes.h"
 #include "screen_ao/ao_filters.h"
+#include "screen_ao/sample_image.h"
 #include "screen_ao/screen_ao_settings.h"
 #include "screen_ao/slice_geometry.h"
 
@@ -423,6 +424,32 @@ TEST(Estimators, RuntimeManyThinCompensationsShareSamplesAndMatchOneRunEach) {
     EXPECT_EQ(shared[k].bent, one.bent) << k;
   }
   EXPECT_NE(shared[0].a, shared[9].a);  // the thin compensation matters
+}
+
+// SampleImage::point is texelPlanePoint to the bit, at a power-of-two size (where 2x/W becomes a
+// product) and another, for points inside, on the edges and off the image.
+TEST(Estimators, SampleImagePointIsTexelPlanePoint) {
+  for (int side : {32, 40}) {
+    const SweepImage traced = test::traceImage(test::cornerField(0.3), side, side, 2, 0.3, 1);
+    const GBuffer& g = traced.gbuffer;
+    const SampleImage image(g);
+    std::mt19937_64 rng(side);
+    std::uniform_real_distribution<double> coordinate(-2.0, side + 2.0);
+    int hits = 0;
+    for (int n = 0; n < 100000; ++n) {
+      const double x = n % 7 == 0 ? std::floor(coordinate(rng)) : coordinate(rng);
+      const double y = n % 11 == 0 ? static_cast<double>(side) : coordinate(rng);
+      Eigen::Vector3d expected(0.0, 0.0, 0.0), got(0.0, 0.0, 0.0);
+      const bool found = texelPlanePoint(g, x, y, &expected);
+      ASSERT_EQ(image.point(x, y, &got), found) << x << " " << y;
+      if (!found) continue;
+      ++hits;
+      EXPECT_EQ(got.x(), expected.x());
+      EXPECT_EQ(got.y(), expected.y());
+      EXPECT_EQ(got.z(), expected.z());
+    }
+    EXPECT_GT(hits, 50000);
+  }
 }
 
 // unorm8's whole-and-fraction rounding is lround's on [0, 1] (docs/screen_ao.md, "gtao-runtime"):
